@@ -1,0 +1,129 @@
+#pragma once
+// A binary bounding-volume hierarchy over primitives (triangles), generic in the bounding volume,
+// and the single traversal every query uses.
+//
+// Build: top-down, splitting each node's primitives at the median of their centroids along the
+// longest axis of the centroids' box (deterministic: ties broken by primitive index).
+//
+// Traversal (traverse_nearest_first): depth-first, the child with the smaller policy bound first,
+// pruning every node whose bound exceeds the policy's current prune bound. A policy provides
+//   double bound(const BV&)        lower bound of the node's value for this query (+inf: skip);
+//   double prune_bound() const     nodes with bound > prune_bound() are skipped (may shrink);
+//   void   leaf(std::uint32_t id)  visits one primitive;
+//   bool   done() const            stops the traversal early.
+// Nearest-point, ray-parity and box-overlap queries are policies of this one traversal.
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+namespace cdbench {
+
+struct BvhBuildOptions {
+  std::uint32_t leaf_size = 1;  // primitives per leaf at most
+};
+
+template <class BV>
+struct Bvh {
+  struct Node {
+    BV bv;
+    std::uint32_t first = 0;  // internal node: index of the left child (right = first + 1); leaf: offset into order
+    std::uint32_t count = 0;  // 0 for an internal node, else number of primitives in the leaf
+  };
+  std::vector<Node> nodes;            // nodes[0] is the root when not empty
+  std::vector<std::uint32_t> order;   // primitive ids, leaf ranges index into it
+
+  bool empty() const { return nodes.empty(); }
+};
+
+// fit(ids, n) returns the bounding volume of the n primitives ids[0..n).
+template <class BV, class Fit>
+Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit, const BvhBuildOptions& options = {}) {
+  Bvh<BV> bvh;
+  const std::uint32_t n = static_cast<std::uint32_t>(centroids.size());
+  if (n == 0) return bvh;
+  const std::uint32_t leaf_size = std::max<std::uint32_t>(1, options.leaf_size);
+  bvh.order.resize(n);
+  std::iota(bvh.order.begin(), bvh.order.end(), 0u);
+  bvh.nodes.reserve(2 * n);
+  bvh.nodes.emplace_back();
+  struct Task {
+    std::uint32_t node, begin, end;
+  };
+  std::vector<Task> stack{{0, 0, n}};
+  while (!stack.empty()) {
+    const Task task = stack.back();
+    stack.pop_back();
+    const std::uint32_t count = task.end - task.begin;
+    bvh.nodes[task.node].bv = fit(bvh.order.data() + task.begin, count);
+    if (count <= leaf_size) {
+      bvh.nodes[task.node].first = task.begin;
+      bvh.nodes[task.node].count = count;
+      continue;
+    }
+    Eigen::Vector3d lo = centroids[bvh.order[task.begin]], hi = lo;
+    for (std::uint32_t i = task.begin; i < task.end; ++i) {
+      lo = lo.cwiseMin(centroids[bvh.order[i]]);
+      hi = hi.cwiseMax(centroids[bvh.order[i]]);
+    }
+    int axis = 0;
+    (hi - lo).maxCoeff(&axis);
+    const std::uint32_t mid = task.begin + count / 2;
+    std::nth_element(bvh.order.begin() + task.begin, bvh.order.begin() + mid, bvh.order.begin() + task.end,
+                     [&](std::uint32_t a, std::uint32_t b) {
+                       const double ca = centroids[a][axis], cb = centroids[b][axis];
+                       return ca < cb || (ca == cb && a < b);
+                     });
+    const std::uint32_t left = static_cast<std::uint32_t>(bvh.nodes.size());
+    bvh.nodes.emplace_back();
+    bvh.nodes.emplace_back();
+    bvh.nodes[task.node].first = left;
+    bvh.nodes[task.node].count = 0;
+    stack.push_back({left + 1, mid, task.end});
+    stack.push_back({left, task.begin, mid});
+  }
+  return bvh;
+}
+
+template <class BV, class Policy>
+void traverse_nearest_first(const Bvh<BV>& bvh, Policy& policy) {
+  if (bvh.empty()) return;
+  struct Entry {
+    std::uint32_t node;
+    double bound;
+  };
+  // Depth is ~log2(n) for a median split; 128 levels cover any mesh we can hold in memory.
+  std::array<Entry, 256> stack;
+  std::size_t top = 0;
+  const double root_bound = policy.bound(bvh.nodes[0].bv);
+  if (!(root_bound <= policy.prune_bound())) return;
+  stack[top++] = {0, root_bound};
+  while (top > 0 && !policy.done()) {
+    const Entry e = stack[--top];
+    if (e.bound > policy.prune_bound()) continue;
+    const auto& node = bvh.nodes[e.node];
+    if (node.count > 0) {
+      for (std::uint32_t i = 0; i < node.count; ++i) {
+        policy.leaf(bvh.order[node.first + i]);
+        if (policy.done()) return;
+      }
+      continue;
+    }
+    const std::uint32_t a = node.first, b = node.first + 1;
+    double ba = policy.bound(bvh.nodes[a].bv), bb = policy.bound(bvh.nodes[b].bv);
+    const double prune = policy.prune_bound();
+    // Push the farther child first so the nearer one is visited next.
+    if (ba <= bb) {
+      if (bb <= prune) stack[top++] = {b, bb};
+      if (ba <= prune) stack[top++] = {a, ba};
+    } else {
+      if (ba <= prune) stack[top++] = {a, ba};
+      if (bb <= prune) stack[top++] = {b, bb};
+    }
+  }
+}
+
+}  // namespace cdbench

@@ -1,0 +1,152 @@
+#include "distance/max_penetration.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+#include "util/progress.h"
+#include "util/timer.h"
+
+namespace cdbench {
+namespace {
+
+struct Cell {
+  Vec3 center;
+  signed char sign;    // -1 inside, +1 outside, 0 unknown (a certified fact about the centre)
+  double parent_upper;  // certified depth bound over the parent cell (covers this one)
+};
+
+struct Outcome {
+  bool keep = false;
+  bool full = false;
+  bool side_query = false;
+  signed char sign = 0;
+  double lower = -1.0;     // certified depth of the centre (inside only), else -1
+  double upper = 0.0;      // certified upper bound of the depth over the cell's interior points
+  double child_margin = 0.0;  // dist lower bound at the centre: children closer than it share the sign
+};
+
+// sqrt(3) rounded up to a double (the nearest double is below sqrt(3)).
+constexpr double kSqrt3Up = 1.7320508075688774;
+
+}  // namespace
+
+MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const MaxPenetrationOptions& options) {
+  Timer timer;
+  MaxPenetrationResult result;
+  const Aabb box = sdf.bbox();
+  const double diag = box.diagonal();
+  const double eps = options.relative_tolerance * diag;
+  const Vec3 extent = box.extent();
+  double half = 0.5 * extent.maxCoeff() / std::max(1, options.initial_resolution);
+
+  std::vector<Cell> frontier;
+  {
+    const int nx = std::max(1, static_cast<int>(std::ceil(extent.x() / (2 * half))));
+    const int ny = std::max(1, static_cast<int>(std::ceil(extent.y() / (2 * half))));
+    const int nz = std::max(1, static_cast<int>(std::ceil(extent.z() / (2 * half))));
+    // Grow the cells a little so that they cover the box despite rounding of the centres.
+    half *= 1.0 + 1e-9;
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+          frontier.push_back({box.lo + Vec3((2 * i + 1) * half, (2 * j + 1) * half, (2 * k + 1) * half), 0,
+                              std::numeric_limits<double>::infinity()});
+  }
+
+  double best = 0.0;             // certified: some interior point has depth >= best
+  Vec3 best_point = box.center();
+  double upper_discarded = 0.0;  // max certified upper bound over all discarded cells
+  Progress progress("max penetration", 0);
+
+  while (!frontier.empty()) {
+    if (result.cells + frontier.size() > options.max_cells) break;
+    const double r = round_up(half * kSqrt3Up);  // covering radius of a cell around its centre
+    const double snapshot = best;
+    std::vector<Outcome> out(frontier.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frontier.size(), 64), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const Cell& cell = frontier[i];
+        Outcome& o = out[i];
+        // Discard without a full query when some triangle is close enough to the centre:
+        // depth over the cell <= dist(c) + r <= snapshot + eps.
+        const double theta = snapshot + eps - r;
+        Interval d;
+        if (theta > 0.0 && sdf.distance_at_most(cell.center, theta, &d)) {
+          o.upper = round_up(theta + r);
+          if (options.progress) progress.advance();
+          continue;
+        }
+        if (!(theta > 0.0)) d = sdf.unsigned_distance(cell.center);
+        o.full = true;
+        o.sign = cell.sign;
+        if (o.sign == 0) {
+          o.side_query = true;
+          const int s = sdf.side(cell.center);
+          o.sign = static_cast<signed char>(s == 0 ? 1 : s);  // on the surface: depth 0, treat as outside
+        }
+        o.child_margin = d.lo;
+        if (o.sign < 0) {
+          o.lower = d.lo;
+          o.upper = round_up(d.hi + r);
+        } else {
+          o.upper = round_up(r - d.lo);  // a point inside at distance <= r crosses the surface first
+        }
+        o.keep = o.upper > snapshot + eps;
+        if (options.progress) progress.advance();
+      }
+    });
+
+    std::vector<Cell> next;
+    const double child_half = 0.5 * half;
+    const double child_offset = round_up(child_half * kSqrt3Up);  // distance from a centre to a child's centre
+    for (std::size_t i = 0; i < frontier.size(); ++i) {
+      const Outcome& o = out[i];
+      ++result.cells;
+      result.full_queries += o.full;
+      result.side_queries += o.side_query;
+      if (o.lower > best) {
+        best = o.lower;
+        best_point = frontier[i].center;
+      }
+      if (!o.keep) {
+        upper_discarded = std::max(upper_discarded, o.upper);
+        continue;
+      }
+      const signed char child_sign = o.child_margin > child_offset ? o.sign : 0;
+      for (int k = 0; k < 8; ++k) {
+        const Vec3 offset((k & 1) ? child_half : -child_half, (k & 2) ? child_half : -child_half,
+                          (k & 4) ? child_half : -child_half);
+        next.push_back({frontier[i].center + offset, child_sign, o.upper});
+      }
+    }
+    // Kept cells whose children were computed are replaced by them; the children cover the parent
+    // (same centre spacing), so every point of space stays covered by a live or discarded cell.
+    frontier = std::move(next);
+    half = child_half;
+    ++result.levels;
+    if (options.progress) {
+      std::ostringstream os;
+      os.precision(9);
+      os << "level " << result.levels << ", " << frontier.size() << " cells, depth >= " << best;
+      progress.set_detail(os.str());
+    }
+  }
+  progress.finish();
+
+  result.tolerance_reached = frontier.empty();
+  double upper = std::max(best, upper_discarded);
+  // Cells left unexplored after the safety stop are bounded by their parents' bounds.
+  for (const Cell& c : frontier) upper = std::max(upper, c.parent_upper);
+  result.depth = {best, upper};
+  result.point = best_point;
+  result.seconds = timer.seconds();
+  return result;
+}
+
+}  // namespace cdbench

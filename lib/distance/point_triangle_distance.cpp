@@ -1,0 +1,64 @@
+#include "distance/point_triangle_distance.h"
+
+#include <CGAL/Interval_nt.h>
+
+namespace cdbench {
+namespace {
+
+using I = CGAL::Interval_nt<false>;  // needs the rounding mode set upward (done by the caller's guard)
+
+struct V {
+  I x, y, z;
+};
+inline V vec(const Vec3& p) { return {I(p.x()), I(p.y()), I(p.z())}; }
+inline V sub(const V& a, const V& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline I dot(const V& a, const V& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline V cross(const V& a, const V& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline I norm2(const V& a) { return CGAL::square(a.x) + CGAL::square(a.y) + CGAL::square(a.z); }
+
+// Squared distance from p to segment uv. The distance to the supporting line is always a lower
+// bound and each endpoint distance an upper bound; where the sign of the projection parameter is
+// certain, the exact case applies.
+Interval segment(const V& p, const V& u, const V& v) {
+  const V f = sub(v, u), g = sub(p, u), h = sub(p, v);
+  const I ff = norm2(f), gf = dot(g, f), gg = norm2(g), hh = norm2(h);
+  if (gf.sup() <= 0.0) return {gg.inf(), gg.sup()};            // projection before u
+  if (gf.inf() >= ff.sup()) return {hh.inf(), hh.sup()};       // projection after v
+  const double ends = std::min(gg.sup(), hh.sup());
+  if (!(ff.inf() > 0.0)) return {std::min(gg.inf(), hh.inf()), ends};
+  const I line = norm2(cross(g, f)) / ff;
+  if (gf.inf() > 0.0 && gf.sup() < ff.inf()) return {line.inf(), std::min(line.sup(), ends)};
+  return {line.inf(), ends};
+}
+
+}  // namespace
+
+Interval point_triangle_squared_distance(const Vec3& pd, const Vec3& ad, const Vec3& bd, const Vec3& cd) {
+  CGAL::Protect_FPU_rounding<true> guard;  // round upward for the interval operations below
+  const V p = vec(pd), a = vec(ad), b = vec(bd), c = vec(cd);
+  const Interval e0 = segment(p, a, b), e1 = segment(p, b, c), e2 = segment(p, c, a);
+  const double edges_lo = std::min({e0.lo, e1.lo, e2.lo});
+  const double edges_hi = std::min({e0.hi, e1.hi, e2.hi});
+  const V n = cross(sub(b, a), sub(c, a));
+  const I nn = norm2(n);
+  if (!(nn.inf() > 0.0)) return {edges_lo, edges_hi};  // degenerate: the triangle is its edges
+  const I plane = CGAL::square(dot(n, sub(p, a))) / nn;
+  // Signs of the projection against each edge's inner side (all >= 0: projection inside).
+  const I s0 = dot(n, cross(sub(b, a), sub(p, a)));
+  const I s1 = dot(n, cross(sub(c, b), sub(p, b)));
+  const I s2 = dot(n, cross(sub(a, c), sub(p, c)));
+  if (s0.inf() >= 0.0 && s1.inf() >= 0.0 && s2.inf() >= 0.0) return {plane.inf(), std::min(plane.sup(), edges_hi)};
+  if (s0.sup() < 0.0 || s1.sup() < 0.0 || s2.sup() < 0.0) return {std::max(edges_lo, plane.inf()), edges_hi};
+  // Projection within rounding of the boundary: the plane distance is a lower bound, edges an upper.
+  return {plane.inf(), edges_hi};
+}
+
+Interval sqrt_interval(const Interval& squared) {
+  CGAL::Protect_FPU_rounding<true> guard;
+  const I s = CGAL::sqrt(I(std::max(0.0, squared.lo), std::max(0.0, squared.hi)));
+  return {s.inf(), s.sup()};
+}
+
+}  // namespace cdbench

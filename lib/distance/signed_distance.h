@@ -1,0 +1,50 @@
+#pragma once
+// Certified signed distance to a closed triangle surface F: for a query point p, an interval
+// [lo, hi] that contains s(p) = +-dist(p, F) (negative inside the solid) for the exact real
+// geometry given by the doubles. Distances come from an AABB tree in doubles whose pruning bounds
+// are rounded down and from interval arithmetic at the leaves; the sign comes from an exact ray
+// parity test (CGAL's exact orientation predicates). See doc/distance.md.
+#include <cstdint>
+
+#include "bvh/aabb.h"
+#include "bvh/bvh.h"
+#include "mesh/triangle_mesh.h"
+#include "util/interval.h"
+
+namespace cdbench {
+
+class SignedDistance {
+ public:
+  // The mesh must be closed and free of self-intersections for the sign to be meaningful (it is
+  // what validate_mesh certifies); distances are valid for any mesh.
+  explicit SignedDistance(TriangleMesh mesh);
+
+  const TriangleMesh& mesh() const { return mesh_; }
+  const Aabb& bbox() const { return bbox_; }
+  const Bvh<Aabb>& tree() const { return tree_; }
+
+  // [lo, hi] containing dist(p, F) >= 0.
+  Interval unsigned_distance(const Vec3& p) const;
+
+  // True when dist(p, F) <= bound is proven; may stop at the first triangle that proves it.
+  // False means the full query ran; then `*full` (if given) receives the enclosure of dist(p, F).
+  bool distance_at_most(const Vec3& p, double bound, Interval* full = nullptr) const;
+
+  // Exact side: -1 strictly inside the solid, 0 on the surface, +1 strictly outside.
+  int side(const Vec3& p) const;
+
+  // [lo, hi] containing the signed distance s(p) (negative inside).
+  Interval signed_distance(const Vec3& p) const;
+
+  // Same, when dist(p, F) is already enclosed by `unsigned_dist`.
+  Interval signed_distance(const Vec3& p, const Interval& unsigned_dist) const;
+
+ private:
+  bool on_surface(const Vec3& p) const;
+
+  TriangleMesh mesh_;
+  Aabb bbox_;
+  Bvh<Aabb> tree_;
+};
+
+}  // namespace cdbench

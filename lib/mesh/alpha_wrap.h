@@ -1,0 +1,23 @@
+#pragma once
+// Repair of real-world input by CGAL's 3D alpha wrapping: any soup (open, self-intersecting,
+// non-manifold) becomes a closed, 2-manifold, self-intersection-free, outward mesh that encloses it
+// at distance about `offset`.
+#include "mesh/triangle_mesh.h"
+
+namespace cdbench {
+
+struct AlphaWrapOptions {
+  double alpha = 0.0;   // <= 0: bbox diagonal / relative_alpha
+  double offset = 0.0;  // <= 0: bbox diagonal / relative_offset
+  double relative_alpha = 100.0;
+  double relative_offset = 3000.0;
+};
+
+struct AlphaWrapResult {
+  TriangleMesh mesh;
+  double alpha = 0.0, offset = 0.0, seconds = 0.0;
+};
+
+AlphaWrapResult alpha_wrap(const PolygonSoup& soup, const AlphaWrapOptions& options = {});
+
+}  // namespace cdbench

@@ -1,0 +1,305 @@
+#include "mesh/file_structure.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "mesh/read_mesh.h"
+#include "util/error.h"
+
+namespace cdbench {
+namespace {
+
+[[noreturn]] void fail(const std::string& name, const std::string& what) { throw InputError(name + ": " + what); }
+
+// Splits one line into whitespace-separated tokens, dropping a '#' comment.
+std::vector<std::string> tokens_of(const std::string& line) {
+  std::vector<std::string> out;
+  std::string s = line.substr(0, line.find('#'));
+  std::istringstream is(s);
+  std::string t;
+  while (is >> t) out.push_back(t);
+  return out;
+}
+
+bool parse_count(const std::string& t, long long& value) {
+  if (t.empty() || t.size() > 18) return false;
+  for (char c : t)
+    if (c < '0' || c > '9') return false;
+  value = std::stoll(t);
+  return true;
+}
+
+bool parse_number(const std::string& t) {
+  if (t.empty()) return false;
+  char* end = nullptr;
+  const double v = std::strtod(t.c_str(), &end);
+  return end == t.c_str() + t.size() && std::isfinite(v);
+}
+
+class LineReader {
+ public:
+  explicit LineReader(const std::string& bytes) : bytes_(bytes) {}
+  // Next line with at least one token (after removing comments); false at the end.
+  bool next(std::vector<std::string>& toks) {
+    while (pos_ < bytes_.size()) {
+      std::size_t end = bytes_.find('\n', pos_);
+      if (end == std::string::npos) end = bytes_.size();
+      const std::string line = bytes_.substr(pos_, end - pos_);
+      pos_ = end + 1;
+      ++line_no_;
+      toks = tokens_of(line);
+      if (!toks.empty()) return true;
+    }
+    return false;
+  }
+  std::size_t line() const { return line_no_; }
+
+ private:
+  const std::string& bytes_;
+  std::size_t pos_ = 0;
+  std::size_t line_no_ = 0;
+};
+
+void check_off(const std::string& bytes, const std::string& name) {
+  LineReader reader(bytes);
+  std::vector<std::string> t;
+  if (!reader.next(t)) fail(name, "no OFF header (the file holds only blanks or comments)");
+  const std::string& key = t[0];
+  if (key.size() < 3 || key.compare(key.size() - 3, 3, "OFF") != 0)
+    fail(name, "not an OFF file: the first word is '" + key.substr(0, 40) + "', expected 'OFF'");
+  if (key.find('n') != std::string::npos || key.find('4') != std::string::npos)
+    fail(name, "'" + key + "' (non-3D OFF) is not supported");
+  std::size_t i = 1;
+  if (i < t.size() && t[i] == "BINARY") fail(name, "binary OFF is not supported; use ASCII OFF, PLY or STL");
+  if (i >= t.size()) {
+    if (!reader.next(t)) fail(name, "truncated OFF header: the vertex and face counts are missing");
+    i = 0;
+  }
+  if (t.size() - i < 2) fail(name, "OFF header: expected 'vertices faces edges' counts, got '" + t[i] + "'");
+  long long nv = 0, nf = 0;
+  if (!parse_count(t[i], nv) || !parse_count(t[i + 1], nf))
+    fail(name, "OFF header: counts must be non-negative integers, got '" + t[i] + " " + t[i + 1] + "'");
+  // The shortest vertex line is "0 0 0\n" (6 bytes), the shortest face line "3 0 1 2\n" (8 bytes).
+  const long long size = static_cast<long long>(bytes.size());
+  if (nv > size / 6 || nf > size / 8 || nv * 6 + nf * 8 > size)
+    fail(name, "OFF header announces " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                   " faces, more than a file of " + std::to_string(size) + " bytes can hold");
+  for (long long v = 0; v < nv; ++v) {
+    if (!reader.next(t))
+      fail(name, "truncated: the header announces " + std::to_string(nv) + " vertices, the file ends after " +
+                     std::to_string(v));
+    if (t.size() < 3 || !parse_number(t[0]) || !parse_number(t[1]) || !parse_number(t[2]))
+      fail(name, "line " + std::to_string(reader.line()) + ": vertex " + std::to_string(v) +
+                     " needs three finite coordinates");
+  }
+  for (long long f = 0; f < nf; ++f) {
+    if (!reader.next(t))
+      fail(name, "truncated: the header announces " + std::to_string(nf) + " faces, the file ends after " +
+                     std::to_string(f));
+    long long k = 0;
+    if (!parse_count(t[0], k) || k + 1 > static_cast<long long>(t.size()))
+      fail(name, "line " + std::to_string(reader.line()) + ": face " + std::to_string(f) +
+                     " announces '" + t[0].substr(0, 20) + "' corners but the line holds " +
+                     std::to_string(t.size() - 1) + " indices");
+    if (k < 3)
+      fail(name, "line " + std::to_string(reader.line()) + ": face " + std::to_string(f) + " has " +
+                     std::to_string(k) + " corners; a face needs at least 3");
+    for (long long j = 1; j <= k; ++j) {
+      long long id = 0;
+      if (!parse_count(t[j], id) || id >= nv)
+        fail(name, "line " + std::to_string(reader.line()) + ": face " + std::to_string(f) + " refers to vertex '" +
+                       t[j].substr(0, 20) + "', but vertex indices run from 0 to " + std::to_string(nv - 1));
+    }
+  }
+}
+
+// --- PLY ---
+struct PlyProperty {
+  bool list = false;
+  int count_size = 0;  // bytes of the list count type
+  int size = 0;        // bytes of the scalar (or list item) type
+  bool is_float = false;
+  std::string count_type, type;
+};
+struct PlyElement {
+  std::string name;
+  long long count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+int ply_type_size(const std::string& t, bool& is_float) {
+  is_float = (t == "float" || t == "float32" || t == "double" || t == "float64");
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+std::uint64_t read_uint(const unsigned char* p, int size, bool big_endian, bool is_signed, bool& negative) {
+  std::uint64_t v = 0;
+  for (int b = 0; b < size; ++b) {
+    const int idx = big_endian ? b : size - 1 - b;
+    v = (v << 8) | p[idx];
+  }
+  negative = is_signed && (v >> (8 * size - 1)) != 0;
+  return v;
+}
+
+void check_ply(const std::string& bytes, const std::string& name) {
+  if (bytes.compare(0, 3, "ply") != 0 || (bytes.size() > 3 && bytes[3] != '\n' && bytes[3] != '\r'))
+    fail(name, "not a PLY file: it does not start with the line 'ply'");
+  const std::size_t header_end = bytes.find("end_header");
+  if (header_end == std::string::npos) fail(name, "PLY header has no 'end_header' line");
+  std::size_t body = bytes.find('\n', header_end);
+  body = (body == std::string::npos) ? bytes.size() : body + 1;
+  std::istringstream header(bytes.substr(0, header_end));
+  std::string line, format;
+  std::vector<PlyElement> elements;
+  while (std::getline(header, line)) {
+    std::istringstream ls(line);
+    std::string word;
+    if (!(ls >> word)) continue;
+    if (word == "format") {
+      ls >> format;
+    } else if (word == "element") {
+      PlyElement e;
+      std::string count;
+      if (!(ls >> e.name >> count) || !parse_count(count, e.count))
+        fail(name, "PLY header: bad element line '" + line.substr(0, 60) + "'");
+      elements.push_back(e);
+    } else if (word == "property") {
+      if (elements.empty()) fail(name, "PLY header: a property comes before any element");
+      PlyProperty p;
+      std::string type;
+      ls >> type;
+      if (type == "list") {
+        p.list = true;
+        ls >> p.count_type >> p.type;
+        bool f = false;
+        p.count_size = ply_type_size(p.count_type, f);
+        if (p.count_size == 0 || f) fail(name, "PLY header: bad list count type '" + p.count_type + "'");
+      } else {
+        p.type = type;
+      }
+      p.size = ply_type_size(p.type, p.is_float);
+      if (p.size == 0) fail(name, "PLY header: unknown property type '" + p.type.substr(0, 20) + "'");
+      elements.back().properties.push_back(p);
+    }
+  }
+  const bool ascii = format == "ascii";
+  const bool big = format == "binary_big_endian";
+  if (!ascii && !big && format != "binary_little_endian") fail(name, "PLY header: unknown format '" + format + "'");
+  const long long avail = static_cast<long long>(bytes.size() - body);
+  for (const PlyElement& e : elements) {
+    // Every item takes at least one byte (binary) or two (ASCII token and separator).
+    if (e.count > avail) {
+      fail(name, "PLY header announces " + std::to_string(e.count) + " " + e.name + " elements, more than the " +
+                     std::to_string(avail) + " bytes of data can hold");
+    }
+  }
+  if (ascii) {
+    std::istringstream data(bytes.substr(body));
+    std::string tok;
+    for (const PlyElement& e : elements) {
+      for (long long i = 0; i < e.count; ++i) {
+        for (const PlyProperty& p : e.properties) {
+          if (!(data >> tok))
+            fail(name, "truncated: element " + e.name + " " + std::to_string(i) + " of " + std::to_string(e.count) +
+                           " is incomplete");
+          if (p.list) {
+            long long k = 0;
+            if (!parse_count(tok, k) || k > avail)
+              fail(name, e.name + " " + std::to_string(i) + ": bad list length '" + tok.substr(0, 20) + "'");
+            for (long long j = 0; j < k; ++j)
+              if (!(data >> tok) || !parse_number(tok))
+                fail(name, e.name + " " + std::to_string(i) + ": list shorter than its length " + std::to_string(k));
+          } else if (!parse_number(tok)) {
+            fail(name, e.name + " " + std::to_string(i) + ": '" + tok.substr(0, 20) + "' is not a finite number");
+          }
+        }
+      }
+    }
+    return;
+  }
+  std::size_t pos = body;
+  const auto* base = reinterpret_cast<const unsigned char*>(bytes.data());
+  for (const PlyElement& e : elements) {
+    for (long long i = 0; i < e.count; ++i) {
+      for (const PlyProperty& p : e.properties) {
+        std::uint64_t n = 1;
+        if (p.list) {
+          if (pos + p.count_size > bytes.size())
+            fail(name, "truncated: " + e.name + " " + std::to_string(i) + " of " + std::to_string(e.count));
+          bool negative = false;
+          const bool is_signed = p.count_type == "char" || p.count_type == "short" || p.count_type == "int" ||
+                                 p.count_type == "int8" || p.count_type == "int16" || p.count_type == "int32";
+          n = read_uint(base + pos, p.count_size, big, is_signed, negative);
+          pos += p.count_size;
+          if (negative || n > (bytes.size() - pos) / static_cast<std::uint64_t>(p.size))
+            fail(name, e.name + " " + std::to_string(i) + ": list length " + (negative ? "negative" : std::to_string(n)) +
+                           " runs past the end of the file");
+        }
+        if (pos + n * p.size > bytes.size())
+          fail(name, "truncated: " + e.name + " " + std::to_string(i) + " of " + std::to_string(e.count));
+        if (p.is_float && !p.list) {
+          bool finite = true;
+          if (p.size == 4) {
+            unsigned char b[4];
+            for (int k = 0; k < 4; ++k) b[k] = base[pos + (big ? 3 - k : k)];
+            float f;
+            std::memcpy(&f, b, 4);
+            finite = std::isfinite(f);
+          } else {
+            unsigned char b[8];
+            for (int k = 0; k < 8; ++k) b[k] = base[pos + (big ? 7 - k : k)];
+            double d;
+            std::memcpy(&d, b, 8);
+            finite = std::isfinite(d);
+          }
+          if (!finite) fail(name, e.name + " " + std::to_string(i) + ": a coordinate is NaN or infinite");
+        }
+        pos += n * p.size;
+      }
+    }
+  }
+}
+
+void check_stl(const std::string& bytes, const std::string& name) {
+  const std::size_t size = bytes.size();
+  std::uint32_t n = 0;
+  if (size >= 84) std::memcpy(&n, bytes.data() + 80, 4);  // STL is little-endian; so are our targets
+  const bool binary_size_fits = size >= 84 && size == 84 + 50ull * n;
+  const bool starts_solid = bytes.compare(0, 5, "solid") == 0;
+  if (!binary_size_fits) {
+    if (starts_solid) return;  // ASCII STL: CGAL parses it token by token, nothing is pre-sized
+    if (size < 84) fail(name, "not an STL file: too short for a binary STL (" + std::to_string(size) +
+                                  " bytes) and it does not start with 'solid'");
+    fail(name, "binary STL announces " + std::to_string(n) + " triangles (" + std::to_string(84 + 50ull * n) +
+                   " bytes) but the file has " + std::to_string(size) + " bytes");
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    for (int k = 3; k < 12; ++k) {  // skip the 3 normal floats, check the 9 vertex floats
+      float f;
+      std::memcpy(&f, bytes.data() + 84 + 50ull * i + 4 * k, 4);
+      if (!std::isfinite(f)) fail(name, "triangle " + std::to_string(i) + ": a coordinate is NaN or infinite");
+    }
+  }
+}
+
+}  // namespace
+
+void check_mesh_file_structure(const std::string& bytes, MeshFormat format, const std::string& name) {
+  switch (format) {
+    case MeshFormat::Off: return check_off(bytes, name);
+    case MeshFormat::Ply: return check_ply(bytes, name);
+    case MeshFormat::Stl: return check_stl(bytes, name);
+    case MeshFormat::Obj: return;  // CGAL's OBJ reader grows its vectors line by line: nothing to pre-check
+  }
+}
+
+}  // namespace cdbench

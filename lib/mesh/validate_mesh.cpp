@@ -1,0 +1,387 @@
+// CGAL's polygon-mesh-processing code (triangulation of polygons, self-intersections, orientation)
+// lives in this translation unit only.
+#include "mesh/validate_mesh.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Interval_nt.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <numeric>
+#include <sstream>
+
+#include "util/timer.h"
+
+namespace cdbench {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using SurfaceMesh = CGAL::Surface_mesh<Point>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+std::string pt(const Vec3& p) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return os.str();
+}
+
+Point to_point(const Vec3& v) { return Point(v.x(), v.y(), v.z()); }
+
+class UnionFind {
+ public:
+  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::size_t{0}); }
+  std::size_t find(std::size_t x) {
+    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+    return x;
+  }
+  void unite(std::size_t a, std::size_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);  // smallest index as root: deterministic
+  }
+
+ private:
+  std::vector<std::size_t> parent_;
+};
+
+// Triangulates one polygon; CGAL's hole triangulation handles non-convex planar and non-planar polygons.
+bool triangulate_polygon(const PolygonSoup& soup, const std::vector<std::size_t>& poly, std::vector<Face>& out) {
+  if (poly.size() == 3) {
+    out.push_back({static_cast<std::uint32_t>(poly[0]), static_cast<std::uint32_t>(poly[1]),
+                   static_cast<std::uint32_t>(poly[2])});
+    return true;
+  }
+  std::vector<Point> ring;
+  for (std::size_t id : poly) ring.push_back(to_point(soup.points[id]));
+  std::vector<CGAL::Triple<int, int, int>> tris;
+  PMP::triangulate_hole_polyline(ring, std::back_inserter(tris));
+  if (tris.size() != poly.size() - 2) return false;
+  for (const auto& t : tris)
+    out.push_back({static_cast<std::uint32_t>(poly[t.first]), static_cast<std::uint32_t>(poly[t.second]),
+                   static_cast<std::uint32_t>(poly[t.third])});
+  return true;
+}
+
+struct HalfEdge {
+  std::uint32_t lo, hi;  // undirected key
+  std::uint32_t face;
+  bool forward;          // the face runs lo -> hi
+  bool operator<(const HalfEdge& o) const {
+    return lo != o.lo ? lo < o.lo : hi != o.hi ? hi < o.hi : face < o.face;
+  }
+};
+
+void add_problem(MeshReport& r, const std::string& kind, std::size_t count, const std::string& message) {
+  r.errors.push_back({kind, count, message});
+}
+
+}  // namespace
+
+bool MeshReport::has(const std::string& kind) const {
+  return std::any_of(errors.begin(), errors.end(), [&](const MeshProblem& p) { return p.kind == kind; });
+}
+
+ValidatedMesh validate_mesh(const TriangleMesh& mesh, const ValidateOptions& options) {
+  PolygonSoup soup;
+  soup.points = mesh.vertices;
+  soup.polygons.reserve(mesh.faces.size());
+  for (const Face& f : mesh.faces) soup.polygons.push_back({f[0], f[1], f[2]});
+  return validate_mesh(soup, options);
+}
+
+ValidatedMesh validate_mesh(const PolygonSoup& soup, const ValidateOptions& options) {
+  ValidatedMesh out;
+  MeshReport& report = out.report;
+  report.input_vertices = soup.points.size();
+  report.input_polygons = soup.polygons.size();
+
+  // 1. Triangulate.
+  std::vector<Face> faces;
+  faces.reserve(soup.polygons.size());
+  std::size_t polygons_split = 0, failed = 0, first_failed = 0;
+  for (std::size_t i = 0; i < soup.polygons.size(); ++i) {
+    const auto& poly = soup.polygons[i];
+    if (poly.size() > 3) ++polygons_split;
+    if (!triangulate_polygon(soup, poly, faces) && failed++ == 0) first_failed = i;
+  }
+  if (polygons_split > 0)
+    report.notices.push_back(std::to_string(polygons_split) + " polygons with more than 3 corners were triangulated");
+  if (failed > 0)
+    add_problem(report, "untriangulable-polygon", failed,
+                std::to_string(failed) + " polygons could not be triangulated, e.g. face " + std::to_string(first_failed));
+
+  // 2. Drop unreferenced vertices (CGAL's orientation code requires none), keeping the order.
+  std::vector<std::uint32_t> remap(soup.points.size(), UINT32_MAX);
+  for (const Face& f : faces)
+    for (std::uint32_t v : f) remap[v] = 0;
+  TriangleMesh& mesh = out.mesh;
+  for (std::size_t i = 0; i < soup.points.size(); ++i) {
+    if (remap[i] == 0) {
+      remap[i] = static_cast<std::uint32_t>(mesh.vertices.size());
+      mesh.vertices.push_back(soup.points[i]);
+    }
+  }
+  const std::size_t unreferenced = soup.points.size() - mesh.vertices.size();
+  if (unreferenced > 0)
+    report.notices.push_back(std::to_string(unreferenced) + " unreferenced vertices were removed");
+  for (Face& f : faces)
+    for (std::uint32_t& v : f) v = remap[v];
+
+  // 3. Degenerate faces: a repeated corner or three collinear corners (exact predicate).
+  std::size_t degenerate = 0;
+  std::string degenerate_example;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const Face& f = faces[i];
+    const bool repeated = f[0] == f[1] || f[1] == f[2] || f[0] == f[2];
+    const bool collinear = !repeated && CGAL::collinear(to_point(mesh.vertices[f[0]]), to_point(mesh.vertices[f[1]]),
+                                                        to_point(mesh.vertices[f[2]]));
+    if (repeated || collinear) {
+      if (degenerate++ == 0) {
+        degenerate_example = "face " + std::to_string(i) + " with vertices " + std::to_string(f[0]) + " " +
+                             pt(mesh.vertices[f[0]]) + ", " + std::to_string(f[1]) + " " + pt(mesh.vertices[f[1]]) +
+                             ", " + std::to_string(f[2]) + " " + pt(mesh.vertices[f[2]]);
+      }
+    }
+  }
+  if (degenerate > 0)
+    add_problem(report, "degenerate-face", degenerate,
+                std::to_string(degenerate) + " degenerate (zero-area) faces, e.g. " + degenerate_example);
+  mesh.faces = faces;
+
+  // 4. Edges: boundary (1 face), non-manifold (> 2 faces), orientation consistency (2 faces).
+  std::vector<HalfEdge> edges;
+  edges.reserve(3 * faces.size());
+  for (std::uint32_t i = 0; i < faces.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = faces[i][k], b = faces[i][(k + 1) % 3];
+      if (a == b) continue;
+      edges.push_back({std::min(a, b), std::max(a, b), i, a < b});
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::size_t boundary = 0, nonmanifold = 0, undirected = 0;
+  std::string boundary_example, nonmanifold_example;
+  UnionFind components(faces.size());
+  UnionFind corners(3 * faces.size());  // one entry per (face, corner); united across manifold edges
+  auto corner_of = [&](std::uint32_t face, std::uint32_t vertex) {
+    for (int k = 0; k < 3; ++k)
+      if (faces[face][k] == vertex) return 3 * static_cast<std::size_t>(face) + k;
+    return 3 * static_cast<std::size_t>(face);
+  };
+  struct Adjacent {
+    std::uint32_t f1, f2;
+    bool same_direction;
+  };
+  std::vector<Adjacent> adjacency;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
+    const std::size_t n = j - i;
+    ++undirected;
+    for (std::size_t k = i + 1; k < j; ++k) components.unite(edges[i].face, edges[k].face);
+    const std::string where = "edge (" + std::to_string(edges[i].lo) + ", " + std::to_string(edges[i].hi) +
+                              ") from " + pt(mesh.vertices[edges[i].lo]) + " to " + pt(mesh.vertices[edges[i].hi]);
+    if (n == 1) {
+      if (boundary++ == 0) boundary_example = where + " of face " + std::to_string(edges[i].face);
+    } else if (n > 2) {
+      if (nonmanifold++ == 0) nonmanifold_example = where + ", shared by " + std::to_string(n) + " faces";
+    } else {
+      const HalfEdge &a = edges[i], &b = edges[i + 1];
+      adjacency.push_back({a.face, b.face, a.forward == b.forward});
+      corners.unite(corner_of(a.face, a.lo), corner_of(b.face, a.lo));
+      corners.unite(corner_of(a.face, a.hi), corner_of(b.face, a.hi));
+    }
+    i = j;
+  }
+  report.closed = boundary == 0;
+  if (boundary > 0)
+    add_problem(report, "boundary", boundary,
+                std::to_string(boundary) + " boundary edges (the surface is not closed), e.g. " + boundary_example);
+  if (nonmanifold > 0)
+    add_problem(report, "non-manifold-edge", nonmanifold,
+                std::to_string(nonmanifold) + " non-manifold edges, e.g. " + nonmanifold_example);
+
+  // 5. Non-manifold vertices: the faces around a vertex must form a single fan.
+  {
+    std::vector<std::size_t> first_root(mesh.vertices.size(), SIZE_MAX);
+    std::vector<char> pinched(mesh.vertices.size(), 0);
+    for (std::uint32_t f = 0; f < faces.size(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = faces[f][k];
+        const std::size_t root = corners.find(3 * static_cast<std::size_t>(f) + k);
+        if (first_root[v] == SIZE_MAX) first_root[v] = root;
+        else if (first_root[v] != root) pinched[v] = 1;
+      }
+    }
+    const std::size_t count = static_cast<std::size_t>(std::count(pinched.begin(), pinched.end(), 1));
+    if (count > 0) {
+      const std::size_t v = static_cast<std::size_t>(std::find(pinched.begin(), pinched.end(), 1) - pinched.begin());
+      add_problem(report, "non-manifold-vertex", count,
+                  std::to_string(count) + " non-manifold vertices (faces around them form several fans), e.g. vertex " +
+                      std::to_string(v) + " " + pt(mesh.vertices[v]));
+    }
+  }
+
+  // 6. Components.
+  {
+    std::vector<std::size_t> roots;
+    for (std::size_t f = 0; f < faces.size(); ++f) roots.push_back(components.find(f));
+    std::sort(roots.begin(), roots.end());
+    report.components = static_cast<std::size_t>(std::unique(roots.begin(), roots.end()) - roots.begin());
+    if (report.components > 1)
+      report.notices.push_back("the mesh has " + std::to_string(report.components) + " connected components");
+  }
+
+  const bool manifold = !report.has("non-manifold-edge") && !report.has("non-manifold-vertex") &&
+                        !report.has("untriangulable-polygon");
+  // 7. Orientability: make the two faces at every edge run it in opposite directions (flip by BFS).
+  if (manifold && !faces.empty()) {
+    std::vector<std::vector<std::pair<std::uint32_t, bool>>> neighbours(faces.size());
+    for (const Adjacent& a : adjacency) {
+      neighbours[a.f1].push_back({a.f2, a.same_direction});
+      neighbours[a.f2].push_back({a.f1, a.same_direction});
+    }
+    std::vector<signed char> flip(faces.size(), -1);
+    std::size_t flipped = 0;
+    bool orientable = true;
+    std::uint32_t bad_face = 0;
+    for (std::uint32_t seed = 0; seed < faces.size() && orientable; ++seed) {
+      if (flip[seed] >= 0) continue;
+      flip[seed] = 0;
+      std::vector<std::uint32_t> queue{seed};
+      while (!queue.empty() && orientable) {
+        const std::uint32_t f = queue.back();
+        queue.pop_back();
+        for (const auto& [g, same] : neighbours[f]) {
+          const signed char want = static_cast<signed char>(flip[f] ^ (same ? 1 : 0));
+          if (flip[g] < 0) {
+            flip[g] = want;
+            flipped += want;
+            queue.push_back(g);
+          } else if (flip[g] != want) {
+            orientable = false;
+            bad_face = g;
+            break;
+          }
+        }
+      }
+    }
+    if (!orientable) {
+      add_problem(report, "non-orientable", 1,
+                  "the surface is not orientable (a Moebius-like loop of faces), e.g. around face " +
+                      std::to_string(bad_face));
+    } else if (flipped > 0) {
+      for (std::size_t f = 0; f < faces.size(); ++f)
+        if (flip[f] == 1) std::swap(mesh.faces[f][1], mesh.faces[f][2]);
+      report.notices.push_back(std::to_string(flipped) + " faces were flipped to make the orientation consistent");
+    }
+  }
+
+  // 8. Self-intersections (exact) and outward orientation, on a CGAL surface mesh.
+  const bool polygon_mesh = manifold && !report.has("non-orientable") && !mesh.faces.empty();
+  if (!polygon_mesh) {
+    report.notices.push_back("self-intersections were not checked: the faces do not form a manifold surface");
+    return out;
+  }
+  SurfaceMesh sm;
+  for (const Vec3& v : mesh.vertices) sm.add_vertex(to_point(v));
+  for (const Face& f : mesh.faces) {
+    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) {
+      report.notices.push_back("self-intersections were not checked: faces with repeated corners");
+      return out;
+    }
+    const auto added = sm.add_face(SurfaceMesh::Vertex_index(f[0]), SurfaceMesh::Vertex_index(f[1]),
+                                   SurfaceMesh::Vertex_index(f[2]));
+    if (added == SurfaceMesh::null_face()) {
+      report.notices.push_back("self-intersections were not checked: CGAL rejected the face structure");
+      return out;
+    }
+  }
+  if (options.check_self_intersections && !report.has("degenerate-face")) {
+    Timer timer;
+    std::vector<std::pair<SurfaceMesh::Face_index, SurfaceMesh::Face_index>> pairs;
+    PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
+    report.seconds_self_intersections = timer.seconds();
+    report.self_intersections_checked = true;
+    if (!pairs.empty()) {
+      std::vector<std::pair<std::size_t, std::size_t>> ids;
+      for (const auto& [a, b] : pairs) ids.emplace_back(std::min<std::size_t>(a, b), std::max<std::size_t>(a, b));
+      std::sort(ids.begin(), ids.end());  // parallel output order varies: report the smallest pair
+      const auto [a, b] = ids.front();
+      add_problem(report, "self-intersection", ids.size(),
+                  std::to_string(ids.size()) + " pairs of faces intersect (exact test), e.g. faces " + std::to_string(a) +
+                      " and " + std::to_string(b) + " with first vertices " + pt(mesh.vertices[mesh.faces[a][0]]) +
+                      " and " + pt(mesh.vertices[mesh.faces[b][0]]));
+    }
+  } else if (report.has("degenerate-face")) {
+    report.notices.push_back("self-intersections were not checked: the mesh has degenerate faces");
+  }
+
+  if (!report.closed || !report.valid()) return out;
+
+  // Outward orientation of every component (nested shells get the orientation that bounds a volume).
+  if (options.fix_orientation) {
+    PMP::orient_to_bound_a_volume(sm);
+    std::size_t reversed = 0;
+    for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
+      const SurfaceMesh::Face_index fi(static_cast<SurfaceMesh::size_type>(i));
+      std::uint32_t vs[3];
+      int k = 0;
+      for (auto v : CGAL::vertices_around_face(sm.halfedge(fi), sm)) vs[k++] = static_cast<std::uint32_t>(v);
+      Face& f = mesh.faces[i];
+      // Same cyclic order as ours, or the reverse?
+      const int r = (vs[0] == f[0]) ? 0 : (vs[0] == f[1]) ? 1 : 2;
+      if (vs[1] != f[(r + 1) % 3]) {
+        std::swap(f[1], f[2]);
+        ++reversed;
+      }
+    }
+    if (reversed > 0)
+      report.notices.push_back("orientation: " + std::to_string(reversed) +
+                               " faces were inward-oriented and have been reversed to face outwards");
+  }
+
+  // Genus from the Euler characteristic of each component: chi = V - E + F = 2 - 2g.
+  {
+    std::vector<long> v(faces.size(), 0), e(faces.size(), 0), f(faces.size(), 0);
+    std::vector<std::size_t> vertex_component(mesh.vertices.size(), 0);
+    for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
+      const std::size_t c = components.find(i);
+      ++f[c];
+      for (std::uint32_t vid : mesh.faces[i]) vertex_component[vid] = c;
+    }
+    for (std::size_t c : vertex_component) ++v[c];
+    // In a closed manifold every undirected edge appears exactly twice in `edges`.
+    for (const HalfEdge& h : edges) ++e[components.find(h.face)];
+    long genus = 0;
+    for (std::size_t c = 0; c < faces.size(); ++c) {
+      if (f[c] == 0) continue;
+      const long chi = v[c] - e[c] / 2 + f[c];
+      genus += (2 - chi) / 2;
+    }
+    report.genus = genus;
+  }
+
+  // Volume by the divergence theorem in interval arithmetic: a rigorous enclosure.
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    CGAL::Interval_nt<false> vol(0.0);
+    for (const Face& f : mesh.faces) {
+      const Vec3 &a = mesh.vertices[f[0]], &b = mesh.vertices[f[1]], &c = mesh.vertices[f[2]];
+      using I = CGAL::Interval_nt<false>;
+      const I ax(a.x()), ay(a.y()), az(a.z()), bx(b.x()), by(b.y()), bz(b.z()), cx(c.x()), cy(c.y()), cz(c.z());
+      vol += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+    }
+    vol = vol / CGAL::Interval_nt<false>(6.0);
+    report.volume_lo = vol.inf();
+    report.volume_hi = vol.sup();
+  }
+  return out;
+}
+
+}  // namespace cdbench

@@ -1,0 +1,53 @@
+#pragma once
+// Turning a polygon soup into a validated, outward-oriented triangle mesh, with a report that names
+// every problem found (what, how many, one example with indices and coordinates).
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "mesh/triangle_mesh.h"
+
+namespace cdbench {
+
+struct MeshProblem {
+  std::string kind;     // short identifier: "boundary", "non-manifold-edge", "self-intersection", ...
+  std::size_t count = 0;
+  std::string message;  // full sentence with the count and one example
+};
+
+struct MeshReport {
+  std::size_t input_vertices = 0;
+  std::size_t input_polygons = 0;
+  std::vector<MeshProblem> errors;   // any error makes the mesh unusable as a solid
+  std::vector<std::string> notices;  // changes made or facts worth knowing (triangulation, orientation fixed, ...)
+  bool self_intersections_checked = false;
+  // Topology and geometry of the resulting mesh.
+  std::size_t components = 0;
+  bool closed = false;
+  long genus = -1;           // sum over components (closed, manifold meshes only), else -1
+  double volume_lo = 0.0, volume_hi = 0.0;  // rigorous enclosure of the enclosed volume (closed meshes)
+  double seconds_self_intersections = 0.0;
+
+  bool valid() const { return errors.empty(); }
+  bool has(const std::string& kind) const;
+};
+
+struct ValidatedMesh {
+  TriangleMesh mesh;
+  MeshReport report;
+};
+
+struct ValidateOptions {
+  bool check_self_intersections = true;
+  bool fix_orientation = true;
+};
+
+// Triangulates polygons, drops unreferenced vertices, and checks: degenerate faces (exact),
+// boundary edges, non-manifold edges and vertices, orientability, self-intersections (exact, CGAL),
+// and outward orientation (reversed automatically when closed and valid, with a notice).
+ValidatedMesh validate_mesh(const PolygonSoup& soup, const ValidateOptions& options = {});
+
+// Convenience: validation of an already triangulated mesh.
+ValidatedMesh validate_mesh(const TriangleMesh& mesh, const ValidateOptions& options = {});
+
+}  // namespace cdbench

@@ -1,0 +1,19 @@
+#pragma once
+// Whole-file output that never leaves a half-written file under the final name: the content goes
+// to a temporary file in the same directory, which is renamed over the target only when complete.
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace cdbench {
+
+// Calls write(stream) on a temporary file next to `path`, then renames it to `path`.
+// On any failure (the callback throws, the disk is full, the directory is missing) the temporary
+// file is removed, `path` is left as it was, and an InputError naming the file is thrown.
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+// Same, for producers that can only write to a path (e.g. a library's own writer).
+// write(tmp_path) must create tmp_path and return false (or throw) on failure.
+void write_path_atomically(const std::string& path, const std::function<bool(const std::string&)>& write);
+
+}  // namespace cdbench

@@ -1,0 +1,62 @@
+#include "util/progress.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace cdbench {
+
+bool Progress::enabled() { return isatty(STDERR_FILENO) == 1; }
+
+Progress::Progress(std::string label, std::uint64_t total)
+    : label_(std::move(label)),
+      total_(total),
+      start_(std::chrono::steady_clock::now()),
+      last_draw_(start_),
+      active_(enabled()) {}
+
+Progress::~Progress() { finish(); }
+
+void Progress::advance(std::uint64_t n) {
+  done_.fetch_add(n, std::memory_order_relaxed);
+  if (!active_) return;
+  const auto now = std::chrono::steady_clock::now();
+  // Cheap unlocked check first; the lock only serialises actual drawing.
+  if (now - last_draw_ < std::chrono::milliseconds(200)) return;
+  std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+  if (!lock.owns_lock() || finished_) return;
+  last_draw_ = now;
+  draw(false);
+}
+
+void Progress::set_detail(const std::string& detail) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  detail_ = detail;
+}
+
+void Progress::finish() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (finished_) return;
+  finished_ = true;
+  // Only a run long enough to have drawn anything leaves a final line.
+  if (active_ && last_draw_ != start_) draw(true);
+}
+
+void Progress::draw(bool final_line) {
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const std::uint64_t done = done_.load(std::memory_order_relaxed);
+  if (total_ > 0) {
+    const double frac = static_cast<double>(done) / static_cast<double>(total_);
+    const double eta = frac > 0 ? elapsed * (1.0 / frac - 1.0) : 0.0;
+    std::fprintf(stderr, "\r%s: %5.1f%% (%llu/%llu) %.0fs elapsed, ETA %.0fs %s\033[K", label_.c_str(),
+                 100.0 * frac, static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_),
+                 elapsed, eta, detail_.c_str());
+  } else {
+    std::fprintf(stderr, "\r%s: %llu, %.1fs elapsed %s\033[K", label_.c_str(),
+                 static_cast<unsigned long long>(done), elapsed, detail_.c_str());
+  }
+  if (final_line) std::fputc('\n', stderr);
+  std::fflush(stderr);
+}
+
+}  // namespace cdbench

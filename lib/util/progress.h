@@ -1,0 +1,41 @@
+#pragma once
+// Progress on stderr for long work: shown only when stderr is a terminal (never in logs or CI),
+// throttled to a few updates per second, safe to call from many threads.
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+namespace cdbench {
+
+class Progress {
+ public:
+  // total == 0: an open-ended task (shows a count and the elapsed time only).
+  Progress(std::string label, std::uint64_t total);
+  ~Progress();
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+
+  void advance(std::uint64_t n = 1);
+  // Replaces the free-text detail shown after the counter (e.g. the current bound).
+  void set_detail(const std::string& detail);
+  void finish();
+
+  static bool enabled();  // true when stderr is a terminal
+
+ private:
+  void draw(bool final_line);
+
+  std::string label_;
+  std::uint64_t total_;
+  std::atomic<std::uint64_t> done_{0};
+  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point last_draw_;
+  std::mutex mutex_;
+  std::string detail_;
+  bool active_;
+  bool finished_ = false;
+};
+
+}  // namespace cdbench

@@ -1,0 +1,149 @@
+// cdbench check MESH: validation verdict, statistics and the certified maximum penetration.
+#include <tbb/global_control.h>
+
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "commands.h"
+#include "distance/max_penetration.h"
+#include "mesh_loading.h"
+#include "util/timer.h"
+
+namespace cdbench::cli {
+namespace {
+
+struct CheckOptions {
+  std::string mesh;
+  bool json = false;
+  bool max_penetration = true;
+  double tolerance = 1e-6;
+  int threads = 0;
+};
+
+std::string num(double x, int digits = 17) {
+  std::ostringstream os;
+  os << std::setprecision(digits) << x;
+  return os.str();
+}
+
+std::string vec(const Vec3& v, int digits = 17) {
+  return "(" + num(v.x(), digits) + ", " + num(v.y(), digits) + ", " + num(v.z(), digits) + ")";
+}
+
+int run_check(const CheckOptions& opt) {
+  std::unique_ptr<tbb::global_control> threads;
+  if (opt.threads > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, opt.threads);
+  const LoadedMesh loaded = load_mesh(opt.mesh);
+  const MeshReport& r = loaded.validated.report;
+  const TriangleMesh& mesh = loaded.validated.mesh;
+  const Aabb box = mesh.bbox();
+  const double diag = box.diagonal();
+
+  MaxPenetrationResult mp;
+  double seconds_tree = 0.0;
+  const bool run_mp = opt.max_penetration && r.valid();
+  if (run_mp) {
+    Timer t_tree;
+    const SignedDistance sdf(mesh);
+    seconds_tree = t_tree.seconds();
+    MaxPenetrationOptions mo;
+    mo.relative_tolerance = opt.tolerance;
+    mp = certified_max_penetration(sdf, mo);
+  }
+
+  if (opt.json) {
+    nlohmann::json j;
+    j["mesh"] = opt.mesh;
+    j["input"] = {{"vertices", r.input_vertices}, {"polygons", r.input_polygons}};
+    j["vertices"] = mesh.vertices.size();
+    j["faces"] = mesh.faces.size();
+    j["bbox"] = {{"min", {box.lo.x(), box.lo.y(), box.lo.z()}}, {"max", {box.hi.x(), box.hi.y(), box.hi.z()}}};
+    j["diagonal"] = diag;
+    j["closed"] = r.closed;
+    j["components"] = r.components;
+    j["genus"] = r.genus >= 0 ? nlohmann::json(r.genus) : nlohmann::json(nullptr);
+    j["volume"] = r.valid() ? nlohmann::json({r.volume_lo, r.volume_hi}) : nlohmann::json(nullptr);
+    j["self_intersections_checked"] = r.self_intersections_checked;
+    j["valid"] = r.valid();
+    j["errors"] = nlohmann::json::array();
+    for (const auto& e : r.errors) j["errors"].push_back({{"kind", e.kind}, {"count", e.count}, {"message", e.message}});
+    j["notices"] = r.notices;
+    if (run_mp) {
+      j["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
+                              {"fraction_of_diagonal", {mp.depth.lo / diag, mp.depth.hi / diag}},
+                              {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
+                              {"relative_tolerance", opt.tolerance},
+                              {"tolerance_reached", mp.tolerance_reached},
+                              {"cells", mp.cells},
+                              {"full_distance_queries", mp.full_queries},
+                              {"side_queries", mp.side_queries},
+                              {"levels", mp.levels}};
+    }
+    j["timings_s"] = {{"read", loaded.seconds_read},
+                      {"validate", loaded.seconds_validate},
+                      {"self_intersections", r.seconds_self_intersections},
+                      {"distance_tree", seconds_tree},
+                      {"max_penetration", mp.seconds}};
+    std::cout << std::setw(2) << j << "\n";
+  } else {
+    std::cout << "mesh:               " << opt.mesh << "\n";
+    std::cout << "input:              " << r.input_vertices << " vertices, " << r.input_polygons << " polygons\n";
+    std::cout << "mesh:               " << mesh.vertices.size() << " vertices, " << mesh.faces.size() << " triangles\n";
+    std::cout << "bbox:               " << vec(box.lo, 9) << " - " << vec(box.hi, 9) << ", diagonal " << num(diag, 9)
+              << "\n";
+    std::cout << "topology:           " << (r.closed ? "closed" : "open") << ", " << r.components
+              << (r.components == 1 ? " component" : " components");
+    if (r.genus >= 0) std::cout << ", genus " << r.genus;
+    std::cout << "\n";
+    if (r.valid())
+      std::cout << "volume:             " << num(0.5 * (r.volume_lo + r.volume_hi), 12) << " (certified in ["
+                << num(r.volume_lo) << ", " << num(r.volume_hi) << "])\n";
+    std::cout << "self-intersections: "
+              << (r.self_intersections_checked ? (r.has("self-intersection") ? "found (exact test)" : "none (exact test)")
+                                               : "not checked")
+              << "\n";
+    for (const auto& n : r.notices) std::cout << "notice:             " << n << "\n";
+    for (const auto& e : r.errors) std::cout << "error:              " << e.message << "\n";
+    std::cout << "verdict:            " << (r.valid() ? "valid closed solid" : "INVALID") << "\n";
+    if (run_mp) {
+      std::cout << "max penetration:    [" << num(mp.depth.lo) << ", " << num(mp.depth.hi) << "] = ["
+                << num(100 * mp.depth.lo / diag, 9) << "%, " << num(100 * mp.depth.hi / diag, 9)
+                << "%] of the diagonal, width " << num(mp.depth.width() / diag, 3) << " x diagonal"
+                << (mp.tolerance_reached ? "" : " (TOLERANCE NOT REACHED)") << "\n";
+      std::cout << "deepest point:      " << vec(mp.point) << "\n";
+      std::cout << "branch and bound:   " << mp.cells << " cells, " << mp.full_queries << " full distance queries, "
+                << mp.side_queries << " exact side tests, " << mp.levels << " levels\n";
+    }
+    std::cout << std::fixed << std::setprecision(3) << "timings (s):        read " << loaded.seconds_read
+              << ", validate " << loaded.seconds_validate << " (self-intersections " << r.seconds_self_intersections
+              << "), distance tree " << seconds_tree << ", max penetration " << mp.seconds << "\n";
+  }
+  return r.valid() ? kExitOk : kExitInvalidMesh;
+}
+
+}  // namespace
+
+void register_check(CLI::App& app, int& exit_code) {
+  auto opt = std::make_shared<CheckOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "check",
+      "Read a mesh (OFF, OBJ, PLY, STL), validate it as a closed solid and report its statistics and certified "
+      "maximum penetration (the radius of the largest inscribed ball). Exits 1 when the mesh is not a valid closed "
+      "solid, 2 when the file cannot be read.");
+  cmd->add_option("mesh", opt->mesh, "mesh file")->required();
+  cmd->add_flag("--json", opt->json, "print a JSON report instead of text");
+  cmd->add_option("--tolerance", opt->tolerance,
+                  "width of the max-penetration interval relative to the bbox diagonal")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-12, 1.0));
+  cmd->add_flag("--no-max-penetration{false}", opt->max_penetration, "skip the max-penetration computation");
+  cmd->add_option("--threads", opt->threads, "worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 1024));
+  cmd->callback([opt, &exit_code]() { exit_code = run_check(*opt); });
+}
+
+}  // namespace cdbench::cli

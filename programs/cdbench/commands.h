@@ -1,0 +1,16 @@
+#pragma once
+#include <CLI/CLI.hpp>
+
+namespace cdbench::cli {
+
+// Exit codes shared by all subcommands.
+constexpr int kExitOk = 0;
+constexpr int kExitInvalidMesh = 1;  // the input was read but is not a usable closed solid
+constexpr int kExitBadInput = 2;     // unreadable or malformed file, bad option
+constexpr int kExitInternal = 3;
+
+// Each registers its subcommand; the callback stores the exit code in `exit_code`.
+void register_check(CLI::App& app, int& exit_code);
+void register_wrap(CLI::App& app, int& exit_code);
+
+}  // namespace cdbench::cli

@@ -1,0 +1,35 @@
+// cdbench: certified benchmark pose sets for static collision detection.
+#include <cstdio>
+#include <exception>
+#include <iostream>
+
+#include "commands.h"
+#include "util/error.h"
+
+int main(int argc, char** argv) {
+  using namespace cdbench::cli;
+  CLI::App app{"cdbench " CDBENCH_VERSION
+               " - certified benchmark pose sets for static collision detection.\n"
+               "Exit codes: 0 success, 1 the mesh is not a valid closed solid, 2 bad input or option, 3 internal error."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", CDBENCH_VERSION);
+  int exit_code = kExitOk;
+  register_check(app, exit_code);
+  register_wrap(app, exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitBadInput;
+  } catch (const cdbench::InputError& e) {
+    std::cerr << "cdbench: error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "cdbench: error: out of memory\n";
+    return kExitInternal;
+  } catch (const std::exception& e) {
+    std::cerr << "cdbench: internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+  return exit_code;
+}
