@@ -9,6 +9,7 @@
 #include <sstream>
 #include <vector>
 
+#include "distance/point_triangle_distance.h"
 #include "util/progress.h"
 #include "util/timer.h"
 
@@ -26,10 +27,81 @@ struct Outcome {
   bool full = false;
   bool side_query = false;
   signed char sign = 0;
-  double lower = -1.0;     // certified depth of the centre (inside only), else -1
+  double lower = -1.0;     // certified depth of `point` (inside only), else -1
+  Vec3 point = Vec3::Zero();
   double upper = 0.0;      // certified upper bound of the depth over the cell's interior points
   double child_margin = 0.0;  // dist lower bound at the centre: children closer than it share the sign
 };
+
+// Upper bound of the depth over the interior points of a cube (centre c, half-size h) from the
+// convexity of the triangle distances d_j (certification-math note 2): for weights lambda_j >= 0,
+// depth(x) <= sum_j lambda_j d_j(x) / sum_j lambda_j, and the right side is convex, so its maximum
+// over the cube is attained at a corner. Any weights give a valid bound; weights making the
+// gradients of the nearest triangles cancel (the min-norm point of their convex hull) make it
+// tight at a medial point and exact on a plateau between parallel faces.
+// Also returns in `candidate` the lambda-weighted mean of the nearest points, a good guess for a
+// deep point (the mid-plane point between parallel faces), to be certified by the caller.
+double convexity_bound(const SignedDistance& sdf, const Vec3& c, double h, double radius,
+                       std::vector<std::uint32_t>& ids, Vec3& candidate) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  sdf.triangles_within(c, radius, 48, ids);  // a partial set is still valid
+  if (ids.empty()) return kInf;
+  const TriangleMesh& m = sdf.mesh();
+  const std::size_t n = ids.size();
+  std::vector<Vec3> g(n), nearest(n);
+  std::vector<std::pair<double, std::uint32_t>> order(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const Face& f = m.faces[ids[j]];
+    order[j] = {(c - closest_point_on_triangle(c, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]])).squaredNorm(),
+                ids[j]};
+  }
+  // Nearest first (ties by id): the search below then prefers, among triangles of one face, the one
+  // holding the projection, whose gradient is the exact face normal.
+  std::sort(order.begin(), order.end());
+  for (std::size_t j = 0; j < n; ++j) ids[j] = order[j].second;
+  for (std::size_t j = 0; j < n; ++j) {
+    const Face& f = m.faces[ids[j]];
+    nearest[j] = closest_point_on_triangle(c, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
+    const Vec3 v = c - nearest[j];
+    const double len = v.norm();
+    if (!(len > 0.0)) return kInf;
+    g[j] = v / len;
+  }
+  // Frank-Wolfe iterations for the min-norm point of conv{g_j} (heuristic: only tightness depends on it).
+  std::vector<double> lambda(n, 0.0);
+  lambda[0] = 1.0;
+  Vec3 x = g[0];
+  for (int it = 0; it < 100; ++it) {
+    std::size_t k = 0;
+    for (std::size_t j = 1; j < n; ++j)
+      if (g[j].dot(x) < g[k].dot(x)) k = j;
+    const Vec3 d = x - g[k];
+    const double dd = d.squaredNorm();
+    if (!(x.dot(d) > 1e-15) || !(dd > 0.0)) break;
+    const double step = std::min(1.0, x.dot(d) / dd);
+    x -= step * d;
+    for (double& l : lambda) l *= 1.0 - step;
+    lambda[k] += step;
+  }
+  candidate = Vec3::Zero();
+  for (std::size_t j = 0; j < n; ++j) candidate += lambda[j] * nearest[j];
+  double worst = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 v = c + Vec3((corner & 1) ? h : -h, (corner & 2) ? h : -h, (corner & 4) ? h : -h);
+    double sum = 0.0, weights = 0.0;
+    for (std::size_t j = 0; j < n; ++j) {
+      if (lambda[j] <= 0.0) continue;
+      const Face& f = m.faces[ids[j]];
+      const Interval d2 = point_triangle_squared_distance(v, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
+      sum += lambda[j] * round_up(std::sqrt(d2.hi));  // sqrt is correctly rounded: one ulp up bounds it
+      weights += lambda[j];
+    }
+    // Positive terms only: the relative rounding error of at most ~50 additions and one product each
+    // is below 1e-13; the factor covers it with margin.
+    worst = std::max(worst, sum * (1.0 + 1e-12) / (weights * (1.0 - 1e-12)));
+  }
+  return round_up(worst);
+}
 
 // sqrt(3) rounded up to a double (the nearest double is below sqrt(3)).
 constexpr double kSqrt3Up = 1.7320508075688774;
@@ -41,7 +113,8 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
   MaxPenetrationResult result;
   const Aabb box = sdf.bbox();
   const double diag = box.diagonal();
-  const double eps = options.relative_tolerance * diag;
+  // A hair below the requested width, so that the outward rounding of the bounds stays within it.
+  const double eps = options.relative_tolerance * diag * (1.0 - 1e-9);
   const Vec3 extent = box.extent();
   double half = 0.5 * extent.maxCoeff() / std::max(1, options.initial_resolution);
 
@@ -65,7 +138,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
   Progress progress("max penetration", 0);
 
   while (!frontier.empty()) {
-    if (result.cells + frontier.size() > options.max_cells) break;
+    if (result.cells + frontier.size() > options.max_cells || frontier.size() > options.max_frontier) break;
     const double r = round_up(half * kSqrt3Up);  // covering radius of a cell around its centre
     const double snapshot = best;
     std::vector<Outcome> out(frontier.size());
@@ -93,7 +166,22 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
         o.child_margin = d.lo;
         if (o.sign < 0) {
           o.lower = d.lo;
+          o.point = cell.center;
           o.upper = round_up(d.hi + r);
+          // The Lipschitz bound cannot discard a cell on a plateau or near a medial point; the
+          // convexity bound can. Worth its cost only for cells well inside.
+          if (o.upper > snapshot + eps && r <= d.lo) {
+            thread_local std::vector<std::uint32_t> ids;
+            Vec3 candidate;
+            o.upper = std::min(o.upper, convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate));
+            if (((candidate - cell.center).cwiseAbs().array() <= half).all()) {
+              const Interval sc = sdf.signed_distance(candidate);
+              if (-sc.hi > o.lower) {
+                o.lower = -sc.hi;
+                o.point = candidate;
+              }
+            }
+          }
         } else {
           o.upper = round_up(r - d.lo);  // a point inside at distance <= r crosses the surface first
         }
@@ -112,7 +200,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
       result.side_queries += o.side_query;
       if (o.lower > best) {
         best = o.lower;
-        best_point = frontier[i].center;
+        best_point = o.point;
       }
       if (!o.keep) {
         upper_discarded = std::max(upper_discarded, o.upper);

@@ -12,7 +12,9 @@ namespace cdbench {
 struct MaxPenetrationOptions {
   double relative_tolerance = 1e-6;  // target width of the interval, relative to the bbox diagonal
   int initial_resolution = 32;       // cells along the longest bbox side at the first level
-  std::uint64_t max_cells = 500000000;  // safety stop; the result then says the tolerance was not reached
+  // Safety stops (the result then says the tolerance was not reached, with a valid wider interval):
+  std::uint64_t max_cells = 200000000;   // cells evaluated in all
+  std::uint64_t max_frontier = 20000000; // cells alive at one level (about 1 GB)
   bool progress = true;              // progress on stderr (only when it is a terminal)
 };
 

@@ -14,3 +14,11 @@ Interval point_triangle_squared_distance(const Vec3& p, const Vec3& a, const Vec
 Interval sqrt_interval(const Interval& squared);
 
 }  // namespace cdbench
+
+namespace cdbench {
+
+// Closest point of triangle abc to p in plain doubles (Ericson's region test). NOT certified:
+// used only to choose heuristic weights, never as a bound.
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+}  // namespace cdbench

@@ -33,6 +33,27 @@ struct NearestPolicy {
   }
 };
 
+// All triangles whose certified lower bound is within the radius.
+struct WithinPolicy {
+  const TriangleMesh& mesh;
+  Vec3 p;
+  double radius_sq;
+  std::size_t max_count;
+  std::vector<std::uint32_t>& out;
+  bool overflow = false;
+  double bound(const Aabb& box) const { return squared_distance_lower_bound(box, p); }
+  double prune_bound() const { return radius_sq; }
+  bool done() const { return overflow; }
+  void leaf(std::uint32_t f) {
+    const Face& t = mesh.faces[f];
+    const Interval d2 = point_triangle_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+    if (d2.lo <= radius_sq) {
+      out.push_back(f);
+      overflow = out.size() > max_count;
+    }
+  }
+};
+
 // Candidates for an exact test: triangles whose box holds p (bound 0) are visited, others skipped.
 struct BoxContainsPolicy {
   const TriangleMesh& mesh;
@@ -102,6 +123,15 @@ bool SignedDistance::distance_at_most(const Vec3& p, double bound, Interval* ful
   if (q.done()) return true;
   if (full) *full = sqrt_interval({q.min_lo_sq, q.best_hi_sq});
   return false;
+}
+
+bool SignedDistance::triangles_within(const Vec3& p, double radius, std::size_t max_count,
+                                      std::vector<std::uint32_t>& out) const {
+  out.clear();
+  // radius^2 rounded up, so that no triangle within the radius is pruned.
+  WithinPolicy q{mesh_, p, radius * radius * (1.0 + kRoundingSlack), max_count, out};
+  traverse_nearest_first(tree_, q);
+  return !q.overflow;
 }
 
 bool SignedDistance::on_surface(const Vec3& p) const {

@@ -5,6 +5,7 @@
 // are rounded down and from interval arithmetic at the leaves; the sign comes from an exact ray
 // parity test (CGAL's exact orientation predicates). See doc/distance.md.
 #include <cstdint>
+#include <vector>
 
 #include "bvh/aabb.h"
 #include "bvh/bvh.h"
@@ -29,6 +30,10 @@ class SignedDistance {
   // True when dist(p, F) <= bound is proven; may stop at the first triangle that proves it.
   // False means the full query ran; then `*full` (if given) receives the enclosure of dist(p, F).
   bool distance_at_most(const Vec3& p, double bound, Interval* full = nullptr) const;
+
+  // Ids of all triangles whose distance to p may be <= radius (certified superset: every triangle
+  // within radius is listed). Returns false, leaving `out` partial, once more than `max_count` qualify.
+  bool triangles_within(const Vec3& p, double radius, std::size_t max_count, std::vector<std::uint32_t>& out) const;
 
   // Exact side: -1 strictly inside the solid, 0 on the surface, +1 strictly outside.
   int side(const Vec3& p) const;

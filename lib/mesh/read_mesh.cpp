@@ -72,14 +72,8 @@ PolygonSoup read_polygon_soup_from_bytes(const std::string& bytes, const std::st
   } catch (const std::exception& e) {
     throw InputError(name + ": cannot parse: " + e.what());
   }
-  if (!ok) {
-    if (points.empty() && polygons.empty())
-      throw InputError(name + ": cannot parse as " + lower(name.substr(name.find_last_of('.') + 1)) +
-                       " (malformed content or no faces)");
-    throw InputError(name + ": cannot parse: malformed content after " + std::to_string(points.size()) +
-                     " vertices and " + std::to_string(polygons.size()) + " faces");
-  }
-
+  // Diagnose what was parsed even when CGAL gave up: its OBJ reader, for one, rejects an index out
+  // of range without saying so, and our message names the face.
   PolygonSoup soup;
   soup.points.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -88,8 +82,6 @@ PolygonSoup read_polygon_soup_from_bytes(const std::string& bytes, const std::st
       throw InputError(name + ": vertex " + std::to_string(i) + " has a non-finite coordinate " + describe_point(p));
     soup.points.push_back(p);
   }
-  if (soup.points.empty()) throw InputError(name + ": empty mesh (no vertices)");
-  if (polygons.empty()) throw InputError(name + ": empty mesh (" + std::to_string(points.size()) + " vertices, no faces)");
   for (std::size_t f = 0; f < polygons.size(); ++f) {
     if (polygons[f].size() < 3)
       throw InputError(name + ": face " + std::to_string(f) + " has " + std::to_string(polygons[f].size()) +
@@ -97,8 +89,18 @@ PolygonSoup read_polygon_soup_from_bytes(const std::string& bytes, const std::st
     for (std::size_t id : polygons[f])
       if (id >= soup.points.size())
         throw InputError(name + ": face " + std::to_string(f) + " refers to vertex " + std::to_string(id) +
-                         ", but the file has only " + std::to_string(soup.points.size()) + " vertices");
+                         " (counting from 0), but the file has only " + std::to_string(soup.points.size()) +
+                         " vertices");
   }
+  if (!ok) {
+    if (points.empty() && polygons.empty())
+      throw InputError(name + ": cannot parse as " + lower(name.substr(name.find_last_of('.') + 1)) +
+                       " (malformed content or no faces)");
+    throw InputError(name + ": cannot parse: malformed content after " + std::to_string(points.size()) +
+                     " vertices and " + std::to_string(polygons.size()) + " faces");
+  }
+  if (soup.points.empty()) throw InputError(name + ": empty mesh (no vertices)");
+  if (polygons.empty()) throw InputError(name + ": empty mesh (" + std::to_string(points.size()) + " vertices, no faces)");
   soup.polygons = std::move(polygons);
   return soup;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // The plain indexed triangle mesh every module works on (no CGAL types in interfaces).
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products
 #include <array>
 #include <cstdint>
 #include <vector>

@@ -1,0 +1,133 @@
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <random>
+
+#include "bvh/aabb.h"
+#include "bvh/bvh.h"
+
+namespace cdbench {
+namespace {
+
+struct RandomBoxes {
+  std::vector<Aabb> boxes;
+  std::vector<Eigen::Vector3d> centroids;
+  explicit RandomBoxes(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-10, 10), s(0.01, 1.0);
+    for (int i = 0; i < n; ++i) {
+      Aabb b;
+      const Eigen::Vector3d c(u(rng), u(rng), u(rng));
+      b.extend(c);
+      b.extend(c + Eigen::Vector3d(s(rng), s(rng), s(rng)));
+      boxes.push_back(b);
+      centroids.push_back(b.center());
+    }
+  }
+  Bvh<Aabb> build(std::uint32_t leaf_size) const {
+    return build_bvh<Aabb>(
+        centroids,
+        [&](const std::uint32_t* ids, std::size_t n) {
+          Aabb b;
+          for (std::size_t i = 0; i < n; ++i) b.extend(boxes[ids[i]]);
+          return b;
+        },
+        BvhBuildOptions{leaf_size});
+  }
+};
+
+bool contains(const Aabb& outer, const Aabb& inner) {
+  return (outer.lo.array() <= inner.lo.array()).all() && (outer.hi.array() >= inner.hi.array()).all();
+}
+
+TEST(Bvh, EveryPrimitiveInOneLeafAndBoxesNest) {
+  for (std::uint32_t leaf_size : {1u, 3u}) {
+    const RandomBoxes rb(1000, 7);
+    const Bvh<Aabb> bvh = rb.build(leaf_size);
+    std::vector<int> seen(1000, 0);
+    for (const auto& node : bvh.nodes) {
+      if (node.count > 0) {
+        EXPECT_LE(node.count, leaf_size);
+        for (std::uint32_t i = 0; i < node.count; ++i) {
+          const std::uint32_t id = bvh.order[node.first + i];
+          ++seen[id];
+          EXPECT_TRUE(contains(node.bv, rb.boxes[id]));
+        }
+      } else {
+        EXPECT_TRUE(contains(node.bv, bvh.nodes[node.first].bv));
+        EXPECT_TRUE(contains(node.bv, bvh.nodes[node.first + 1].bv));
+      }
+    }
+    for (int s : seen) EXPECT_EQ(s, 1);
+  }
+}
+
+// A nearest-box query through the shared traversal must agree with brute force.
+struct NearestBox {
+  const std::vector<Aabb>& boxes;
+  Eigen::Vector3d p;
+  double best = std::numeric_limits<double>::infinity();
+  std::uint32_t best_id = 0;
+  int leaves = 0;
+  double bound(const Aabb& b) const { return squared_distance_lower_bound(b, p); }
+  double prune_bound() const { return best; }
+  bool done() const { return false; }
+  void leaf(std::uint32_t id) {
+    ++leaves;
+    const double d = squared_distance_lower_bound(boxes[id], p);
+    if (d < best || (d == best && id < best_id)) {
+      best = d;
+      best_id = id;
+    }
+  }
+};
+
+TEST(Bvh, NearestFirstTraversalMatchesBruteForceAndPrunes) {
+  const RandomBoxes rb(2000, 11);
+  const Bvh<Aabb> bvh = rb.build(1);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-15, 15);
+  long total_leaves = 0;
+  for (int k = 0; k < 200; ++k) {
+    NearestBox q{rb.boxes, Eigen::Vector3d(u(rng), u(rng), u(rng))};
+    traverse_nearest_first(bvh, q);
+    double brute = std::numeric_limits<double>::infinity();
+    for (const Aabb& b : rb.boxes) brute = std::min(brute, squared_distance_lower_bound(b, q.p));
+    EXPECT_EQ(q.best, brute);
+    total_leaves += q.leaves;
+  }
+  EXPECT_LT(total_leaves, 200L * 2000 / 10) << "the traversal should prune most leaves";
+}
+
+TEST(Aabb, DistanceLowerBoundNeverExceedsTruth) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1e3, 1e3);
+  for (int k = 0; k < 10000; ++k) {
+    Aabb b;
+    b.extend(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    b.extend(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d q = p.cwiseMax(b.lo).cwiseMin(b.hi);  // exact closest point (clamping is exact)
+    // (p - q).squaredNorm() has rounding error; long double has 11 more bits.
+    long double exact = 0;
+    for (int i = 0; i < 3; ++i) exact += (static_cast<long double>(p[i]) - q[i]) * (static_cast<long double>(p[i]) - q[i]);
+    EXPECT_LE(static_cast<long double>(squared_distance_lower_bound(b, p)), exact);
+  }
+}
+
+TEST(Aabb, SegmentTestNeverMissesAHit) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-10, 10);
+  for (int k = 0; k < 10000; ++k) {
+    Aabb b;
+    b.extend(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    b.extend(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng)), q(u(rng), u(rng), u(rng));
+    bool hit = false;
+    for (int s = 0; s <= 1000 && !hit; ++s) hit = b.contains(p + (q - p) * (s / 1000.0));
+    if (hit) EXPECT_TRUE(segment_may_hit(b, p, q, 1e-9));
+  }
+}
+
+}  // namespace
+}  // namespace cdbench

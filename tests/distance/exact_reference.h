@@ -1,0 +1,52 @@
+#pragma once
+// Independent references for the distance tests: exact rational distances (CGAL Epeck) and CGAL's
+// own inside test (Side_of_triangle_mesh), neither of which shares code with lib/distance.
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include "mesh/triangle_mesh.h"
+#include "util/interval.h"
+
+namespace cdbench::testing {
+
+using Epeck = CGAL::Exact_predicates_exact_constructions_kernel;
+using Epick = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+inline Epeck::Point_3 exact_point(const Vec3& v) { return Epeck::Point_3(v.x(), v.y(), v.z()); }
+
+// Exact squared distance from p to triangle abc.
+inline Epeck::FT exact_squared_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return CGAL::squared_distance(exact_point(p), Epeck::Triangle_3(exact_point(a), exact_point(b), exact_point(c)));
+}
+
+// Exact squared distance from p to the mesh: candidates filtered in doubles with a wide margin
+// (1e-6 relative), the minimum taken exactly among them.
+inline Epeck::FT exact_squared_distance(const Vec3& p, const TriangleMesh& m) {
+  std::vector<double> approx(m.faces.size());
+  double best = HUGE_VAL;
+  for (std::size_t i = 0; i < m.faces.size(); ++i) {
+    const auto& f = m.faces[i];
+    const auto P = [&](std::uint32_t v) { return Epick::Point_3(m.vertices[v].x(), m.vertices[v].y(), m.vertices[v].z()); };
+    approx[i] = CGAL::squared_distance(Epick::Point_3(p.x(), p.y(), p.z()), Epick::Triangle_3(P(f[0]), P(f[1]), P(f[2])));
+    best = std::min(best, approx[i]);
+  }
+  bool first = true;
+  Epeck::FT result = 0;
+  for (std::size_t i = 0; i < m.faces.size(); ++i) {
+    if (approx[i] > best * (1 + 1e-6) + 1e-300) continue;
+    const auto& f = m.faces[i];
+    const Epeck::FT d = exact_squared_distance(p, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
+    if (first || d < result) result = d;
+    first = false;
+  }
+  return result;
+}
+
+// Whether the interval of a distance contains sqrt(exact_sq), decided exactly:
+// lo <= sqrt(e) <= hi  <=>  (lo <= 0 or lo^2 <= e) and hi >= 0 and e <= hi^2.
+inline bool contains_sqrt(const Interval& i, const Epeck::FT& exact_sq) {
+  const Epeck::FT lo(i.lo), hi(i.hi);
+  return (i.lo <= 0 || lo * lo <= exact_sq) && i.hi >= 0 && exact_sq <= hi * hi;
+}
+
+}  // namespace cdbench::testing

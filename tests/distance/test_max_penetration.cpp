@@ -1,0 +1,93 @@
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <random>
+
+#include "distance/max_penetration.h"
+#include "mesh/shapes.h"
+
+namespace cdbench {
+namespace {
+
+MaxPenetrationResult run(const TriangleMesh& m, double tol = 1e-6) {
+  MaxPenetrationOptions o;
+  o.relative_tolerance = tol;
+  o.progress = false;
+  return certified_max_penetration(SignedDistance(m), o);
+}
+
+// Independent check of the upper bound: no sampled interior point is certified deeper.
+void expect_no_sample_deeper(const TriangleMesh& m, const MaxPenetrationResult& r) {
+  const SignedDistance sdf(m);
+  const Aabb box = m.bbox();
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 p = box.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent());
+    const Interval s = sdf.signed_distance(p);
+    EXPECT_LE(-s.hi, r.depth.hi);
+  }
+  // The reported point is inside and certified at least depth.lo deep.
+  EXPECT_LE(sdf.signed_distance(r.point).hi, -r.depth.lo);
+}
+
+TEST(MaxPenetration, BoxHasHalfItsSmallestSide) {
+  const TriangleMesh m = make_box(Vec3(0, 0, 0), Vec3(2, 1, 4));
+  const auto r = run(m);
+  EXPECT_TRUE(r.tolerance_reached);
+  EXPECT_TRUE(r.depth.contains(0.5)) << r.depth.lo << " " << r.depth.hi;
+  EXPECT_LE(r.depth.width(), 1e-6 * m.bbox().diagonal());
+  expect_no_sample_deeper(m, r);
+}
+
+TEST(MaxPenetration, SphereDepthBetweenInscribedFacesAndRadius) {
+  const TriangleMesh m = make_icosphere(1.0, 2);
+  const auto r = run(m);
+  const SignedDistance sdf(m);
+  EXPECT_GE(r.depth.hi, -sdf.signed_distance(Vec3::Zero()).hi);  // the centre is a candidate
+  EXPECT_LE(r.depth.lo, 1.0);
+  EXPECT_LE(r.depth.width(), 1e-6 * m.bbox().diagonal());
+  expect_no_sample_deeper(m, r);
+}
+
+TEST(MaxPenetration, TorusDepthIsAboutTheTubeRadius) {
+  const TriangleMesh m = make_torus(2.0, 0.5, 64, 32);
+  const auto r = run(m);
+  EXPECT_LT(r.depth.hi, 0.5);
+  EXPECT_GT(r.depth.lo, 0.5 * std::cos(M_PI / 32) * std::cos(M_PI / 64) * 0.99);
+  expect_no_sample_deeper(m, r);
+}
+
+TEST(MaxPenetration, TwoComponentsTakeTheDeeper) {
+  const TriangleMesh m = merge_meshes(make_box(Vec3(0, 0, 0), Vec3(1, 1, 1)), make_box(Vec3(3, 0, 0), Vec3(3.2, 3, 3)));
+  const auto r = run(m);
+  EXPECT_TRUE(r.depth.contains(0.5));
+  EXPECT_LT(r.point.x(), 1.0);
+}
+
+TEST(MaxPenetration, SameResultForAnyThreadCount) {
+  const TriangleMesh m = make_torus(2.0, 0.7, 40, 20);
+  MaxPenetrationResult one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = run(m);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = run(m);
+  }
+  EXPECT_EQ(one.depth.lo, two.depth.lo);
+  EXPECT_EQ(one.depth.hi, two.depth.hi);
+  EXPECT_EQ(one.point, two.point);
+  EXPECT_EQ(one.cells, two.cells);
+}
+
+TEST(MaxPenetration, CoarseToleranceIsHonoured) {
+  const TriangleMesh m = make_icosphere(1.0, 3);
+  const auto r = run(m, 1e-2);
+  EXPECT_LE(r.depth.width(), 1e-2 * m.bbox().diagonal());
+  EXPECT_GT(r.depth.width(), 0.0);
+}
+
+}  // namespace
+}  // namespace cdbench

@@ -1,0 +1,82 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "distance/point_triangle_distance.h"
+#include "exact_reference.h"
+
+namespace cdbench {
+namespace {
+
+using testing::Epeck;
+using testing::exact_squared_distance;
+
+void expect_encloses(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Interval d2 = point_triangle_squared_distance(p, a, b, c);
+  const Epeck::FT exact = exact_squared_distance(p, a, b, c);
+  EXPECT_TRUE(Epeck::FT(d2.lo) <= exact && exact <= Epeck::FT(d2.hi))
+      << std::setprecision(17) << "p=(" << p.transpose() << ") a=(" << a.transpose() << ") b=(" << b.transpose()
+      << ") c=(" << c.transpose() << ") interval [" << d2.lo << ", " << d2.hi << "] exact "
+      << CGAL::to_double(exact);
+  // Tight: relative width near machine precision (absolute near zero).
+  const double scale = (p - a).squaredNorm() + (b - a).squaredNorm() + (c - a).squaredNorm();
+  EXPECT_LE(d2.hi - d2.lo, 1e-12 * scale + 1e-300);
+}
+
+TEST(PointTriangleDistance, RandomPointsAndTrianglesAtManyScales) {
+  std::mt19937_64 rng(42);
+  for (double scale : {1e-3, 1.0, 1e3}) {
+    std::uniform_real_distribution<double> u(-scale, scale);
+    for (int k = 0; k < 3000; ++k) {
+      const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+      expect_encloses(Vec3(u(rng), u(rng), u(rng)), a, b, c);
+    }
+  }
+}
+
+TEST(PointTriangleDistance, NearTheTrianglePlane) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1), w(0, 1);
+  for (int k = 0; k < 3000; ++k) {
+    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+    double s = w(rng), t = w(rng);
+    if (s + t > 1.2) s = 1.2 - s;  // some outside, most inside
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    const double h = std::ldexp(1.0, -static_cast<int>(w(rng) * 60));
+    expect_encloses(a + s * (b - a) + t * (c - a) + ((k % 2) ? h : -h) * n, a, b, c);
+  }
+}
+
+TEST(PointTriangleDistance, HandBuiltDegenerateAndBoundaryCases) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  const std::vector<Vec3> points = {
+      a, b, c,                                    // vertices: distance exactly 0
+      {0.25, 0, 0}, {0.5, 0.5, 0}, {0, 0.75, 0},  // on the edges
+      {0.25, 0.25, 0},                            // inside
+      {0.25, 0, 5}, {0.5, 0.5, -3}, {0, 0.25, 2}, // projection exactly on an edge
+      {0, 0, 1}, {1, 0, -1}, {0, 1, 7},           // projection exactly on a vertex
+      {2, 2, 0}, {-1, -1, 0}, {3, -1, 0},         // in the plane, outside
+      {-0.5, 0.25, 0}, {0.25, -1e-300, 0},        // in the plane, just outside an edge
+      {0.25, 0.25, 1e-300}, {0.25, 0.25, -4.9e-324},
+      {1e100, 1e100, 1e100}, {-1e-310, 1e-310, 0}};
+  for (const Vec3& p : points) expect_encloses(p, a, b, c);
+  // Degenerate triangles: collinear corners, a repeated corner, all corners equal.
+  for (const Vec3& p : points) {
+    expect_encloses(p, a, b, Vec3(2, 0, 0));
+    expect_encloses(p, a, b, b);
+    expect_encloses(p, a, a, a);
+  }
+  EXPECT_EQ(point_triangle_squared_distance(Vec3(0.25, 0.25, 0), a, b, c).lo, 0.0);
+  EXPECT_EQ(point_triangle_squared_distance(b, a, b, c).hi, 0.0);
+}
+
+TEST(PointTriangleDistance, SqrtIsRoundedOutward) {
+  const Interval s = sqrt_interval({2.0, 2.0});
+  EXPECT_LT(s.lo * s.lo, 2.0 + 1e-15);
+  EXPECT_LE(s.lo, std::sqrt(2.0));
+  EXPECT_GE(s.hi, std::sqrt(2.0));
+  EXPECT_LE(s.hi - s.lo, 4.5e-16);
+}
+
+}  // namespace
+}  // namespace cdbench

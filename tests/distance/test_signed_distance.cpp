@@ -1,0 +1,117 @@
+#include <gtest/gtest.h>
+
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <random>
+
+#include "distance/signed_distance.h"
+#include "exact_reference.h"
+#include "mesh/shapes.h"
+
+namespace cdbench {
+namespace {
+
+using testing::contains_sqrt;
+using testing::Epeck;
+using testing::Epick;
+
+// CGAL's own inside test, as an independent reference for the sign.
+class CgalSide {
+ public:
+  explicit CgalSide(const TriangleMesh& m) {
+    for (const Vec3& v : m.vertices) sm_.add_vertex(Epick::Point_3(v.x(), v.y(), v.z()));
+    for (const Face& f : m.faces)
+      sm_.add_face(Mesh::Vertex_index(f[0]), Mesh::Vertex_index(f[1]), Mesh::Vertex_index(f[2]));
+    side_ = std::make_unique<CGAL::Side_of_triangle_mesh<Mesh, Epick>>(sm_);
+  }
+  int operator()(const Vec3& p) const {
+    const auto s = (*side_)(Epick::Point_3(p.x(), p.y(), p.z()));
+    return s == CGAL::ON_BOUNDED_SIDE ? -1 : s == CGAL::ON_BOUNDARY ? 0 : 1;
+  }
+
+ private:
+  using Mesh = CGAL::Surface_mesh<Epick::Point_3>;
+  Mesh sm_;
+  std::unique_ptr<CGAL::Side_of_triangle_mesh<Mesh, Epick>> side_;
+};
+
+void check_points(const TriangleMesh& mesh, const std::vector<Vec3>& points) {
+  const SignedDistance sdf(mesh);
+  const CgalSide cgal_side(mesh);
+  for (const Vec3& p : points) {
+    const Interval s = sdf.signed_distance(p);
+    const Epeck::FT exact = testing::exact_squared_distance(p, mesh);
+    const int side = cgal_side(p);
+    EXPECT_EQ(sdf.side(p), side) << std::setprecision(17) << p.transpose();
+    // The interval contains side * sqrt(exact).
+    const Interval magnitude = side < 0 ? Interval{-s.hi, -s.lo} : s;
+    EXPECT_TRUE(contains_sqrt(magnitude, exact))
+        << std::setprecision(17) << "p = (" << p.x() << ", " << p.y() << ", " << p.z() << ") interval [" << s.lo
+        << ", " << s.hi << "] exact^2 " << CGAL::to_double(exact) << " side " << side;
+    EXPECT_LE(s.width(), 1e-12 * (1.0 + std::abs(s.lo)));
+    if (side == 0) EXPECT_TRUE(s.lo == 0.0 && s.hi == 0.0);
+  }
+}
+
+std::vector<Vec3> sample_points(const TriangleMesh& mesh, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  const Aabb box = mesh.bbox();
+  const double d = box.diagonal();
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Vec3> pts;
+  for (int k = 0; k < 150; ++k)  // uniform in the box grown by 20 %
+    pts.push_back(box.lo - 0.2 * d * Vec3::Ones() + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent() + 0.4 * d * Vec3::Ones()));
+  for (int k = 0; k < 150; ++k) {  // near the surface, on both sides
+    const Face& f = mesh.faces[static_cast<std::size_t>(u(rng) * mesh.faces.size()) % mesh.faces.size()];
+    double s = u(rng), t = u(rng);
+    if (s + t > 1) { s = 1 - s; t = 1 - t; }
+    const Vec3 &a = mesh.vertices[f[0]], &b = mesh.vertices[f[1]], &c = mesh.vertices[f[2]];
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    const double h = std::ldexp(d, -static_cast<int>(u(rng) * 50)) * ((k % 2) ? 1 : -1);
+    pts.push_back(a + s * (b - a) + t * (c - a) + h * n);
+  }
+  for (int k = 0; k < 30; ++k) pts.push_back(mesh.vertices[(k * 7919) % mesh.vertices.size()]);  // exactly on
+  return pts;
+}
+
+TEST(SignedDistance, SphereAgainstExactReference) {
+  const TriangleMesh m = make_icosphere(1.5, 2, Vec3(0.1, -0.2, 0.3));
+  check_points(m, sample_points(m, 1));
+}
+
+TEST(SignedDistance, TorusAgainstExactReference) {
+  const TriangleMesh m = make_torus(2.0, 0.6, 24, 12);
+  check_points(m, sample_points(m, 2));
+}
+
+TEST(SignedDistance, BoxPointsExactlyOnFacesEdgesAndVertices) {
+  const TriangleMesh m = make_box(Vec3(0, 0, 0), Vec3(1, 2, 4));
+  std::vector<Vec3> pts = {{0.5, 0, 1},  {1, 1, 2},   {0.25, 2, 3}, {0, 0, 1},    {1, 2, 0.5}, {0, 0, 0},
+                           {1, 2, 4},    {0.5, 1, 2}, {0.5, 1, 0.25}, {0.5, 1, -1}, {2, 3, 5},  {0.5, 0.5, 0.5},
+                           {1, 1, 4},    {0.5, 0, 0}, {-1e-300, 1, 1}, {1e-300, 1, 1}};
+  check_points(m, pts);
+  const SignedDistance sdf(m);
+  EXPECT_EQ(sdf.signed_distance(Vec3(0.5, 1, 2)).lo, -0.5);  // centre: depth 0.5 exactly
+  EXPECT_EQ(sdf.signed_distance(Vec3(0.5, 1, 2)).hi, -0.5);
+}
+
+TEST(SignedDistance, DistanceAtMostStopsEarlyButIsRigorous) {
+  const TriangleMesh m = make_icosphere(1.0, 3);
+  const SignedDistance sdf(m);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.5, 1.5), b(0.0, 1.0);
+  for (int k = 0; k < 500; ++k) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const double bound = b(rng);
+    Interval full;
+    const bool proven = sdf.distance_at_most(p, bound, &full);
+    const Interval d = sdf.unsigned_distance(p);
+    if (proven) EXPECT_LE(d.lo, bound);
+    else EXPECT_GE(full.hi, bound * (1 - 1e-12));
+    if (d.hi < bound * (1 - 1e-9)) EXPECT_TRUE(proven);
+  }
+}
+
+}  // namespace
+}  // namespace cdbench

@@ -1,0 +1,86 @@
+#include <gtest/gtest.h>
+
+#include "mesh/alpha_wrap.h"
+#include "mesh/shapes.h"
+#include "mesh/validate_mesh.h"
+
+namespace cdbench {
+namespace {
+
+TEST(Validate, SphereIsAValidGenusZeroSolid) {
+  const ValidatedMesh v = validate_mesh(make_icosphere(2.0, 3));
+  EXPECT_TRUE(v.report.valid());
+  EXPECT_TRUE(v.report.closed);
+  EXPECT_TRUE(v.report.self_intersections_checked);
+  EXPECT_EQ(v.report.components, 1u);
+  EXPECT_EQ(v.report.genus, 0);
+  const double ball = 4.0 / 3.0 * M_PI * 8.0;
+  EXPECT_LT(v.report.volume_hi, ball);  // inscribed polyhedron
+  EXPECT_GT(v.report.volume_lo, 0.95 * ball);
+  EXPECT_TRUE(v.report.notices.empty());
+}
+
+TEST(Validate, TorusHasGenusOne) {
+  const ValidatedMesh v = validate_mesh(make_torus(2.0, 0.5, 48, 24));
+  EXPECT_TRUE(v.report.valid());
+  EXPECT_EQ(v.report.genus, 1);
+}
+
+TEST(Validate, TwoComponentsAreAllowedAndReported) {
+  const TriangleMesh m = merge_meshes(make_icosphere(1.0, 2), make_icosphere(1.0, 2, Vec3(5, 0, 0)));
+  const ValidatedMesh v = validate_mesh(m);
+  EXPECT_TRUE(v.report.valid());
+  EXPECT_EQ(v.report.components, 2u);
+  EXPECT_EQ(v.report.genus, 0);
+  ASSERT_FALSE(v.report.notices.empty());
+  EXPECT_NE(v.report.notices[0].find("2 connected components"), std::string::npos);
+}
+
+TEST(Validate, InwardMeshIsReversedWithANotice) {
+  TriangleMesh m = make_icosphere(1.0, 2);
+  for (Face& f : m.faces) std::swap(f[1], f[2]);
+  const ValidatedMesh v = validate_mesh(m);
+  EXPECT_TRUE(v.report.valid());
+  EXPECT_GT(v.report.volume_lo, 0.0);
+  bool noticed = false;
+  for (const auto& n : v.report.notices) noticed |= n.find("inward-oriented") != std::string::npos;
+  EXPECT_TRUE(noticed);
+}
+
+TEST(Validate, HollowBallKeepsTheInnerShellInward) {
+  // An outer sphere and a smaller inner sphere: the solid between them. Whatever the input
+  // orientation, the inner shell must face the cavity (volume = outer - inner).
+  const TriangleMesh outer = make_icosphere(2.0, 2), inner = make_icosphere(1.0, 2);
+  const ValidatedMesh v = validate_mesh(merge_meshes(outer, inner));
+  ASSERT_TRUE(v.report.valid());
+  const double vo = validate_mesh(outer).report.volume_lo, vi = validate_mesh(inner).report.volume_lo;
+  EXPECT_NEAR(v.report.volume_lo, vo - vi, 1e-9 * vo);
+}
+
+TEST(Validate, NestedSphereWithoutSelfIntersectionIsDetectedAsSelfIntersectingWhenTheyCross) {
+  const TriangleMesh m = merge_meshes(make_icosphere(1.0, 2), make_icosphere(1.0, 2, Vec3(1.0, 0, 0)));
+  const ValidatedMesh v = validate_mesh(m);
+  EXPECT_FALSE(v.report.valid());
+  EXPECT_TRUE(v.report.has("self-intersection"));
+}
+
+TEST(AlphaWrap, OpenSurfaceBecomesAValidSolid) {
+  TriangleMesh box = make_box(Vec3(0, 0, 0), Vec3(1, 1, 1));
+  box.faces.resize(10);  // open: two triangles missing
+  ASSERT_FALSE(validate_mesh(box).report.valid());
+  PolygonSoup soup;
+  soup.points = box.vertices;
+  for (const Face& f : box.faces) soup.polygons.push_back({f[0], f[1], f[2]});
+  AlphaWrapOptions opt;
+  opt.alpha = 2.0;  // wider than the 1 x 1 hole: the wrap closes it instead of entering
+  opt.offset = 0.01;
+  const AlphaWrapResult w = alpha_wrap(soup, opt);
+  const ValidatedMesh v = validate_mesh(w.mesh);
+  EXPECT_TRUE(v.report.valid()) << (v.report.errors.empty() ? "" : v.report.errors[0].message);
+  EXPECT_EQ(v.report.genus, 0);
+  EXPECT_GT(v.report.volume_lo, 1.0);  // encloses the input
+  EXPECT_LT(v.report.volume_hi, 1.2);
+}
+
+}  // namespace
+}  // namespace cdbench
