@@ -91,3 +91,29 @@ TEST(MaxPenetration, CoarseToleranceIsHonoured) {
 
 }  // namespace
 }  // namespace cdbench
+
+#include <fstream>
+
+#include "mesh/read_mesh.h"
+#include "mesh/validate_mesh.h"
+
+namespace cdbench {
+namespace {
+
+// CGAL's armadillo (scripts/fetch-cgal-data.sh): the figure the issue names.
+TEST(MaxPenetration, ArmadilloFromCgalData) {
+  const std::string path = std::string(CDBENCH_DATA_DIR) + "/cgal/meshes/armadillo.off";
+  if (!std::ifstream(path)) GTEST_SKIP() << "CGAL data not extracted: " << path;
+  const ValidatedMesh v = validate_mesh(read_polygon_soup(path));
+  ASSERT_TRUE(v.report.valid());
+  EXPECT_EQ(v.report.genus, 0);
+  const double diag = v.mesh.bbox().diagonal();
+  const auto r = run(v.mesh);
+  EXPECT_TRUE(r.tolerance_reached);
+  EXPECT_LE(r.depth.width(), 1e-6 * diag);
+  EXPECT_GE(r.depth.lo, 0.112 * diag);
+  EXPECT_LE(r.depth.hi, 0.117 * diag);
+}
+
+}  // namespace
+}  // namespace cdbench

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Installs, builds and runs the whole test suite, then the malformed-input tests again under
+# AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/). Exits non-zero on any failure.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+bash "$root/scripts/install-deps.sh"
+bash "$root/scripts/fetch-cgal-data.sh" || echo "test: CGAL data unavailable; tests that use it are skipped"
+start=$(date +%s)
+bash "$root/scripts/build.sh"
+echo "test: release build done in $(( $(date +%s) - start )) s"
+(cd "$root/build" && ctest --output-on-failure -j 2)
+
+# Sanitizers: only what the malformed-input tests need (mesh intake, program).
+gen=()
+command -v ninja >/dev/null && gen=(-G Ninja)
+start=$(date +%s)
+cmake -S "$root" -B "$root/build-asan" "${gen[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCDBENCH_SANITIZE=ON \
+  -DCDBENCH_BUILD_VALIDATION=OFF >/dev/null
+cmake --build "$root/build-asan" -j "$(nproc)" --target cdbench test_mesh test_util
+echo "test: sanitizer build done in $(( $(date +%s) - start )) s"
+(cd "$root/build-asan" && ctest --output-on-failure -R 'test_mesh|test_util|cli_bad_inputs|cli_help')
