@@ -19,7 +19,7 @@ namespace {
 struct CheckOptions {
   std::string mesh;
   bool json = false;
-  bool max_penetration = true;
+  bool skip_max_penetration = false;
   double tolerance = 1e-6;
   int threads = 0;
 };
@@ -46,7 +46,7 @@ int run_check(const CheckOptions& opt) {
 
   MaxPenetrationResult mp;
   double seconds_tree = 0.0;
-  const bool run_mp = opt.max_penetration && r.valid();
+  const bool run_mp = !opt.skip_max_penetration && r.valid();
   if (run_mp) {
     Timer t_tree;
     const SignedDistance sdf(mesh);
@@ -141,7 +141,7 @@ void register_check(CLI::App& app, int& exit_code) {
                   "width of the max-penetration interval relative to the bbox diagonal")
       ->capture_default_str()
       ->check(CLI::Range(1e-12, 1.0));
-  cmd->add_flag("--no-max-penetration{false}", opt->max_penetration, "skip the max-penetration computation");
+  cmd->add_flag("--no-max-penetration", opt->skip_max_penetration, "skip the max-penetration computation");
   cmd->add_option("--threads", opt->threads, "worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 1024));
   cmd->callback([opt, &exit_code]() { exit_code = run_check(*opt); });
 }

@@ -125,7 +125,9 @@ TEST(Aabb, SegmentTestNeverMissesAHit) {
     const Eigen::Vector3d p(u(rng), u(rng), u(rng)), q(u(rng), u(rng), u(rng));
     bool hit = false;
     for (int s = 0; s <= 1000 && !hit; ++s) hit = b.contains(p + (q - p) * (s / 1000.0));
-    if (hit) EXPECT_TRUE(segment_may_hit(b, p, q, 1e-9));
+    if (hit) {
+      EXPECT_TRUE(segment_may_hit(b, p, q, 1e-9));
+    }
   }
 }
 

@@ -50,7 +50,9 @@ void check_points(const TriangleMesh& mesh, const std::vector<Vec3>& points) {
         << std::setprecision(17) << "p = (" << p.x() << ", " << p.y() << ", " << p.z() << ") interval [" << s.lo
         << ", " << s.hi << "] exact^2 " << CGAL::to_double(exact) << " side " << side;
     EXPECT_LE(s.width(), 1e-12 * (1.0 + std::abs(s.lo)));
-    if (side == 0) EXPECT_TRUE(s.lo == 0.0 && s.hi == 0.0);
+    if (side == 0) {
+      EXPECT_TRUE(s.lo == 0.0 && s.hi == 0.0);
+    }
   }
 }
 
@@ -107,9 +109,14 @@ TEST(SignedDistance, DistanceAtMostStopsEarlyButIsRigorous) {
     Interval full;
     const bool proven = sdf.distance_at_most(p, bound, &full);
     const Interval d = sdf.unsigned_distance(p);
-    if (proven) EXPECT_LE(d.lo, bound);
-    else EXPECT_GE(full.hi, bound * (1 - 1e-12));
-    if (d.hi < bound * (1 - 1e-9)) EXPECT_TRUE(proven);
+    if (proven) {
+      EXPECT_LE(d.lo, bound);
+    } else {
+      EXPECT_GE(full.hi, bound * (1 - 1e-12));
+    }
+    if (d.hi < bound * (1 - 1e-9)) {
+      EXPECT_TRUE(proven);
+    }
   }
 }
 

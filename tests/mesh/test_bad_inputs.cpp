@@ -77,7 +77,9 @@ TEST(BadInputs, ChineseDragonFromCgalDataAndItsWrap) {
   EXPECT_TRUE(v.report.has("boundary"));
   EXPECT_TRUE(v.report.has("self-intersection"));
   for (const auto& e : v.report.errors)
-    if (e.kind == "self-intersection") EXPECT_EQ(e.count, 38u);
+    if (e.kind == "self-intersection") {
+      EXPECT_EQ(e.count, 38u);
+    }
   const ValidatedMesh wrapped = validate_mesh(alpha_wrap(soup).mesh);
   EXPECT_TRUE(wrapped.report.valid());
   EXPECT_TRUE(wrapped.report.closed);
