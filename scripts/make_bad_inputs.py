@@ -102,6 +102,10 @@ def main():
     write("inward_cube.off", off(CUBE_V, [(f[0], f[2], f[1]) for f in CUBE_F]), 0, "inward-oriented")
     # Inconsistent orientation (one face flipped): fixed with a notice.
     write("one_face_flipped.off", off(CUBE_V, [(0, 1, 2)] + CUBE_F[1:]), 0, "flipped to make the orientation consistent")
+    os.makedirs(os.path.join(OUT, "directory.off"), exist_ok=True)
+    with open(os.path.join(OUT, "directory.off", ".keep"), "w") as f:
+        f.write("a directory named like a mesh\n")
+    rows.append(("directory.off", 2, "not a regular file"))
     with open(os.path.join(OUT, "expected.tsv"), "w") as f:
         f.write("# file\texit\tmessage contains\n")
         for r in rows:

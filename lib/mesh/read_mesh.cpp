@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -106,8 +107,10 @@ PolygonSoup read_polygon_soup_from_bytes(const std::string& bytes, const std::st
 }
 
 PolygonSoup read_polygon_soup(const std::string& path) {
-  const MeshFormat format = mesh_format_from_path(path);
-  (void)format;
+  mesh_format_from_path(path);  // an unknown format is reported before the file is touched
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open the file (missing or unreadable)");
   std::ostringstream buffer;

@@ -10,6 +10,7 @@
 #include "mesh/write_mesh.h"
 #include "mesh_loading.h"
 #include "util/error.h"
+#include "util/progress.h"
 
 namespace cdbench::cli {
 namespace {
@@ -29,6 +30,7 @@ int run_wrap(const WrapOptions& opt) {
   wo.offset = opt.offset;
   wo.relative_alpha = opt.relative_alpha;
   wo.relative_offset = opt.relative_offset;
+  if (Progress::enabled()) std::cerr << "wrapping " << opt.input << " (CGAL alpha wrap; may take a while)...\n";
   const AlphaWrapResult wrapped = alpha_wrap(soup, wo);
   const ValidatedMesh checked = validate_mesh(wrapped.mesh);
   std::cout << "input:   " << opt.input << ": " << soup.points.size() << " vertices, " << soup.polygons.size()

@@ -1,7 +1,5 @@
 #include "mesh_loading.h"
 
-#include <filesystem>
-
 #include "mesh/read_mesh.h"
 #include "util/error.h"
 #include "util/timer.h"
@@ -9,9 +7,6 @@
 namespace cdbench::cli {
 
 LoadedMesh load_mesh(const std::string& path, const ValidateOptions& options) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": not a regular file");
   LoadedMesh loaded;
   loaded.path = path;
   Timer t_read;
