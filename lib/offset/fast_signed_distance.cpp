@@ -1,0 +1,114 @@
+#include "offset/fast_signed_distance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace cdbench {
+namespace {
+
+// Closest point on triangle abc and its feature: 0..2 vertex, 3..5 edge (k, k+1), 6 interior.
+Vec3 closest_feature(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int& feature) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) { feature = 0; return a; }
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) { feature = 1; return b; }
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) { feature = 3; return a + d1 / (d1 - d3) * ab; }
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) { feature = 2; return c; }
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) { feature = 5; return a + d2 / (d2 - d6) * ac; }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    feature = 4;
+    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  }
+  feature = 6;
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+struct FastNearest {
+  const TriangleMesh& mesh;
+  Vec3 p;
+  double best_sq;
+  std::uint32_t best_face;
+  Vec3 best_point;
+  int best_feature = 6;
+  double bound(const Aabb& box) const { return squared_distance_lower_bound(box, p); }
+  double prune_bound() const { return best_sq; }
+  bool done() const { return false; }
+  void leaf(std::uint32_t f) {
+    const Face& t = mesh.faces[f];
+    int feature = 6;
+    const Vec3 q = closest_feature(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], feature);
+    const double d2 = (p - q).squaredNorm();
+    if (d2 < best_sq) {
+      best_sq = d2;
+      best_face = f;
+      best_point = q;
+      best_feature = feature;
+    }
+  }
+};
+
+}  // namespace
+
+FastSignedDistance::FastSignedDistance(const SignedDistance& exact) : exact_(exact) {
+  const TriangleMesh& m = exact.mesh();
+  face_normal_.resize(m.faces.size());
+  vertex_normal_.assign(m.vertices.size(), Vec3::Zero());
+  edge_normal_.resize(m.faces.size());
+  std::map<std::pair<std::uint32_t, std::uint32_t>, Vec3> edge_sum;
+  for (std::size_t f = 0; f < m.faces.size(); ++f) {
+    const Face& t = m.faces[f];
+    const Vec3 n = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).normalized();
+    face_normal_[f] = n;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e1 = (m.vertices[t[(k + 1) % 3]] - m.vertices[t[k]]).normalized();
+      const Vec3 e2 = (m.vertices[t[(k + 2) % 3]] - m.vertices[t[k]]).normalized();
+      vertex_normal_[t[k]] += std::acos(std::clamp(e1.dot(e2), -1.0, 1.0)) * n;
+      const auto key = std::minmax(t[k], t[(k + 1) % 3]);
+      // try_emplace with an explicit zero: Eigen's default constructor leaves the vector uninitialised.
+      edge_sum.try_emplace({key.first, key.second}, Vec3::Zero()).first->second += n;
+    }
+  }
+  for (std::size_t f = 0; f < m.faces.size(); ++f) {
+    const Face& t = m.faces[f];
+    for (int k = 0; k < 3; ++k) {
+      const auto key = std::minmax(t[k], t[(k + 1) % 3]);
+      edge_normal_[f][k] = edge_sum[{key.first, key.second}];
+    }
+  }
+}
+
+double FastSignedDistance::operator()(const Vec3& p) const {
+  const TriangleMesh& m = exact_.mesh();
+  // Warm start from this thread's previous nearest face: consecutive mesher queries are close.
+  thread_local const FastSignedDistance* owner = nullptr;
+  thread_local std::uint32_t hint = 0;
+  if (owner != this || hint >= m.faces.size()) {
+    owner = this;
+    hint = 0;
+  }
+  FastNearest q{m, p, std::numeric_limits<double>::infinity(), hint, p};
+  q.leaf(hint);
+  q.best_sq = std::nextafter(q.best_sq, HUGE_VAL);  // keep the hint's own triangle in play
+  traverse_nearest_first(exact_.tree(), q);
+  hint = q.best_face;
+  const Vec3 diff = p - q.best_point;
+  const double dist = diff.norm();
+  const Face& t = m.faces[q.best_face];
+  Vec3 normal;
+  if (q.best_feature == 6) normal = face_normal_[q.best_face];
+  else if (q.best_feature < 3) normal = vertex_normal_[t[q.best_feature]];
+  else normal = edge_normal_[q.best_face][q.best_feature - 3];
+  return diff.dot(normal) < 0 ? -dist : dist;
+}
+
+}  // namespace cdbench

@@ -1,0 +1,26 @@
+#pragma once
+// Signed distance in plain doubles, NOT certified: the fast twin of SignedDistance, for the surface
+// mesher's millions of evaluations. Nearest triangle over the same AABB tree (warm-started from the
+// previous query of the thread), sign from the angle-weighted pseudo-normal of the nearest feature
+// (Baerentzen & Aanaes), which is correct for closed manifold meshes up to rounding near the
+// surface. Tests compare it with SignedDistance; certification never uses it.
+#include <vector>
+
+#include "distance/signed_distance.h"
+
+namespace cdbench {
+
+class FastSignedDistance {
+ public:
+  explicit FastSignedDistance(const SignedDistance& exact);
+  double operator()(const Vec3& p) const;
+  const SignedDistance& exact() const { return exact_; }
+
+ private:
+  const SignedDistance& exact_;
+  std::vector<Vec3> face_normal_;      // unit, outward
+  std::vector<Vec3> vertex_normal_;    // angle-weighted sums
+  std::vector<std::array<Vec3, 3>> edge_normal_;  // per face, edge k = (v_k, v_{k+1}): sum of both faces' normals
+};
+
+}  // namespace cdbench

@@ -1,0 +1,56 @@
+#include "offset/mesh_level_set.h"
+
+#include <CGAL/Complex_2_in_triangulation_3.h>
+#include <CGAL/IO/facets_in_complex_2_to_triangle_mesh.h>
+#include <CGAL/Implicit_surface_3.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_default_triangulation_3.h>
+#include <CGAL/make_surface_mesh.h>
+
+namespace cdbench {
+namespace {
+
+using Tr = CGAL::Surface_mesh_default_triangulation_3;
+using C2t3 = CGAL::Complex_2_in_triangulation_3<Tr>;
+using GT = Tr::Geom_traits;
+using Point = GT::Point_3;
+using FT = GT::FT;
+
+struct Function {
+  const std::function<double(const Vec3&)>* f;
+  FT operator()(const Point& p) const { return (*f)(Vec3(p.x(), p.y(), p.z())); }
+};
+
+}  // namespace
+
+TriangleMesh mesh_level_set(const std::function<double(const Vec3&)>& f, const Vec3& center, double radius,
+                            const std::vector<Vec3>& seeds, const LevelSetMeshOptions& options) {
+  Tr tr;
+  C2t3 c2t3(tr);
+  for (const Vec3& s : seeds) tr.insert(Point(s.x(), s.y(), s.z()));
+  CGAL::Implicit_surface_3<GT, Function> surface(Function{&f}, GT::Sphere_3(Point(center.x(), center.y(), center.z()),
+                                                                             radius * radius),
+                                                 options.bisection_relative_error);
+  CGAL::Surface_mesh_default_criteria_3<Tr> criteria(options.angle_bound, options.radius_bound,
+                                                     options.distance_bound);
+  CGAL::make_surface_mesh(c2t3, surface, criteria, CGAL::Manifold_tag(), 0);
+  CGAL::Surface_mesh<Point> sm;
+  if (c2t3.number_of_facets() > 0) CGAL::facets_in_complex_2_to_triangle_mesh(c2t3, sm);
+  TriangleMesh out;
+  std::vector<std::uint32_t> index(sm.number_of_vertices(), 0);
+  for (auto v : sm.vertices()) {
+    index[v] = static_cast<std::uint32_t>(out.vertices.size());
+    const Point& p = sm.point(v);
+    out.vertices.emplace_back(p.x(), p.y(), p.z());
+  }
+  for (auto fc : sm.faces()) {
+    Face t{};
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(sm.halfedge(fc), sm))
+      if (k < 3) t[k++] = index[v];
+    out.faces.push_back(t);
+  }
+  return out;
+}
+
+}  // namespace cdbench

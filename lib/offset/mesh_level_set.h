@@ -1,0 +1,25 @@
+#pragma once
+// Meshing an implicit surface {x : f(x) = 0} with CGAL's Surface_mesher (Delaunay refinement,
+// manifold output). The only CGAL mesher translation unit of the project.
+#include <functional>
+#include <vector>
+
+#include "mesh/triangle_mesh.h"
+
+namespace cdbench {
+
+struct LevelSetMeshOptions {
+  double angle_bound = 30.0;     // degrees, minimum facet angle
+  double radius_bound = 0.0;     // maximum radius of a facet's surface Delaunay ball (absolute)
+  double distance_bound = 0.0;   // maximum distance from a facet's circumcentre to its ball centre (absolute)
+  double bisection_relative_error = 1e-9;  // relative to the bounding sphere radius
+};
+
+// f must be negative at `center` and positive on the sphere of `radius` around it. `seeds` are
+// points on (or within the bisection error of) the surface; every component of the surface that
+// should be meshed must hold at least one seed, and together they must span 3D (at least 4 points
+// not coplanar). Deterministic: no random initial points are drawn.
+TriangleMesh mesh_level_set(const std::function<double(const Vec3&)>& f, const Vec3& center, double radius,
+                            const std::vector<Vec3>& seeds, const LevelSetMeshOptions& options);
+
+}  // namespace cdbench

@@ -1,0 +1,69 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "distance/triangle_distance.h"
+#include "exact_reference.h"
+
+namespace cdbench {
+namespace {
+
+using testing::Epeck;
+using testing::exact_point;
+
+void expect_encloses(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e, const Vec3& f) {
+  const Interval r = triangle_triangle_squared_distance(a, b, c, d, e, f);
+  const Epeck::FT exact = CGAL::squared_distance(Epeck::Triangle_3(exact_point(a), exact_point(b), exact_point(c)),
+                                                 Epeck::Triangle_3(exact_point(d), exact_point(e), exact_point(f)));
+  EXPECT_TRUE(Epeck::FT(r.lo) <= exact && exact <= Epeck::FT(r.hi))
+      << std::setprecision(17) << "a=(" << a.transpose() << ") b=(" << b.transpose() << ") c=(" << c.transpose()
+      << ") d=(" << d.transpose() << ") e=(" << e.transpose() << ") f=(" << f.transpose() << ") [" << r.lo << ", "
+      << r.hi << "] exact " << CGAL::to_double(exact);
+  const double scale = (a - d).squaredNorm() + (b - a).squaredNorm() + (e - d).squaredNorm() + 1e-300;
+  EXPECT_LE(r.hi - r.lo, 1e-11 * scale);
+}
+
+TEST(TriangleDistance, RandomPairsAgainstExactRationals) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 shift = (k % 3 == 0) ? Vec3(u(rng), u(rng), u(rng)) : Vec3(2.5 * u(rng), 0, 0);
+    expect_encloses(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)),
+                    shift + Vec3(u(rng), u(rng), u(rng)), shift + Vec3(u(rng), u(rng), u(rng)),
+                    shift + Vec3(u(rng), u(rng), u(rng)));
+  }
+}
+
+TEST(TriangleDistance, HandBuiltCases) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  // Parallel, stacked: distance 1 (face-face).
+  expect_encloses(a, b, c, Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(0, 1, 1));
+  // Crossing edges (edge-edge closest pair inside both).
+  expect_encloses(a, b, c, Vec3(0.25, -1, 0.5), Vec3(0.25, 1, 0.5), Vec3(0.25, 0, 3));
+  // Sharing a vertex, sharing an edge, coplanar overlap, touching at a point: distance 0.
+  expect_encloses(a, b, c, a, Vec3(-1, 0, 0), Vec3(0, -1, 1));
+  expect_encloses(a, b, c, a, b, Vec3(0, -1, 0));
+  expect_encloses(a, b, c, Vec3(0.1, 0.1, 0), Vec3(2, 0.1, 0), Vec3(0.1, 2, 0));
+  expect_encloses(a, b, c, Vec3(0.25, 0.25, 0), Vec3(0.25, 0.25, 1), Vec3(1, 1, 1));
+  // Coplanar, disjoint: edge-edge in the plane.
+  expect_encloses(a, b, c, Vec3(1, 1, 0), Vec3(2, 1, 0), Vec3(1, 2, 0));
+  // Parallel edges.
+  expect_encloses(a, b, c, Vec3(0, 0, 2), Vec3(1, 0, 2), Vec3(0.5, -1, 2));
+  EXPECT_EQ(triangle_triangle_squared_distance(a, b, c, a, b, Vec3(0, -1, 0)).hi, 0.0);
+}
+
+TEST(SegmentDistance, AgainstExactRationals) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int k = 0; k < 3000; ++k) {
+    const Vec3 p0(u(rng), u(rng), u(rng)), p1(u(rng), u(rng), u(rng)), q0(u(rng), u(rng), u(rng));
+    const Vec3 q1 = (k % 4 == 0) ? q0 + (p1 - p0) * 0.5 : Vec3(u(rng), u(rng), u(rng));  // some parallel
+    const Interval r = segment_segment_squared_distance(p0, p1, q0, q1);
+    const Epeck::FT exact = CGAL::squared_distance(Epeck::Segment_3(exact_point(p0), exact_point(p1)),
+                                                   Epeck::Segment_3(exact_point(q0), exact_point(q1)));
+    EXPECT_TRUE(Epeck::FT(r.lo) <= exact && exact <= Epeck::FT(r.hi)) << k;
+  }
+}
+
+}  // namespace
+}  // namespace cdbench
