@@ -7,6 +7,8 @@
 #include <CGAL/Surface_mesh_default_triangulation_3.h>
 #include <CGAL/make_surface_mesh.h>
 
+#include <cmath>
+
 namespace cdbench {
 namespace {
 
@@ -22,6 +24,25 @@ struct Function {
 };
 
 }  // namespace
+
+std::vector<Vec3> level_set_seeds(const std::function<double(const Vec3&)>& f, const Vec3& center, double radius,
+                                  int count) {
+  std::vector<Vec3> seeds;
+  const double golden_angle = M_PI * (3.0 - std::sqrt(5.0));
+  for (int k = 0; k < count; ++k) {
+    const double z = 1.0 - 2.0 * (k + 0.5) / count, phi = k * golden_angle;
+    const Vec3 dir(std::sqrt(1.0 - z * z) * std::cos(phi), std::sqrt(1.0 - z * z) * std::sin(phi), z);
+    double lo = 0.0, hi = radius;
+    if (!(f(center + hi * dir) > 0.0)) continue;
+    for (int it = 0; it < 200; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      if (mid <= lo || mid >= hi) break;  // adjacent doubles: as close as doubles get
+      (f(center + mid * dir) < 0.0 ? lo : hi) = mid;
+    }
+    seeds.push_back(center + hi * dir);
+  }
+  return seeds;
+}
 
 TriangleMesh mesh_level_set(const std::function<double(const Vec3&)>& f, const Vec3& center, double radius,
                             const std::vector<Vec3>& seeds, const LevelSetMeshOptions& options) {

@@ -15,6 +15,12 @@ struct LevelSetMeshOptions {
   double bisection_relative_error = 1e-9;  // relative to the bounding sphere radius
 };
 
+// Points on {f = 0}: along `count` fixed, well-spread directions from `center` (where f < 0) to
+// the sphere of `radius` (where f > 0), the sign change of f is bisected to the last double.
+// Deterministic. Directions along which f does not change sign give no point.
+std::vector<Vec3> level_set_seeds(const std::function<double(const Vec3&)>& f, const Vec3& center, double radius,
+                                  int count);
+
 // f must be negative at `center` and positive on the sphere of `radius` around it. `seeds` are
 // points on (or within the bisection error of) the surface; every component of the surface that
 // should be meshed must hold at least one seed, and together they must span 3D (at least 4 points

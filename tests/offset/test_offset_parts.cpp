@@ -60,11 +60,9 @@ TEST(MeshLevelSet, SphereOffsetsAreValidAndNearTheLevel) {
   const FastSignedDistance fast(sdf);
   for (double d : {-0.5, 0.3}) {
     const std::function<double(const Vec3&)> f = [&](const Vec3& p) { return fast(p) - d; };
-    std::vector<Vec3> seeds;
-    for (int k = 0; k < 16; ++k) {
-      const double z = 1 - 2 * (k + 0.5) / 16, phi = k * 2.399963229728653;
-      seeds.push_back((1.0 + d) * Vec3(std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z));
-    }
+    const std::vector<Vec3> seeds = level_set_seeds(f, Vec3::Zero(), 2.0 + d, 16);
+    ASSERT_EQ(seeds.size(), 16u);
+    for (const Vec3& p : seeds) EXPECT_NEAR(f(p), 0.0, 1e-12);
     LevelSetMeshOptions o;
     o.radius_bound = 0.1;
     o.distance_bound = 0.005;
