@@ -21,6 +21,7 @@ struct NearestPolicy {
   double stop_sq = -1.0;  // stop once best_hi_sq <= stop_sq
   double best_hi_sq = kInf;
   double min_lo_sq = kInf;
+  std::uint32_t best_face = 0;
 
   double bound(const Aabb& box) const { return squared_distance_lower_bound(box, p); }
   double prune_bound() const { return best_hi_sq; }
@@ -28,7 +29,10 @@ struct NearestPolicy {
   void leaf(std::uint32_t f) {
     const Face& t = mesh.faces[f];
     const Interval d2 = point_triangle_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
-    best_hi_sq = std::min(best_hi_sq, d2.hi);
+    if (d2.hi < best_hi_sq) {
+      best_hi_sq = d2.hi;
+      best_face = f;
+    }
     min_lo_sq = std::min(min_lo_sq, d2.lo);
   }
 };
@@ -113,6 +117,12 @@ Interval SignedDistance::unsigned_distance(const Vec3& p) const {
   NearestPolicy q{mesh_, p};
   traverse_nearest_first(tree_, q);
   return sqrt_interval({q.min_lo_sq, q.best_hi_sq});
+}
+
+std::uint32_t SignedDistance::nearest_face(const Vec3& p) const {
+  NearestPolicy q{mesh_, p};
+  traverse_nearest_first(tree_, q);
+  return q.best_face;
 }
 
 bool SignedDistance::distance_at_most(const Vec3& p, double bound, Interval* full) const {

@@ -31,6 +31,10 @@ class SignedDistance {
   // False means the full query ran; then `*full` (if given) receives the enclosure of dist(p, F).
   bool distance_at_most(const Vec3& p, double bound, Interval* full = nullptr) const;
 
+  // Index of a triangle at the certified upper end of unsigned_distance(p) (a nearest triangle
+  // up to rounding).
+  std::uint32_t nearest_face(const Vec3& p) const;
+
   // Ids of all triangles whose distance to p may be <= radius (certified superset: every triangle
   // within radius is listed). Returns false, leaving `out` partial, once more than `max_count` qualify.
   bool triangles_within(const Vec3& p, double radius, std::size_t max_count, std::vector<std::uint32_t>& out) const;

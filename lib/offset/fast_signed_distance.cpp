@@ -88,6 +88,11 @@ FastSignedDistance::FastSignedDistance(const SignedDistance& exact) : exact_(exa
 }
 
 double FastSignedDistance::operator()(const Vec3& p) const {
+  Vec3 unused;
+  return value_and_gradient(p, unused);
+}
+
+double FastSignedDistance::value_and_gradient(const Vec3& p, Vec3& gradient) const {
   const TriangleMesh& m = exact_.mesh();
   // Warm start from this thread's previous nearest face: consecutive mesher queries are close.
   thread_local const FastSignedDistance* owner = nullptr;
@@ -108,7 +113,9 @@ double FastSignedDistance::operator()(const Vec3& p) const {
   if (q.best_feature == 6) normal = face_normal_[q.best_face];
   else if (q.best_feature < 3) normal = vertex_normal_[t[q.best_feature]];
   else normal = edge_normal_[q.best_face][q.best_feature - 3];
-  return diff.dot(normal) < 0 ? -dist : dist;
+  const double sign = diff.dot(normal) < 0 ? -1.0 : 1.0;
+  gradient = dist > 0 ? Vec3(sign * diff / dist) : Vec3(normal.normalized());
+  return sign * dist;
 }
 
 }  // namespace cdbench

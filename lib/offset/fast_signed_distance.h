@@ -14,6 +14,8 @@ class FastSignedDistance {
  public:
   explicit FastSignedDistance(const SignedDistance& exact);
   double operator()(const Vec3& p) const;
+  // Value and unit gradient (direction away from the nearest surface point, times the sign).
+  double value_and_gradient(const Vec3& p, Vec3& gradient) const;
   const SignedDistance& exact() const { return exact_; }
 
  private:

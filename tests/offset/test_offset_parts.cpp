@@ -55,7 +55,7 @@ TEST(FastSignedDistance, AgreesWithTheCertifiedOne) {
 }
 
 TEST(MeshLevelSet, SphereOffsetsAreValidAndNearTheLevel) {
-  const TriangleMesh sphere = make_icosphere(1.0, 4);
+  const TriangleMesh sphere = make_icosphere(1.0, 2);
   const SignedDistance sdf(sphere);
   const FastSignedDistance fast(sdf);
   for (double d : {-0.5, 0.3}) {
@@ -65,7 +65,7 @@ TEST(MeshLevelSet, SphereOffsetsAreValidAndNearTheLevel) {
     for (const Vec3& p : seeds) EXPECT_NEAR(f(p), 0.0, 1e-12);
     LevelSetMeshOptions o;
     o.radius_bound = 0.1;
-    o.distance_bound = 0.005;
+    o.distance_bound = 0.01;
     const TriangleMesh m = mesh_level_set(f, Vec3::Zero(), 2.0 + d, seeds, o);
     const ValidatedMesh v = validate_mesh(m);
     EXPECT_TRUE(v.report.valid());

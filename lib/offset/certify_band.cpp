@@ -1,0 +1,118 @@
+#include "offset/certify_band.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "distance/point_triangle_distance.h"
+#include "distance/triangle_distance.h"
+#include "util/timer.h"
+
+namespace cdbench {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Lower bound on the squared distance between two boxes, never above the true value.
+double box_box_squared_lower_bound(const Aabb& a, const Aabb& b) {
+  double d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    double g = 0.0;
+    if (a.hi[k] < b.lo[k]) g = b.lo[k] - a.hi[k];
+    else if (b.hi[k] < a.lo[k]) g = a.lo[k] - b.hi[k];
+    d2 += g * g;
+  }
+  return d2 * (1.0 - kRoundingSlack);
+}
+
+// dist(T, F): certified interval of the squared distance from triangle T to the surface.
+struct TriangleNearest {
+  const TriangleMesh& mesh;
+  Vec3 a, b, c;
+  Aabb box;
+  double best_hi_sq = kInf;
+  double min_lo_sq = kInf;
+  double bound(const Aabb& node) const { return box_box_squared_lower_bound(box, node); }
+  double prune_bound() const { return best_hi_sq; }
+  bool done() const { return false; }
+  void leaf(std::uint32_t f) {
+    const Face& t = mesh.faces[f];
+    const Interval d2 =
+        triangle_triangle_squared_distance(a, b, c, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+    best_hi_sq = std::min(best_hi_sq, d2.hi);
+    min_lo_sq = std::min(min_lo_sq, d2.lo);
+  }
+};
+
+// Upper bound of dist(x, F) over triangle abc: each d_j is convex, so max over the triangle of
+// d_j is at a vertex; j = the triangle nearest to the centroid. Where that is not tight enough
+// the triangle is split into 4 (midpoints in doubles; the caller adds the slack for rounding).
+double upper_bound(const SignedDistance& sdf, const Vec3& a, const Vec3& b, const Vec3& c, double target, int depth,
+                   std::size_t& pieces) {
+  ++pieces;
+  const TriangleMesh& m = sdf.mesh();
+  const Face& t = m.faces[sdf.nearest_face((a + b + c) / 3.0)];
+  double hi = 0.0;
+  for (const Vec3* v : {&a, &b, &c}) {
+    const Interval d2 = point_triangle_squared_distance(*v, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+    hi = std::max(hi, round_up(std::sqrt(d2.hi)));
+  }
+  if (hi <= target || depth == 0) return hi;
+  const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+  return std::max({upper_bound(sdf, a, ab, ca, target, depth - 1, pieces),
+                   upper_bound(sdf, ab, b, bc, target, depth - 1, pieces),
+                   upper_bound(sdf, ca, bc, c, target, depth - 1, pieces),
+                   upper_bound(sdf, ab, bc, ca, target, depth - 1, pieces)});
+}
+
+}  // namespace
+
+BandResult certify_band(const SignedDistance& sdf, const TriangleMesh& offset, double d, const BandOptions& options) {
+  Timer timer;
+  BandResult result;
+  const std::size_t n = offset.faces.size();
+  result.face_epsilon.assign(n, kInf);
+  std::vector<std::size_t> pieces(n, 0), touching(n, 0);
+  const double ad = std::abs(d);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const Face& f = offset.faces[i];
+      const Vec3 &a = offset.vertices[f[0]], &b = offset.vertices[f[1]], &c = offset.vertices[f[2]];
+      TriangleNearest q{sdf.mesh(), a, b, c, Aabb{}};
+      q.box.extend(a);
+      q.box.extend(b);
+      q.box.extend(c);
+      traverse_nearest_first(sdf.tree(), q);
+      const double lo = sqrt_interval({q.min_lo_sq, q.best_hi_sq}).lo;
+      // Split points are rounded: every point of the face is within `slack` of a piece, and s is
+      // 1-Lipschitz, so the slack widens the upper bound.
+      const double scale = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});
+      const double slack = 8.0 * std::numeric_limits<double>::epsilon() * scale;
+      const double hi = round_up(upper_bound(sdf, a, b, c, ad + options.target, options.max_split_depth, pieces[i]) + slack);
+      if (!(lo > 0.0)) {
+        touching[i] = 1;  // not proved disjoint from F: the face may cross the surface
+        result.face_epsilon[i] = round_up(ad + hi);
+        continue;
+      }
+      // Disjoint from F: the whole face is on one side, that of any of its points (exact test).
+      const int side = sdf.side(a);
+      const double s_lo = side > 0 ? lo : -hi, s_hi = side > 0 ? hi : -lo;
+      result.face_epsilon[i] = round_up(std::max(s_hi - d, d - s_lo));
+    }
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    result.pieces += pieces[i];
+    result.faces_touching += touching[i];
+    if (result.face_epsilon[i] > result.epsilon) {
+      result.epsilon = result.face_epsilon[i];
+      result.worst_face = i;
+    }
+  }
+  result.seconds = timer.seconds();
+  return result;
+}
+
+}  // namespace cdbench
