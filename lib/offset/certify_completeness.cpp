@@ -1,0 +1,179 @@
+#include "offset/certify_completeness.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include "distance/point_triangle_distance.h"
+#include "util/timer.h"
+
+namespace cdbench {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Cell {
+  Vec3 lo, hi;  // exact double corners; children split at the rounded midpoint, so they tile exactly
+};
+
+enum class Verdict : unsigned char { Discard, Split, Missed, Unresolved };
+
+// Whether s has no critical point (local extremum) in the cell: every point x of the cell has its
+// nearest surface points on the triangles `ids` (all triangles within dist(c) + 2r of c), and some
+// direction w satisfies w.(x - p) > 0 for all x in the cell and p on those triangles (a linear
+// function: checked at corner/vertex pairs), so dist strictly increases along w at every x.
+bool no_critical_point(const SignedDistance& sdf, const Cell& cell, const Vec3& c, double radius,
+                       std::vector<std::uint32_t>& ids) {
+  if (!sdf.triangles_within(c, radius, 64, ids) || ids.empty()) return false;
+  const TriangleMesh& m = sdf.mesh();
+  // Heuristic direction: min-norm point of the hull of the nearest-point directions (Frank-Wolfe).
+  std::vector<Vec3> g(ids.size());
+  for (std::size_t j = 0; j < ids.size(); ++j) {
+    const Face& f = m.faces[ids[j]];
+    const Vec3 v = c - closest_point_on_triangle(c, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
+    if (!(v.norm() > 0)) return false;
+    g[j] = v.normalized();
+  }
+  Vec3 x = g[0];
+  for (int it = 0; it < 60; ++it) {
+    std::size_t k = 0;
+    for (std::size_t j = 1; j < g.size(); ++j)
+      if (g[j].dot(x) < g[k].dot(x)) k = j;
+    const Vec3 dlt = x - g[k];
+    const double dd = dlt.squaredNorm();
+    if (!(x.dot(dlt) > 1e-15) || !(dd > 0)) break;
+    x -= std::min(1.0, x.dot(dlt) / dd) * dlt;
+  }
+  if (!(x.norm() > 1e-6)) return false;
+  const Vec3 w = x.normalized();
+  for (std::uint32_t id : ids) {
+    const Face& f = m.faces[id];
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 v((corner & 1) ? cell.hi.x() : cell.lo.x(), (corner & 2) ? cell.hi.y() : cell.lo.y(),
+                   (corner & 4) ? cell.hi.z() : cell.lo.z());
+      for (std::uint32_t t : f) {
+        const Vec3 diff = v - m.vertices[t];
+        // Margin far above the rounding of a 3-term dot product of these magnitudes.
+        const double margin = 1e-12 * (diff.cwiseAbs().sum() + v.cwiseAbs().sum() + m.vertices[t].cwiseAbs().sum());
+        if (!(w.dot(diff) > margin)) return false;
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+CompletenessResult certify_completeness(const SignedDistance& sdf, const TriangleMesh& offset, double d, double eps,
+                                        const CompletenessOptions& options) {
+  Timer timer;
+  CompletenessResult result;
+  std::unique_ptr<SignedDistance> surface;
+  if (!offset.faces.empty()) surface = std::make_unique<SignedDistance>(offset);
+  // Every bounded component of {s < d - eps} or {s > d + eps} lies in the input's box grown by
+  // max(d, 0): sublevel points are within d of the solid, exterior pockets within its hull.
+  Aabb domain = sdf.bbox();
+  const double grow = std::max(d, 0.0) + eps + 1e-3 * domain.diagonal();
+  domain.lo -= Vec3::Constant(grow);
+  domain.hi += Vec3::Constant(grow);
+  const double min_size = options.min_cell_relative * domain.diagonal();
+
+  std::vector<Cell> frontier;
+  {
+    const int n = 8;
+    const Vec3 step = domain.extent() / n;
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          Cell c;
+          c.lo = domain.lo + Vec3(i * step.x(), j * step.y(), k * step.z());
+          c.hi = (i == n - 1 && j == n - 1 && k == n - 1) ? domain.hi : domain.lo + Vec3((i + 1) * step.x(), (j + 1) * step.y(), (k + 1) * step.z());
+          if (i == n - 1) c.hi.x() = domain.hi.x();
+          if (j == n - 1) c.hi.y() = domain.hi.y();
+          if (k == n - 1) c.hi.z() = domain.hi.z();
+          frontier.push_back(c);
+        }
+  }
+  while (!frontier.empty() && result.cells < options.max_cells) {
+    std::vector<Verdict> verdict(frontier.size(), Verdict::Split);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frontier.size(), 32), [&](const auto& range) {
+      thread_local std::vector<std::uint32_t> ids;
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const Cell& cell = frontier[i];
+        const Vec3 c = 0.5 * (cell.lo + cell.hi);
+        // Covering radius around the rounded centre, rounded up generously.
+        const double r = round_up(0.5 * (cell.hi - cell.lo).norm() * (1 + 1e-12) +
+                                  4 * std::numeric_limits<double>::epsilon() * c.cwiseAbs().maxCoeff());
+        const Interval s = sdf.signed_distance(c);
+        const double s_min = s.lo - r, s_max = s.hi + r;  // s over the cell (1-Lipschitz)
+        // (1) the cell holds no point of A = {s < d - eps} nor of B = {s > d + eps}.
+        if (s_min >= d - eps && s_max <= d + eps) {
+          verdict[i] = Verdict::Discard;
+          continue;
+        }
+        // (2) the cell misses S_d: all of it is on one side of S_d.
+        const bool misses = !surface || surface->unsigned_distance(c).lo > r;
+        if (misses) {
+          const bool inside = surface && surface->side(c) < 0;
+          if (inside ? s_max <= d + eps : s_min >= d - eps) {
+            verdict[i] = Verdict::Discard;
+            continue;
+          }
+          if (inside ? s.lo - r > d + eps : s.hi + r < d - eps) {
+            verdict[i] = Verdict::Missed;  // wholly in B inside S_d, or wholly in A outside S_d
+            continue;
+          }
+        }
+        // (3) no extremum of s in the cell (it avoids the surface, where s is not smooth).
+        if (std::abs(s.lo) > r && std::abs(s.hi) > r && std::signbit(s.lo) == std::signbit(s.hi) &&
+            no_critical_point(sdf, cell, c, round_up(std::max(std::abs(s.lo), std::abs(s.hi)) + 2 * r), ids)) {
+          verdict[i] = Verdict::Discard;
+          continue;
+        }
+        if ((cell.hi - cell.lo).maxCoeff() < min_size) verdict[i] = Verdict::Unresolved;
+      }
+    });
+    std::vector<Cell> next;
+    for (std::size_t i = 0; i < frontier.size(); ++i) {
+      ++result.cells;
+      const Cell& cell = frontier[i];
+      switch (verdict[i]) {
+        case Verdict::Discard: break;
+        case Verdict::Missed:
+          if (result.missed.size() < 64) result.missed.push_back(0.5 * (cell.lo + cell.hi));
+          break;
+        case Verdict::Unresolved:
+          if (result.unresolved.size() < 64) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
+          break;
+        case Verdict::Split: {
+          const Vec3 mid = 0.5 * (cell.lo + cell.hi);
+          for (int k = 0; k < 8; ++k) {
+            Cell child;
+            for (int a = 0; a < 3; ++a) {
+              const bool upper = (k >> a) & 1;
+              child.lo[a] = upper ? mid[a] : cell.lo[a];
+              child.hi[a] = upper ? cell.hi[a] : mid[a];
+            }
+            next.push_back(child);
+          }
+          break;
+        }
+      }
+    }
+    frontier = std::move(next);
+    // A certain violation settles the answer; its points are the seeds the caller needs.
+    if (!result.missed.empty()) break;
+  }
+  if (result.missed.empty())
+    for (const Cell& cell : frontier)
+      if (result.unresolved.size() < 64) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
+  result.complete = frontier.empty() && result.missed.empty() && result.unresolved.empty();
+  result.seconds = timer.seconds();
+  return result;
+}
+
+}  // namespace cdbench

@@ -1,0 +1,30 @@
+#pragma once
+// Certificate (c) of an offset mesh S_d with band eps: no point with s < d - eps lies outside S_d
+// and no point with s > d + eps lies inside it, so no component of the level set is missing.
+// See doc/offsets.md for the argument (components of the sub/superlevel sets, their extrema, and
+// a branch and bound that proves where s has no critical point).
+#include <cstdint>
+#include <vector>
+
+#include "distance/signed_distance.h"
+
+namespace cdbench {
+
+struct CompletenessOptions {
+  std::uint64_t max_cells = 20000000;
+  double min_cell_relative = 1e-7;  // cells smaller than this x diagonal are reported unresolved
+};
+
+struct CompletenessResult {
+  bool complete = false;             // certified
+  std::vector<Vec3> missed;          // points certainly in {s < d - eps} outside S_d, or {s > d + eps} inside it
+  std::vector<Vec3> unresolved;      // centres of cells that could not be classified
+  std::uint64_t cells = 0;
+  double seconds = 0.0;
+};
+
+// `offset` must be a validated closed surface (it may be empty: then every point is outside it).
+CompletenessResult certify_completeness(const SignedDistance& sdf, const TriangleMesh& offset, double d, double eps,
+                                        const CompletenessOptions& options = {});
+
+}  // namespace cdbench
