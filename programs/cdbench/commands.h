@@ -12,5 +12,6 @@ constexpr int kExitInternal = 3;
 // Each registers its subcommand; the callback stores the exit code in `exit_code`.
 void register_check(CLI::App& app, int& exit_code);
 void register_wrap(CLI::App& app, int& exit_code);
+void register_offset(CLI::App& app, int& exit_code);
 
 }  // namespace cdbench::cli

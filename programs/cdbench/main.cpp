@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   int exit_code = kExitOk;
   register_check(app, exit_code);
   register_wrap(app, exit_code);
+  register_offset(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

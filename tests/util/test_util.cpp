@@ -8,6 +8,7 @@
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/interval.h"
+#include "util/sha256.h"
 
 namespace cdbench {
 namespace {
@@ -60,6 +61,15 @@ TEST(Interval, OutwardRoundingMovesOneUlp) {
   EXPECT_TRUE(i.contains(2.0));
   EXPECT_FALSE(i.contains(3.5));
   EXPECT_DOUBLE_EQ(i.width(), 2.0);
+}
+
+TEST(Sha256, KnownVectors) {
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  const std::string path = temp_dir() + "/h.txt";
+  write_file_atomically(path, [](std::ostream& o) { o << "abc"; });
+  EXPECT_EQ(sha256_file(path), sha256_hex("abc"));
+  EXPECT_THROW(sha256_file("/nonexistent/file"), InputError);
 }
 
 }  // namespace

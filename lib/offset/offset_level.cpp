@@ -1,0 +1,166 @@
+#include "offset/offset_level.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "offset/certify_band.h"
+#include "offset/certify_completeness.h"
+#include "offset/fast_signed_distance.h"
+#include "offset/mesh_level_set.h"
+#include "util/timer.h"
+
+namespace cdbench {
+namespace {
+
+std::string num(double x) {
+  std::ostringstream os;
+  os.precision(6);
+  os << x;
+  return os.str();
+}
+
+// A point of {f = 0} near a point x where f has a known sign: Newton overshoot along the fast
+// gradient, then bisection (uncertified; only a seed for the mesher).
+bool seed_near(const FastSignedDistance& fast, double d, const Vec3& x, Vec3& seed) {
+  Vec3 g;
+  const double fx = fast.value_and_gradient(x, g) - d;
+  for (double scale : {1.5, 3.0, 6.0}) {
+    const Vec3 y = x - scale * fx * g;
+    const double fy = fast(y) - d;
+    if ((fx < 0) == (fy < 0)) continue;
+    Vec3 a = x, b = y;
+    for (int it = 0; it < 200; ++it) {
+      const Vec3 m = 0.5 * (a + b);
+      if (m == a || m == b) break;
+      ((fast(m) - d < 0) == (fx < 0) ? a : b) = m;
+    }
+    seed = b;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+const char* to_string(OffsetStatus status) {
+  switch (status) {
+    case OffsetStatus::Certified: return "certified";
+    case OffsetStatus::Empty: return "empty";
+    case OffsetStatus::Original: return "original";
+    case OffsetStatus::Failed: return "failed";
+  }
+  return "?";
+}
+
+OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetrationResult& mp, double d,
+                                 const OffsetOptions& options) {
+  OffsetLevel level;
+  level.d = d;
+  const Aabb box = sdf.bbox();
+  const double diag = box.diagonal();
+  const double tol = options.tolerance_relative * diag;
+  if (d == 0.0) {
+    level.status = OffsetStatus::Original;
+    level.mesh = sdf.mesh();
+    level.complete = true;
+    return level;
+  }
+  if (d < -mp.depth.hi) {  // no interior point is that deep: the level set is empty (certified)
+    level.status = OffsetStatus::Empty;
+    level.complete = true;
+    level.message = "deeper than the certified maximum penetration " + num(mp.depth.hi);
+    return level;
+  }
+  const FastSignedDistance fast(sdf);
+  const std::function<double(const Vec3&)> f = [&](const Vec3& p) { return fast(p) - d; };
+  // The deepest point is inside every nonempty level set: f < 0 there.
+  const Vec3 center = mp.point;
+  double radius = 0.0;
+  for (int k = 0; k < 8; ++k)
+    radius = std::max(radius, (Vec3((k & 1) ? box.hi.x() : box.lo.x(), (k & 2) ? box.hi.y() : box.lo.y(),
+                                    (k & 4) ? box.hi.z() : box.lo.z()) - center).norm());
+  radius += std::max(d, 0.0) + 0.01 * diag;
+  std::vector<Vec3> seeds = d < -mp.depth.lo ? std::vector<Vec3>{} : level_set_seeds(f, center, radius, options.seeds);
+
+  LevelSetMeshOptions mo;
+  mo.radius_bound = options.radius_relative * diag;
+  mo.distance_bound = options.distance_over_tolerance * tol;
+  for (int attempt = 1; attempt <= options.max_attempts; ++attempt) {
+    level.attempts = attempt;
+    level.distance_bound = mo.distance_bound;
+    Timer t_mesh;
+    TriangleMesh mesh;
+    if (seeds.size() >= 4) mesh = mesh_level_set(f, center, radius, seeds, mo);
+    ValidatedMesh v = validate_mesh(mesh);
+    level.seconds_mesh += t_mesh.seconds();
+    if (!mesh.faces.empty() && !v.report.valid()) {
+      level.message = "attempt " + std::to_string(attempt) + ": mesher output invalid: " + v.report.errors[0].message;
+      mo.distance_bound *= 0.7;
+      continue;
+    }
+    double eps = 0.0;
+    if (!v.mesh.faces.empty()) {
+      Timer t_band;
+      BandOptions bo;
+      bo.target = 0.5 * tol;
+      const BandResult band = certify_band(sdf, v.mesh, d, bo);
+      level.seconds_band += t_band.seconds();
+      level.band_pieces += band.pieces;
+      eps = band.epsilon;
+      if (eps > tol) {
+        const Face& w = v.mesh.faces[band.worst_face];
+        const Vec3 at = (v.mesh.vertices[w[0]] + v.mesh.vertices[w[1]] + v.mesh.vertices[w[2]]) / 3.0;
+        std::ostringstream os;
+        os.precision(9);
+        os << "attempt " << attempt << ": band " << eps << " (" << eps / diag << " x diagonal) exceeds the tolerance "
+           << tol << ", worst at face " << band.worst_face << " near (" << at.x() << ", " << at.y() << ", " << at.z()
+           << ")";
+        level.message = os.str();
+        mo.distance_bound *= 0.7;
+        continue;
+      }
+    }
+    // Completeness for the certified band (at least a tiny positive width for an empty mesh).
+    Timer t_comp;
+    const double eps_c = std::max(eps, 1e-9 * diag);
+    const CompletenessResult comp = certify_completeness(sdf, v.mesh, d, eps_c);
+    level.seconds_completeness += t_comp.seconds();
+    level.completeness_cells += comp.cells;
+    if (!comp.complete) {
+      std::size_t added = 0;
+      for (const Vec3& x : comp.missed) {
+        Vec3 s;
+        if (seed_near(fast, d, x, s)) {
+          seeds.push_back(s);
+          ++added;
+        }
+      }
+      std::ostringstream os;
+      os.precision(9);
+      if (!comp.missed.empty()) {
+        os << "attempt " << attempt << ": " << comp.missed.size() << " region(s) of the level set missed, e.g. near ("
+           << comp.missed[0].x() << ", " << comp.missed[0].y() << ", " << comp.missed[0].z() << "); " << added
+           << " seed(s) added";
+      } else {
+        os << "attempt " << attempt << ": completeness unresolved near (" << comp.unresolved[0].x() << ", "
+           << comp.unresolved[0].y() << ", " << comp.unresolved[0].z() << ")";
+      }
+      level.message = os.str();
+      if (added == 0) mo.distance_bound *= 0.7;
+      continue;
+    }
+    level.mesh = std::move(v.mesh);
+    level.report = std::move(v.report);
+    level.epsilon = eps;
+    level.complete = true;
+    level.status = level.mesh.faces.empty() ? OffsetStatus::Empty : OffsetStatus::Certified;
+    if (level.status == OffsetStatus::Empty) level.message = "empty (certified by the completeness search)";
+    else level.message.clear();
+    return level;
+  }
+  level.status = OffsetStatus::Failed;
+  return level;
+}
+
+}  // namespace cdbench

@@ -1,0 +1,43 @@
+#pragma once
+// One certified offset level: empty, the original surface, or a mesh of {s = d} built by CGAL's
+// surface mesher and certified by (a) validation, (b) the band and (c) completeness, with
+// re-seeding of missed components and finer criteria until the band meets the tolerance.
+#include <string>
+#include <vector>
+
+#include "distance/max_penetration.h"
+#include "mesh/validate_mesh.h"
+
+namespace cdbench {
+
+struct OffsetOptions {
+  double tolerance_relative = 1e-3;   // band tolerance, relative to the input's bbox diagonal
+  double radius_relative = 0.01;      // mesher: largest surface Delaunay ball radius, x diagonal
+  double distance_over_tolerance = 0.3;  // mesher: distance bound at the first attempt, x tolerance
+  int max_attempts = 4;
+  int seeds = 64;
+};
+
+enum class OffsetStatus { Certified, Empty, Original, Failed };
+
+struct OffsetLevel {
+  double d = 0.0;
+  OffsetStatus status = OffsetStatus::Failed;
+  std::string message;        // why it failed, or a note
+  TriangleMesh mesh;          // empty for Empty
+  MeshReport report;          // validation of `mesh`
+  double epsilon = 0.0;       // certified band (b); completeness (c) holds for the same epsilon
+  bool complete = false;
+  int attempts = 0;
+  double distance_bound = 0.0;  // mesher criterion of the accepted attempt (absolute)
+  std::size_t band_pieces = 0;
+  std::uint64_t completeness_cells = 0;
+  double seconds_mesh = 0.0, seconds_band = 0.0, seconds_completeness = 0.0;
+};
+
+OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetrationResult& max_penetration, double d,
+                                 const OffsetOptions& options);
+
+const char* to_string(OffsetStatus status);
+
+}  // namespace cdbench

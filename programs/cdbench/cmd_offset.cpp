@@ -1,0 +1,250 @@
+// cdbench offset MESH --levels LIST -o DIR: certified offset surfaces at signed distances.
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "commands.h"
+#include "distance/max_penetration.h"
+#include "mesh/write_mesh.h"
+#include "mesh_loading.h"
+#include "offset/level_list.h"
+#include "offset/offset_level.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
+#include "util/progress.h"
+#include "util/sha256.h"
+#include "util/timer.h"
+
+namespace cdbench::cli {
+namespace {
+
+struct OffsetCliOptions {
+  std::string mesh, levels, out;
+  double tolerance = 1e-3;
+  double max_penetration_tolerance = 1e-6;
+  int threads = 0;
+  OffsetOptions offset;
+};
+
+std::string exact(double x) {
+  std::ostringstream os;
+  os << std::setprecision(17) << x;
+  return os.str();
+}
+
+std::string file_name(std::size_t index, const std::string& text) {
+  std::string s;
+  for (char c : text) s += c == '-' ? std::string("m") : c == '%' ? std::string("pct") : c == '.' ? std::string("p") : std::string(1, c);
+  std::ostringstream os;
+  os << "offset_" << std::setw(2) << std::setfill('0') << index << "_" << s << ".off";
+  return os.str();
+}
+
+int run_offset(const OffsetCliOptions& opt) {
+  std::unique_ptr<tbb::global_control> threads;
+  if (opt.threads > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, opt.threads);
+  const std::vector<LevelSpec> specs = parse_level_list(opt.levels);  // option errors before any work
+  Timer total;
+  const LoadedMesh loaded = load_mesh(opt.mesh);
+  if (!loaded.validated.report.valid()) {
+    for (const auto& e : loaded.validated.report.errors) std::cerr << "cdbench: " << opt.mesh << ": " << e.message << "\n";
+    std::cerr << "cdbench: error: " << opt.mesh << " is not a valid closed solid (see 'cdbench check'; 'cdbench wrap' repairs)\n";
+    return kExitInvalidMesh;
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(opt.out, ec);
+  if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");
+  const std::string input_sha = sha256_file(opt.mesh);
+  const SignedDistance sdf(loaded.validated.mesh);
+  const double diag = sdf.bbox().diagonal();
+  MaxPenetrationOptions mpo;
+  mpo.relative_tolerance = opt.max_penetration_tolerance;
+  Timer t_mp;
+  const MaxPenetrationResult mp = certified_max_penetration(sdf, mpo);
+  const double seconds_mp = t_mp.seconds();
+
+  OffsetOptions oo = opt.offset;
+  oo.tolerance_relative = opt.tolerance;
+  std::ostringstream option_key;
+  option_key << CDBENCH_VERSION << "|" << exact(oo.tolerance_relative) << "|" << exact(oo.radius_relative) << "|"
+             << exact(oo.distance_over_tolerance) << "|" << oo.max_attempts << "|" << oo.seeds << "|"
+             << exact(opt.max_penetration_tolerance);
+
+  // Reuse: levels of an earlier run with the same input, level and options, whose file is intact.
+  const std::string manifest_path = opt.out + "/manifest.json";
+  std::map<std::string, nlohmann::json> previous;
+  {
+    std::ifstream in(manifest_path);
+    if (in) {
+      try {
+        const nlohmann::json old = nlohmann::json::parse(in);
+        for (const auto& l : old.at("levels")) previous[l.at("key").get<std::string>()] = l;
+      } catch (const std::exception&) {
+        std::cerr << "cdbench: note: ignoring unreadable " << manifest_path << "\n";
+      }
+    }
+  }
+
+  const std::size_t n = specs.size();
+  std::vector<nlohmann::json> entries(n);
+  std::vector<double> seconds(n, 0.0);
+  std::vector<char> failed(n, 0), reused(n, 0);
+  Progress progress("offset levels", n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    Timer t_level;
+    const double d = level_distance(specs[i], mp.depth.lo);
+    const std::string key = input_sha + "|" + exact(d) + "|" + option_key.str();
+    const std::string name = file_name(i, specs[i].text);
+    const auto old = previous.find(key);
+    if (old != previous.end()) {
+      const nlohmann::json& e = old->second;
+      const bool has_file = !e.at("file").is_null();
+      if (!has_file || (std::filesystem::exists(opt.out + "/" + e.at("file").get<std::string>()) &&
+                        sha256_file(opt.out + "/" + e.at("file").get<std::string>()) == e.at("sha256").get<std::string>())) {
+        entries[i] = e;
+        entries[i]["level"] = specs[i].text;
+        reused[i] = 1;
+        progress.advance();
+        return;
+      }
+    }
+    const OffsetLevel level = compute_offset_level(sdf, mp, d, oo);
+    nlohmann::json e;
+    e["level"] = specs[i].text;
+    e["key"] = key;
+    e["d"] = d;
+    e["fraction_of_max_penetration"] = d / mp.depth.lo;
+    e["status"] = to_string(level.status);
+    e["message"] = level.message;
+    e["epsilon"] = level.epsilon;
+    e["epsilon_over_diagonal"] = level.epsilon / diag;
+    e["complete"] = level.complete;
+    e["attempts"] = level.attempts;
+    e["mesher_distance_bound"] = level.distance_bound;
+    e["file"] = nullptr;
+    e["sha256"] = nullptr;
+    if (level.status == OffsetStatus::Certified) {
+      std::ostringstream os;
+      write_off(level.mesh, os);
+      const std::string bytes = os.str();
+      write_file_atomically(opt.out + "/" + name, [&](std::ostream& out) { out << bytes; });
+      e["file"] = name;
+      e["sha256"] = sha256_hex(bytes);
+      e["vertices"] = level.mesh.vertices.size();
+      e["faces"] = level.mesh.faces.size();
+      e["genus"] = level.report.genus;
+      e["components"] = level.report.components;
+    } else {
+      e["vertices"] = 0;
+      e["faces"] = 0;
+    }
+    if (level.status == OffsetStatus::Failed) failed[i] = 1;
+    e["seconds"] = {{"mesh", level.seconds_mesh}, {"band", level.seconds_band},
+                    {"completeness", level.seconds_completeness}};
+    entries[i] = e;
+    seconds[i] = t_level.seconds();
+    progress.advance();
+  });
+  progress.finish();
+
+  nlohmann::json manifest;
+  manifest["format"] = "cdbench-offsets";
+  manifest["format_version"] = 1;
+  manifest["generator"] = std::string("cdbench ") + CDBENCH_VERSION;
+  manifest["input"] = {{"path", opt.mesh},
+                       {"sha256", input_sha},
+                       {"vertices", loaded.validated.mesh.vertices.size()},
+                       {"faces", loaded.validated.mesh.faces.size()},
+                       {"diagonal", diag}};
+  manifest["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
+                                 {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
+                                 {"relative_tolerance", opt.max_penetration_tolerance}};
+  manifest["options"] = {{"tolerance_relative", oo.tolerance_relative},
+                         {"tolerance", oo.tolerance_relative * diag},
+                         {"mesher_radius_relative", oo.radius_relative},
+                         {"mesher_distance_over_tolerance", oo.distance_over_tolerance},
+                         {"max_attempts", oo.max_attempts},
+                         {"seeds", oo.seeds}};
+  nlohmann::json timings;
+  timings["max_penetration"] = seconds_mp;
+  timings["read"] = loaded.seconds_read;
+  timings["validate"] = loaded.seconds_validate;
+  manifest["levels"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < n; ++i) {
+    nlohmann::json e = entries[i];
+    timings["levels"].push_back({{"level", specs[i].text}, {"reused", reused[i] != 0}, {"seconds", seconds[i]},
+                                 {"detail", e.contains("seconds") ? e["seconds"] : nlohmann::json()}});
+    e.erase("seconds");  // timings vary between runs: kept out of the manifest
+    manifest["levels"].push_back(e);
+  }
+  timings["total"] = total.seconds();
+  write_file_atomically(manifest_path, [&](std::ostream& out) { out << std::setw(2) << manifest << "\n"; });
+  write_file_atomically(opt.out + "/timings.json", [&](std::ostream& out) { out << std::setw(2) << timings << "\n"; });
+
+  std::cout << "input:           " << opt.mesh << " (" << loaded.validated.mesh.faces.size() << " faces, diagonal "
+            << std::setprecision(9) << diag << ")\n";
+  std::cout << "max penetration: [" << exact(mp.depth.lo) << ", " << exact(mp.depth.hi) << "]\n";
+  std::cout << "tolerance:       " << oo.tolerance_relative * diag << " (" << oo.tolerance_relative << " x diagonal)\n";
+  std::cout << std::left << std::setw(12) << "level" << std::setw(14) << "d" << std::setw(11) << "status"
+            << std::setw(10) << "faces" << std::setw(7) << "genus" << std::setw(6) << "comp" << std::setw(14)
+            << "eps/diag" << std::setw(9) << "seconds" << "file\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    const nlohmann::json& e = manifest["levels"][i];
+    std::cout << std::left << std::setw(12) << specs[i].text << std::setw(14) << std::setprecision(6)
+              << e["d"].get<double>() << std::setw(11) << e["status"].get<std::string>() << std::setw(10)
+              << e["faces"].get<std::size_t>() << std::setw(7) << (e.contains("genus") ? e["genus"].dump() : "-")
+              << std::setw(6) << (e.contains("components") ? e["components"].dump() : "-") << std::setw(14)
+              << std::setprecision(3) << e["epsilon_over_diagonal"].get<double>() << std::setw(9) << std::fixed
+              << std::setprecision(1) << seconds[i] << std::defaultfloat
+              << (e["file"].is_null() ? "-" : e["file"].get<std::string>()) << (reused[i] ? " (reused)" : "") << "\n";
+    if (!e["message"].get<std::string>().empty()) std::cout << "             " << e["message"].get<std::string>() << "\n";
+  }
+  std::cout << "manifest:        " << manifest_path << " (total " << std::fixed << std::setprecision(1)
+            << total.seconds() << " s)\n";
+  for (char f : failed)
+    if (f) {
+      std::cerr << "cdbench: error: some levels could not be certified (see the messages above)\n";
+      return kExitInvalidMesh;
+    }
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_offset(CLI::App& app, int& exit_code) {
+  auto opt = std::make_shared<OffsetCliOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "offset",
+      "Certified offset surfaces of a closed mesh at signed distances (negative inside): each level set of the "
+      "signed distance is meshed with CGAL's surface mesher and certified: closed, manifold, outward, "
+      "self-intersection free; every point of every face within EPS of the level (EPS <= tolerance); no component "
+      "of the level set missed. Writes one OFF per level and manifest.json to DIR; a re-run reuses levels already "
+      "there. Exits 1 if a level cannot be certified.");
+  cmd->add_option("mesh", opt->mesh, "closed input mesh")->required();
+  cmd->add_option("--levels", opt->levels,
+                  "comma-separated levels: absolute distances (-0.5), percentages of the certified maximum "
+                  "penetration (-80%), ranges FROM:TO:STEP (-25%:25%:5%)")
+      ->required();
+  cmd->add_option("-o,--output", opt->out, "output directory")->required();
+  cmd->add_option("--tolerance", opt->tolerance, "band tolerance relative to the bbox diagonal")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 0.5));
+  cmd->add_option("--max-penetration-tolerance", opt->max_penetration_tolerance,
+                  "width of the max-penetration interval relative to the diagonal")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-12, 1e-2));
+  cmd->add_option("--threads", opt->threads, "worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 1024));
+  cmd->callback([opt, &exit_code]() { exit_code = run_offset(*opt); });
+}
+
+}  // namespace cdbench::cli

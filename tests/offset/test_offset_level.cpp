@@ -1,0 +1,118 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "mesh/alpha_wrap.h"
+#include "mesh/shapes.h"
+#include "mesh/validate_mesh.h"
+#include "offset/offset_level.h"
+
+namespace cdbench {
+namespace {
+
+struct Solid {
+  explicit Solid(const TriangleMesh& m) : sdf(m) {
+    MaxPenetrationOptions o;
+    o.progress = false;
+    mp = certified_max_penetration(sdf, o);
+  }
+  SignedDistance sdf;
+  MaxPenetrationResult mp;
+};
+
+OffsetOptions coarse() {
+  OffsetOptions o;
+  o.tolerance_relative = 4e-3;  // small meshes: the tests also run under the sanitizers
+  o.radius_relative = 0.05;
+  return o;
+}
+
+// Independent check: certified signed distances of sampled face points lie in the reported band.
+void expect_band_holds(const Solid& s, const OffsetLevel& l) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (std::size_t i = 0; i < l.mesh.faces.size(); i += 3) {
+    const Face& f = l.mesh.faces[i];
+    double a = u(rng), b = u(rng);
+    if (a + b > 1) { a = 1 - a; b = 1 - b; }
+    const Vec3 p = l.mesh.vertices[f[0]] + a * (l.mesh.vertices[f[1]] - l.mesh.vertices[f[0]]) +
+                   b * (l.mesh.vertices[f[2]] - l.mesh.vertices[f[0]]);
+    const Interval sd = s.sdf.signed_distance(p);
+    ASSERT_GE(sd.lo, l.d - l.epsilon);
+    ASSERT_LE(sd.hi, l.d + l.epsilon);
+  }
+}
+
+TEST(OffsetLevel, SphereOffsetsMatchTheGeometry) {
+  const TriangleMesh ball = make_icosphere(1.0, 3);
+  const Solid s(ball);
+  for (double d : {-0.5, 0.4}) {
+    const OffsetLevel l = compute_offset_level(s.sdf, s.mp, d, coarse());
+    ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
+    EXPECT_TRUE(l.complete);
+    EXPECT_LE(l.epsilon, 4e-3 * s.sdf.bbox().diagonal());
+    EXPECT_EQ(l.report.genus, 0);
+    EXPECT_EQ(l.report.components, 1u);
+    // The polyhedron lies between its inscribed sphere (radius = distance to the face planes,
+    // about 0.9938 here) and the unit sphere, so its offset lies between those radii plus d.
+    for (const Vec3& p : l.mesh.vertices) {
+      EXPECT_LE(p.norm(), 1.0 + d + l.epsilon + 1e-9);
+      EXPECT_GE(p.norm(), 0.99 + d - l.epsilon);
+    }
+    expect_band_holds(s, l);
+  }
+}
+
+TEST(OffsetLevel, EmptyOriginalAndDeepLevels) {
+  const Solid s(make_torus(2.0, 0.5, 32, 16));
+  const OffsetLevel inner = compute_offset_level(s.sdf, s.mp, -0.55, coarse());  // past the tube radius
+  EXPECT_EQ(inner.status, OffsetStatus::Empty);
+  EXPECT_TRUE(inner.complete);
+  EXPECT_EQ(compute_offset_level(s.sdf, s.mp, 0.0, coarse()).status, OffsetStatus::Original);
+}
+
+TEST(OffsetLevel, TorusLosesItsHoleOutwards) {
+  const Solid s(make_torus(2.0, 0.5, 32, 16));  // hole radius 1.5
+  const OffsetLevel near = compute_offset_level(s.sdf, s.mp, 0.3, coarse());
+  ASSERT_EQ(near.status, OffsetStatus::Certified) << near.message;
+  EXPECT_EQ(near.report.genus, 1);
+  const OffsetLevel far = compute_offset_level(s.sdf, s.mp, 1.7, coarse());
+  ASSERT_EQ(far.status, OffsetStatus::Certified) << far.message;
+  EXPECT_EQ(far.report.genus, 0);
+  EXPECT_EQ(far.report.components, 1u);
+}
+
+TEST(OffsetLevel, TwoComponentInputKeepsBoth) {
+  const Solid s(merge_meshes(make_icosphere(1.0, 2), make_icosphere(0.7, 2, Vec3(4, 0, 0))));
+  const OffsetLevel l = compute_offset_level(s.sdf, s.mp, -0.3, coarse());
+  ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
+  EXPECT_EQ(l.report.components, 2u);
+  expect_band_holds(s, l);
+}
+
+TEST(OffsetLevel, DumbbellSplitsInwards) {
+  // Two balls joined by a thin bar, wrapped into one closed solid; inwards past the bar's
+  // half-thickness the offset has two components, and both must be found.
+  const TriangleMesh a = make_icosphere(1.0, 3), b = make_icosphere(1.0, 3, Vec3(4, 0, 0));
+  const TriangleMesh bar = make_box(Vec3(0.5, -0.15, -0.15), Vec3(3.5, 0.15, 0.15));
+  PolygonSoup soup;
+  for (const TriangleMesh* m : {&a, &b, &bar}) {
+    const std::size_t base = soup.points.size();
+    soup.points.insert(soup.points.end(), m->vertices.begin(), m->vertices.end());
+    for (const Face& f : m->faces) soup.polygons.push_back({base + f[0], base + f[1], base + f[2]});
+  }
+  AlphaWrapOptions wo;
+  wo.alpha = 0.2;
+  wo.offset = 0.01;
+  const ValidatedMesh dumbbell = validate_mesh(alpha_wrap(soup, wo).mesh);
+  ASSERT_TRUE(dumbbell.report.valid());
+  ASSERT_EQ(dumbbell.report.components, 1u);
+  const Solid s(dumbbell.mesh);
+  const OffsetLevel l = compute_offset_level(s.sdf, s.mp, -0.4, coarse());
+  ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
+  EXPECT_EQ(l.report.components, 2u);
+  EXPECT_TRUE(l.complete);
+}
+
+}  // namespace
+}  // namespace cdbench
