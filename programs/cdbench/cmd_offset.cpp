@@ -195,19 +195,21 @@ int run_offset(const OffsetCliOptions& opt) {
             << std::setprecision(9) << diag << ")\n";
   std::cout << "max penetration: [" << exact(mp.depth.lo) << ", " << exact(mp.depth.hi) << "]\n";
   std::cout << "tolerance:       " << oo.tolerance_relative * diag << " (" << oo.tolerance_relative << " x diagonal)\n";
-  std::cout << std::left << std::setw(12) << "level" << std::setw(14) << "d" << std::setw(11) << "status"
+  std::size_t width = 8;
+  for (const LevelSpec& l : specs) width = std::max(width, l.text.size() + 2);
+  std::cout << std::left << std::setw(static_cast<int>(width)) << "level" << std::setw(14) << "d" << std::setw(11) << "status"
             << std::setw(10) << "faces" << std::setw(7) << "genus" << std::setw(6) << "comp" << std::setw(14)
             << "eps/diag" << std::setw(9) << "seconds" << "file\n";
   for (std::size_t i = 0; i < n; ++i) {
     const nlohmann::json& e = manifest["levels"][i];
-    std::cout << std::left << std::setw(12) << specs[i].text << std::setw(14) << std::setprecision(6)
+    std::cout << std::left << std::setw(static_cast<int>(width)) << specs[i].text << std::setw(14) << std::setprecision(6)
               << e["d"].get<double>() << std::setw(11) << e["status"].get<std::string>() << std::setw(10)
               << e["faces"].get<std::size_t>() << std::setw(7) << (e.contains("genus") ? e["genus"].dump() : "-")
               << std::setw(6) << (e.contains("components") ? e["components"].dump() : "-") << std::setw(14)
               << std::setprecision(3) << e["epsilon_over_diagonal"].get<double>() << std::setw(9) << std::fixed
               << std::setprecision(1) << seconds[i] << std::defaultfloat
               << (e["file"].is_null() ? "-" : e["file"].get<std::string>()) << (reused[i] ? " (reused)" : "") << "\n";
-    if (!e["message"].get<std::string>().empty()) std::cout << "             " << e["message"].get<std::string>() << "\n";
+    if (!e["message"].get<std::string>().empty()) std::cout << "    " << e["message"].get<std::string>() << "\n";
   }
   std::cout << "manifest:        " << manifest_path << " (total " << std::fixed << std::setprecision(1)
             << total.seconds() << " s)\n";
@@ -239,6 +241,11 @@ void register_offset(CLI::App& app, int& exit_code) {
   cmd->add_option("--tolerance", opt->tolerance, "band tolerance relative to the bbox diagonal")
       ->capture_default_str()
       ->check(CLI::Range(1e-6, 0.5));
+  cmd->add_option("--mesher-radius", opt->offset.radius_relative,
+                  "largest facet size (surface Delaunay ball radius) relative to the diagonal; smaller gives "
+                  "finer meshes everywhere, the tolerance alone refines only where needed")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-4, 0.5));
   cmd->add_option("--max-penetration-tolerance", opt->max_penetration_tolerance,
                   "width of the max-penetration interval relative to the diagonal")
       ->capture_default_str()
