@@ -28,7 +28,8 @@ enum class Verdict : unsigned char { Discard, Split, Missed, Unresolved };
 // function: checked at corner/vertex pairs), so dist strictly increases along w at every x.
 bool no_critical_point(const SignedDistance& sdf, const Cell& cell, const Vec3& c, double radius,
                        std::vector<std::uint32_t>& ids) {
-  if (!sdf.triangles_within(c, radius, 64, ids) || ids.empty()) return false;
+  // Far from F the possibly-nearest set is a thin shell holding many triangles: allow a few hundred.
+  if (!sdf.triangles_within(c, radius, 256, ids) || ids.empty()) return false;
   const TriangleMesh& m = sdf.mesh();
   // Heuristic direction: min-norm point of the hull of the nearest-point directions (Frank-Wolfe).
   std::vector<Vec3> g(ids.size());
