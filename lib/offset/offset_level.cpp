@@ -97,6 +97,11 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
     if (seeds.size() >= 4) mesh = mesh_level_set(f, center, radius, seeds, mo);
     ValidatedMesh v = validate_mesh(mesh);
     level.seconds_mesh += t_mesh.seconds();
+    auto log = [&](const std::string& what) {
+      if (options.log) options.log("level " + num(d) + ", attempt " + std::to_string(attempt) + ": " + what);
+    };
+    log("meshed " + std::to_string(mesh.faces.size()) + " faces (distance bound " + num(mo.distance_bound) + ", " +
+        std::to_string(seeds.size()) + " seeds) in " + num(t_mesh.seconds()) + " s");
     if (!mesh.faces.empty() && !v.report.valid()) {
       level.message = "attempt " + std::to_string(attempt) + ": mesher output invalid: " + v.report.errors[0].message;
       mo.distance_bound *= 0.7;
@@ -111,6 +116,7 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
       level.seconds_band += t_band.seconds();
       level.band_pieces += band.pieces;
       eps = band.epsilon;
+      log("band " + num(eps / diag) + " x diagonal in " + num(t_band.seconds()) + " s");
       if (eps > tol) {
         const Face& w = v.mesh.faces[band.worst_face];
         const Vec3 at = (v.mesh.vertices[w[0]] + v.mesh.vertices[w[1]] + v.mesh.vertices[w[2]]) / 3.0;
@@ -130,6 +136,9 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
     const CompletenessResult comp = certify_completeness(sdf, v.mesh, d, eps_c);
     level.seconds_completeness += t_comp.seconds();
     level.completeness_cells += comp.cells;
+    log(std::string(comp.complete ? "complete" : "NOT complete") + " (" + std::to_string(comp.cells) + " cells, " +
+        std::to_string(comp.missed.size()) + " missed, " + std::to_string(comp.unresolved.size()) + " unresolved) in " +
+        num(t_comp.seconds()) + " s");
     if (!comp.complete) {
       std::size_t added = 0;
       for (const Vec3& x : comp.missed) {

@@ -2,6 +2,7 @@
 // One certified offset level: empty, the original surface, or a mesh of {s = d} built by CGAL's
 // surface mesher and certified by (a) validation, (b) the band and (c) completeness, with
 // re-seeding of missed components and finer criteria until the band meets the tolerance.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@ struct OffsetOptions {
   double distance_over_tolerance = 0.3;  // mesher: distance bound at the first attempt, x tolerance
   int max_attempts = 4;
   int seeds = 64;
+  // Called with a line per attempt and phase (what was done, how long, the outcome); may be empty.
+  std::function<void(const std::string&)> log;
 };
 
 enum class OffsetStatus { Certified, Empty, Original, Failed };

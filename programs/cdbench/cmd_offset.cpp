@@ -9,6 +9,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -32,6 +33,7 @@ struct OffsetCliOptions {
   double tolerance = 1e-3;
   double max_penetration_tolerance = 1e-6;
   int threads = 0;
+  bool verbose = false;
   OffsetOptions offset;
 };
 
@@ -75,6 +77,12 @@ int run_offset(const OffsetCliOptions& opt) {
 
   OffsetOptions oo = opt.offset;
   oo.tolerance_relative = opt.tolerance;
+  std::mutex log_mutex;
+  if (opt.verbose)
+    oo.log = [&](const std::string& line) {
+      std::lock_guard<std::mutex> lock(log_mutex);
+      std::cerr << "cdbench offset: " << line << std::endl;
+    };
   std::ostringstream option_key;
   option_key << CDBENCH_VERSION << "|" << exact(oo.tolerance_relative) << "|" << exact(oo.radius_relative) << "|"
              << exact(oo.distance_over_tolerance) << "|" << oo.max_attempts << "|" << oo.seeds << "|"
@@ -250,6 +258,7 @@ void register_offset(CLI::App& app, int& exit_code) {
                   "width of the max-penetration interval relative to the diagonal")
       ->capture_default_str()
       ->check(CLI::Range(1e-12, 1e-2));
+  cmd->add_flag("--verbose", opt->verbose, "report every attempt and phase of every level on stderr");
   cmd->add_option("--threads", opt->threads, "worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 1024));
   cmd->callback([opt, &exit_code]() { exit_code = run_offset(*opt); });
 }
