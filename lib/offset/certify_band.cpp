@@ -85,6 +85,15 @@ BandResult certify_band(const SignedDistance& sdf, const TriangleMesh& offset, d
   result.face_epsilon.assign(n, kInf);
   std::vector<std::size_t> pieces(n, 0), touching(n, 0);
   const double ad = std::abs(d);
+  // Per face: the certified lower end of dist(T, F), the upper end, and the side of F.
+  std::vector<double> lo(n, 0.0), hi(n, kInf), slack(n, 0.0);
+  std::vector<int> side(n, 0);
+  auto epsilon_of = [&](std::size_t i) {
+    if (!(lo[i] > 0.0)) return round_up(ad + hi[i]);  // not proved disjoint from F: may cross it
+    // Disjoint from F: the whole face is on one side, that of any of its points (exact test).
+    const double s_lo = side[i] > 0 ? lo[i] : -hi[i], s_hi = side[i] > 0 ? hi[i] : -lo[i];
+    return round_up(std::max(s_hi - d, d - s_lo));
+  };
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const Face& f = offset.faces[i];
@@ -97,23 +106,35 @@ BandResult certify_band(const SignedDistance& sdf, const TriangleMesh& offset, d
       q.box.extend(b);
       q.box.extend(c);
       traverse_nearest_first(sdf.tree(), q);
-      const double lo = sqrt_interval({q.min_lo_sq, q.best_hi_sq}).lo;
+      lo[i] = sqrt_interval({q.min_lo_sq, q.best_hi_sq}).lo;
       // Split points are rounded: every point of the face is within `slack` of a piece, and s is
       // 1-Lipschitz, so the slack widens the upper bound.
       const double scale = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});
-      const double slack = 8.0 * std::numeric_limits<double>::epsilon() * scale;
-      const double hi = round_up(upper_bound(sdf, a, b, c, ad + options.target, options.max_split_depth, pieces[i]) + slack);
-      if (!(lo > 0.0)) {
-        touching[i] = 1;  // not proved disjoint from F: the face may cross the surface
-        result.face_epsilon[i] = round_up(ad + hi);
-        continue;
-      }
-      // Disjoint from F: the whole face is on one side, that of any of its points (exact test).
-      const int side = sdf.side(a);
-      const double s_lo = side > 0 ? lo : -hi, s_hi = side > 0 ? hi : -lo;
-      result.face_epsilon[i] = round_up(std::max(s_hi - d, d - s_lo));
+      slack[i] = 8.0 * std::numeric_limits<double>::epsilon() * scale;
+      hi[i] = round_up(upper_bound(sdf, a, b, c, ad + options.target, options.max_split_depth, pieces[i]) + slack[i]);
+      if (lo[i] > 0.0) side[i] = sdf.side(a);
+      else touching[i] = 1;
+      result.face_epsilon[i] = epsilon_of(i);
     }
   });
+  // A deeper second pass where only a few faces miss: a loose bound should not force a re-mesh;
+  // many misses mean the mesh is too coarse, and the caller re-meshes anyway.
+  if (options.second_pass_above > 0.0) {
+    std::vector<std::size_t> wide;
+    for (std::size_t i = 0; i < n; ++i)
+      if (lo[i] > 0.0 && result.face_epsilon[i] > options.second_pass_above) wide.push_back(i);
+    if (!wide.empty() && wide.size() <= std::max<std::size_t>(200, n / 100)) {
+      tbb::parallel_for(std::size_t{0}, wide.size(), [&](std::size_t k) {
+        const std::size_t i = wide[k];
+        const Face& f = offset.faces[i];
+        const double deeper = round_up(upper_bound(sdf, offset.vertices[f[0]], offset.vertices[f[1]],
+                                                   offset.vertices[f[2]], ad + 0.5 * options.target,
+                                                   options.max_split_depth + 2, pieces[i]) + slack[i]);
+        hi[i] = std::min(hi[i], deeper);  // both are valid upper bounds
+        result.face_epsilon[i] = epsilon_of(i);
+      });
+    }
+  }
   for (std::size_t i = 0; i < n; ++i) {
     result.pieces += pieces[i];
     result.faces_touching += touching[i];

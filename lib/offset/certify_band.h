@@ -11,6 +11,10 @@ namespace cdbench {
 struct BandOptions {
   double target = 0.0;     // stop splitting a face once its half-width is at most this
   int max_split_depth = 4; // a face is split into at most 4^depth pieces for its upper bound
+  // Faces whose half-width exceeds this get a second, deeper pass (max_split_depth + 2, target/2)
+  // when they are few (at most 200 or 1 %): a loose bound on a few faces should not force a whole
+  // re-mesh. 0: no second pass.
+  double second_pass_above = 0.0;
 };
 
 struct BandResult {

@@ -48,7 +48,10 @@ struct FastNearest {
     int feature = 6;
     const Vec3 q = closest_feature(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], feature);
     const double d2 = (p - q).squaredNorm();
-    if (d2 < best_sq) {
+    // The minimum with ties to the smaller index, so that the result (down to the last bit, and
+    // the sign's feature) does not depend on the warm start, i.e. on thread history: the mesher's
+    // output must be reproducible.
+    if (d2 < best_sq || (d2 == best_sq && f < best_face)) {
       best_sq = d2;
       best_face = f;
       best_point = q;
@@ -103,7 +106,10 @@ double FastSignedDistance::value_and_gradient(const Vec3& p, Vec3& gradient) con
   }
   FastNearest q{m, p, std::numeric_limits<double>::infinity(), hint, p};
   q.leaf(hint);
-  q.best_sq = std::nextafter(q.best_sq, HUGE_VAL);  // keep the hint's own triangle in play
+  // Prune with a bound one ulp above the hint's distance: every triangle at least as near as the
+  // hint is still visited (node bounds are rounded down), so the tie-break above decides.
+  q.best_sq = std::nextafter(q.best_sq, HUGE_VAL);
+  q.best_face = std::numeric_limits<std::uint32_t>::max();
   traverse_nearest_first(exact_.tree(), q);
   hint = q.best_face;
   const Vec3 diff = p - q.best_point;

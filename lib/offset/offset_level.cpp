@@ -112,6 +112,7 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
       Timer t_band;
       BandOptions bo;
       bo.target = 0.75 * tol;  // split a face only as far as acceptance needs, with a margin
+      bo.second_pass_above = tol;
       const BandResult band = certify_band(sdf, v.mesh, d, bo);
       level.seconds_band += t_band.seconds();
       level.band_pieces += band.pieces;

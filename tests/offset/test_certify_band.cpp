@@ -48,6 +48,12 @@ TEST(CertifyBand, SphereOffsetsBothWays) {
     EXPECT_LT(band.epsilon, 0.02);
     EXPECT_GT(band.epsilon, 0.0);
     expect_samples_inside_band(sdf, m, d, band);
+    // A deeper second pass on the widest faces never widens a band and stays rigorous.
+    o.second_pass_above = 0.8 * band.epsilon;
+    const BandResult deeper = certify_band(sdf, m, d, o);
+    EXPECT_LE(deeper.epsilon, band.epsilon);
+    for (std::size_t i = 0; i < m.faces.size(); ++i) EXPECT_LE(deeper.face_epsilon[i], band.face_epsilon[i]);
+    expect_samples_inside_band(sdf, m, d, deeper);
   }
 }
 
