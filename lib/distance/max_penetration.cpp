@@ -67,22 +67,9 @@ double convexity_bound(const SignedDistance& sdf, const Vec3& c, double h, doubl
     if (!(len > 0.0)) return kInf;
     g[j] = v / len;
   }
-  // Frank-Wolfe iterations for the min-norm point of conv{g_j} (heuristic: only tightness depends on it).
-  std::vector<double> lambda(n, 0.0);
-  lambda[0] = 1.0;
-  Vec3 x = g[0];
-  for (int it = 0; it < 100; ++it) {
-    std::size_t k = 0;
-    for (std::size_t j = 1; j < n; ++j)
-      if (g[j].dot(x) < g[k].dot(x)) k = j;
-    const Vec3 d = x - g[k];
-    const double dd = d.squaredNorm();
-    if (!(x.dot(d) > 1e-15) || !(dd > 0.0)) break;
-    const double step = std::min(1.0, x.dot(d) / dd);
-    x -= step * d;
-    for (double& l : lambda) l *= 1.0 - step;
-    lambda[k] += step;
-  }
+  // Weights near the min-norm point of conv{g_j} (heuristic: only tightness depends on them).
+  std::vector<double> lambda;
+  min_norm_combination(g, lambda, 100);
   candidate = Vec3::Zero();
   for (std::size_t j = 0; j < n; ++j) candidate += lambda[j] * nearest[j];
   double worst = 0.0;

@@ -65,24 +65,50 @@ Interval sqrt_interval(const Interval& squared) {
 
 namespace cdbench {
 
-Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int* feature) {
+  int unused;
+  int& f = feature ? *feature : unused;
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
+  if (d1 <= 0 && d2 <= 0) { f = 0; return a; }
   const Vec3 bp = p - b;
   const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
+  if (d3 >= 0 && d4 <= d3) { f = 1; return b; }
   const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) { f = 3; return a + d1 / (d1 - d3) * ab; }
   const Vec3 cp = p - c;
   const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
+  if (d6 >= 0 && d5 <= d6) { f = 2; return c; }
   const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) { f = 5; return a + d2 / (d2 - d6) * ac; }
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    f = 4;
+    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  }
+  f = 6;
   const double denom = 1.0 / (va + vb + vc);
   return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+Vec3 min_norm_combination(const std::vector<Vec3>& g, std::vector<double>& lambda, int iterations) {
+  lambda.assign(g.size(), 0.0);
+  if (g.empty()) return Vec3::Zero();
+  lambda[0] = 1.0;
+  Vec3 x = g[0];
+  for (int it = 0; it < iterations; ++it) {
+    std::size_t k = 0;
+    for (std::size_t j = 1; j < g.size(); ++j)
+      if (g[j].dot(x) < g[k].dot(x)) k = j;
+    const Vec3 d = x - g[k];
+    const double dd = d.squaredNorm();
+    if (!(x.dot(d) > 1e-15) || !(dd > 0.0)) break;
+    const double step = std::min(1.0, x.dot(d) / dd);
+    x -= step * d;
+    for (double& l : lambda) l *= 1.0 - step;
+    lambda[k] += step;
+  }
+  return x;
 }
 
 }  // namespace cdbench

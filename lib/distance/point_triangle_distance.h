@@ -4,6 +4,8 @@
 #include "mesh/triangle_mesh.h"
 #include "util/interval.h"
 
+#include <vector>
+
 namespace cdbench {
 
 // [lo, hi] containing the exact squared Euclidean distance from p to the closed triangle abc
@@ -18,7 +20,13 @@ Interval sqrt_interval(const Interval& squared);
 namespace cdbench {
 
 // Closest point of triangle abc to p in plain doubles (Ericson's region test). NOT certified:
-// used only to choose heuristic weights, never as a bound.
-Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+// used for heuristics and the fast uncertified distance, never as a bound. If `feature` is given
+// it receives the closest feature: 0..2 vertex a, b, c; 3..5 edge ab, bc, ca; 6 interior.
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int* feature = nullptr);
+
+// Weights lambda (>= 0, summing to 1) whose combination of the unit vectors g is near the
+// min-norm point of their convex hull (Frank-Wolfe with exact line search, starting at g[0]).
+// Heuristic: callers only use the weights in bounds that are valid for any weights.
+Vec3 min_norm_combination(const std::vector<Vec3>& g, std::vector<double>& lambda, int iterations);
 
 }  // namespace cdbench

@@ -39,16 +39,8 @@ bool no_critical_point(const SignedDistance& sdf, const Cell& cell, const Vec3& 
     if (!(v.norm() > 0)) return false;
     g[j] = v.normalized();
   }
-  Vec3 x = g[0];
-  for (int it = 0; it < 60; ++it) {
-    std::size_t k = 0;
-    for (std::size_t j = 1; j < g.size(); ++j)
-      if (g[j].dot(x) < g[k].dot(x)) k = j;
-    const Vec3 dlt = x - g[k];
-    const double dd = dlt.squaredNorm();
-    if (!(x.dot(dlt) > 1e-15) || !(dd > 0)) break;
-    x -= std::min(1.0, x.dot(dlt) / dd) * dlt;
-  }
+  std::vector<double> lambda;
+  const Vec3 x = min_norm_combination(g, lambda, 60);
   if (!(x.norm() > 1e-6)) return false;
   const Vec3 w = x.normalized();
   for (std::uint32_t id : ids) {

@@ -5,33 +5,10 @@
 #include <limits>
 #include <map>
 
+#include "distance/point_triangle_distance.h"
+
 namespace cdbench {
 namespace {
-
-// Closest point on triangle abc and its feature: 0..2 vertex, 3..5 edge (k, k+1), 6 interior.
-Vec3 closest_feature(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int& feature) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) { feature = 0; return a; }
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) { feature = 1; return b; }
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) { feature = 3; return a + d1 / (d1 - d3) * ab; }
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) { feature = 2; return c; }
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) { feature = 5; return a + d2 / (d2 - d6) * ac; }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    feature = 4;
-    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  }
-  feature = 6;
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
 
 struct FastNearest {
   const TriangleMesh& mesh;
@@ -46,7 +23,7 @@ struct FastNearest {
   void leaf(std::uint32_t f) {
     const Face& t = mesh.faces[f];
     int feature = 6;
-    const Vec3 q = closest_feature(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], feature);
+    const Vec3 q = closest_point_on_triangle(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], &feature);
     const double d2 = (p - q).squaredNorm();
     // The minimum with ties to the smaller index, so that the result (down to the last bit, and
     // the sign's feature) does not depend on the warm start, i.e. on thread history: the mesher's
