@@ -25,6 +25,10 @@ struct Aabb {
   Eigen::Vector3d center() const { return 0.5 * (lo + hi); }
   Eigen::Vector3d extent() const { return hi - lo; }
   double diagonal() const { return (hi - lo).norm(); }
+  // Corner k (0..7): bit 0 selects hi.x, bit 1 hi.y, bit 2 hi.z.
+  Eigen::Vector3d corner(int k) const {
+    return {(k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z()};
+  }
   bool contains(const Eigen::Vector3d& p) const {
     return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
   }
@@ -43,6 +47,18 @@ inline double squared_distance_lower_bound(const Aabb& box, const Eigen::Vector3
     if (p[k] < box.lo[k]) d = box.lo[k] - p[k];
     else if (p[k] > box.hi[k]) d = p[k] - box.hi[k];
     d2 += d * d;
+  }
+  return d2 * (1.0 - kRoundingSlack);
+}
+
+// A lower bound on the squared distance between two boxes, never larger than the true value.
+inline double squared_distance_lower_bound(const Aabb& a, const Aabb& b) {
+  double d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    double g = 0.0;
+    if (a.hi[k] < b.lo[k]) g = b.lo[k] - a.hi[k];
+    else if (b.hi[k] < a.lo[k]) g = a.lo[k] - b.hi[k];
+    d2 += g * g;
   }
   return d2 * (1.0 - kRoundingSlack);
 }

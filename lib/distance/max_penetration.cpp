@@ -147,7 +147,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
         o.sign = cell.sign;
         if (o.sign == 0) {
           o.side_query = true;
-          const int s = sdf.side(cell.center);
+          const int s = sdf.side(cell.center, d);
           o.sign = static_cast<signed char>(s == 0 ? 1 : s);  // on the surface: depth 0, treat as outside
         }
         o.child_margin = d.lo;

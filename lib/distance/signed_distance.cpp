@@ -150,8 +150,13 @@ bool SignedDistance::on_surface(const Vec3& p) const {
   return q.found;
 }
 
-int SignedDistance::side(const Vec3& p) const {
-  if (on_surface(p)) return 0;
+int SignedDistance::side(const Vec3& p) const { return on_surface(p) ? 0 : side_off_surface(p); }
+
+int SignedDistance::side(const Vec3& p, const Interval& unsigned_dist) const {
+  return unsigned_dist.lo > 0.0 ? side_off_surface(p) : side(p);
+}
+
+int SignedDistance::side_off_surface(const Vec3& p) const {
   const Vec3 center = bbox_.center();
   const double reach = 2.0 * (bbox_.diagonal() + (p - center).norm()) + 1.0;
   const double margin = 1e-9 * (bbox_.diagonal() + (p - center).norm()) + 1e-300;
@@ -171,11 +176,7 @@ int SignedDistance::side(const Vec3& p) const {
 }
 
 Interval SignedDistance::signed_distance(const Vec3& p, const Interval& d) const {
-  if (d.lo > 0.0) {
-    // p is off the surface: only the sign is needed.
-    return side(p) < 0 ? Interval{-d.hi, -d.lo} : d;
-  }
-  const int s = side(p);
+  const int s = side(p, d);
   if (s == 0) return {0.0, 0.0};
   return s < 0 ? Interval{-d.hi, -d.lo} : d;
 }

@@ -41,6 +41,8 @@ class SignedDistance {
 
   // Exact side: -1 strictly inside the solid, 0 on the surface, +1 strictly outside.
   int side(const Vec3& p) const;
+  // Same, when dist(p, F) is already enclosed: a positive lower end skips the on-surface test.
+  int side(const Vec3& p, const Interval& unsigned_dist) const;
 
   // [lo, hi] containing the signed distance s(p) (negative inside).
   Interval signed_distance(const Vec3& p) const;
@@ -50,6 +52,7 @@ class SignedDistance {
 
  private:
   bool on_surface(const Vec3& p) const;
+  int side_off_surface(const Vec3& p) const;  // ray parity; p must not lie on F
 
   TriangleMesh mesh_;
   Aabb bbox_;

@@ -16,18 +16,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Lower bound on the squared distance between two boxes, never above the true value.
-double box_box_squared_lower_bound(const Aabb& a, const Aabb& b) {
-  double d2 = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    double g = 0.0;
-    if (a.hi[k] < b.lo[k]) g = b.lo[k] - a.hi[k];
-    else if (b.hi[k] < a.lo[k]) g = a.lo[k] - b.hi[k];
-    d2 += g * g;
-  }
-  return d2 * (1.0 - kRoundingSlack);
-}
-
 // dist(T, F): certified interval of the squared distance from triangle T to the surface.
 struct TriangleNearest {
   const TriangleMesh& mesh;
@@ -37,7 +25,7 @@ struct TriangleNearest {
   double radius;  // rounded up
   double best_hi_sq = kInf;
   double min_lo_sq = kInf;
-  double bound(const Aabb& node) const { return box_box_squared_lower_bound(box, node); }
+  double bound(const Aabb& node) const { return squared_distance_lower_bound(box, node); }
   double prune_bound() const { return best_hi_sq; }
   bool done() const { return false; }
   void leaf(std::uint32_t f) {
@@ -112,7 +100,7 @@ BandResult certify_band(const SignedDistance& sdf, const TriangleMesh& offset, d
       const double scale = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});
       slack[i] = 8.0 * std::numeric_limits<double>::epsilon() * scale;
       hi[i] = round_up(upper_bound(sdf, a, b, c, ad + options.target, options.max_split_depth, pieces[i]) + slack[i]);
-      if (lo[i] > 0.0) side[i] = sdf.side(a);
+      if (lo[i] > 0.0) side[i] = sdf.side(a, Interval{lo[i], kInf});  // a is off F: no on-surface test
       else touching[i] = 1;
       result.face_epsilon[i] = epsilon_of(i);
     }

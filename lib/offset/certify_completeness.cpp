@@ -16,9 +16,8 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-struct Cell {
-  Vec3 lo, hi;  // exact double corners; children split at the rounded midpoint, so they tile exactly
-};
+// Cells are boxes with exact double corners; children split at the rounded midpoint, so they tile exactly.
+using Cell = Aabb;
 
 enum class Verdict : unsigned char { Discard, Split, Missed, Unresolved };
 
@@ -46,8 +45,7 @@ bool no_critical_point(const SignedDistance& sdf, const Cell& cell, const Vec3& 
   for (std::uint32_t id : ids) {
     const Face& f = m.faces[id];
     for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 v((corner & 1) ? cell.hi.x() : cell.lo.x(), (corner & 2) ? cell.hi.y() : cell.lo.y(),
-                   (corner & 4) ? cell.hi.z() : cell.lo.z());
+      const Vec3 v = cell.corner(corner);
       for (std::uint32_t t : f) {
         const Vec3 diff = v - m.vertices[t];
         // Margin far above the rounding of a 3-term dot product of these magnitudes.
@@ -84,7 +82,7 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
         for (int i = 0; i < n; ++i) {
           Cell c;
           c.lo = domain.lo + Vec3(i * step.x(), j * step.y(), k * step.z());
-          c.hi = (i == n - 1 && j == n - 1 && k == n - 1) ? domain.hi : domain.lo + Vec3((i + 1) * step.x(), (j + 1) * step.y(), (k + 1) * step.z());
+          c.hi = domain.lo + Vec3((i + 1) * step.x(), (j + 1) * step.y(), (k + 1) * step.z());
           if (i == n - 1) c.hi.x() = domain.hi.x();
           if (j == n - 1) c.hi.y() = domain.hi.y();
           if (k == n - 1) c.hi.z() = domain.hi.z();
@@ -109,9 +107,9 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
           continue;
         }
         // (2) the cell misses S_d: all of it is on one side of S_d.
-        const bool misses = !surface || surface->unsigned_distance(c).lo > r;
-        if (misses) {
-          const bool inside = surface && surface->side(c) < 0;
+        const Interval to_surface = surface ? surface->unsigned_distance(c) : Interval{kInf, kInf};
+        if (to_surface.lo > r) {  // c is off S_d: no on-surface test needed for its side
+          const bool inside = surface && surface->side(c, to_surface) < 0;
           if (inside ? s_max <= d + eps : s_min >= d - eps) {
             verdict[i] = Verdict::Discard;
             continue;

@@ -77,9 +77,7 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
   // The deepest point is inside every nonempty level set: f < 0 there.
   const Vec3 center = mp.point;
   double radius = 0.0;
-  for (int k = 0; k < 8; ++k)
-    radius = std::max(radius, (Vec3((k & 1) ? box.hi.x() : box.lo.x(), (k & 2) ? box.hi.y() : box.lo.y(),
-                                    (k & 4) ? box.hi.z() : box.lo.z()) - center).norm());
+  for (int k = 0; k < 8; ++k) radius = std::max(radius, (box.corner(k) - center).norm());
   radius += std::max(d, 0.0) + 0.01 * diag;
   std::vector<Vec3> seeds = d < -mp.depth.lo ? std::vector<Vec3>{} : level_set_seeds(f, center, radius, options.seeds);
 
