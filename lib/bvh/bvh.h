@@ -12,6 +12,12 @@
 //   void   leaf(std::uint32_t id)  visits one primitive;
 //   bool   done() const            stops the traversal early.
 // Nearest-point, ray-parity and box-overlap queries are policies of this one traversal.
+//
+// Pairs of hierarchies (traverse_pairs_nearest_first) use the same scheme on node pairs: the node
+// the policy calls larger is split, the two child pairs are visited in order of their bound. The
+// policy has bound(const BVA&, const BVB&), prune_bound(), leaf(id_a, id_b), done() and
+// split_first(const BVA&, const BVB&) (true: split the node of the first hierarchy).
+// First contact along a line (sphere trees), minimum distance and overlap (boxes) are policies.
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
@@ -123,6 +129,49 @@ void traverse_nearest_first(const Bvh<BV>& bvh, Policy& policy) {
       if (ba <= prune) stack[top++] = {a, ba};
       if (bb <= prune) stack[top++] = {b, bb};
     }
+  }
+}
+
+template <class BVA, class BVB, class Policy>
+void traverse_pairs_nearest_first(const Bvh<BVA>& ta, const Bvh<BVB>& tb, Policy& policy) {
+  if (ta.empty() || tb.empty()) return;
+  struct Entry {
+    std::uint32_t a, b;
+    double bound;
+  };
+  std::vector<Entry> stack;
+  stack.reserve(128);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double root_bound = policy.bound(ta.nodes[0].bv, tb.nodes[0].bv);  // +inf: never
+  if (!(root_bound <= policy.prune_bound() && root_bound < kInf)) return;
+  stack.push_back({0, 0, root_bound});
+  while (!stack.empty() && !policy.done()) {
+    const Entry e = stack.back();
+    stack.pop_back();
+    if (e.bound > policy.prune_bound()) continue;
+    const auto& na = ta.nodes[e.a];
+    const auto& nb = tb.nodes[e.b];
+    if (na.count > 0 && nb.count > 0) {
+      for (std::uint32_t i = 0; i < na.count; ++i)
+        for (std::uint32_t j = 0; j < nb.count; ++j) {
+          policy.leaf(ta.order[na.first + i], tb.order[nb.first + j]);
+          if (policy.done()) return;
+        }
+      continue;
+    }
+    const bool split_a = nb.count > 0 || (na.count == 0 && policy.split_first(na.bv, nb.bv));
+    Entry c1, c2;
+    if (split_a) {
+      c1 = {na.first, e.b, policy.bound(ta.nodes[na.first].bv, nb.bv)};
+      c2 = {na.first + 1, e.b, policy.bound(ta.nodes[na.first + 1].bv, nb.bv)};
+    } else {
+      c1 = {e.a, nb.first, policy.bound(na.bv, tb.nodes[nb.first].bv)};
+      c2 = {e.a, nb.first + 1, policy.bound(na.bv, tb.nodes[nb.first + 1].bv)};
+    }
+    if (c2.bound < c1.bound) std::swap(c1, c2);
+    const double prune = policy.prune_bound();
+    if (c2.bound <= prune && c2.bound < kInf) stack.push_back(c2);  // the farther pair waits
+    if (c1.bound <= prune && c1.bound < kInf) stack.push_back(c1);
   }
 }
 

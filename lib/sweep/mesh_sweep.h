@@ -1,0 +1,48 @@
+#pragma once
+// The paper's dynamic collision query: the first contact of a translating mesh with a fixed one,
+// exact. Both meshes carry a bounding-sphere hierarchy; the traversal keeps the best contact time
+// T so far, prunes node pairs whose spheres cannot meet before T (sphere entry times computed in
+// interval arithmetic, so a pruned pair provably cannot hold an earlier contact), visits child
+// pairs in order of their sphere entry times and runs exact triangle sweeps at the leaves.
+#include <cstdint>
+#include <vector>
+
+#include "bvh/bvh.h"
+#include "bvh/sphere.h"
+#include "mesh/triangle_mesh.h"
+#include "sweep/triangle_sweep.h"
+
+namespace cdbench {
+
+struct SweepMesh {
+  std::vector<Vec3> vertices;
+  std::vector<Face> faces;
+  Bvh<Sphere> tree;  // one triangle per leaf
+
+  Triangle triangle(std::uint32_t f) const {
+    return {vertices[faces[f][0]], vertices[faces[f][1]], vertices[faces[f][2]]};
+  }
+};
+
+SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces);
+
+struct MeshContact {
+  bool hit = false;
+  Interval t;  // encloses the exact first-contact time (a single double when it is one)
+  std::uint32_t fixed_face = 0, moving_face = 0;  // a pair attaining it
+  SweepCandidate candidate;                       // the cell of that pair's Minkowski difference
+  // Work counters.
+  std::uint64_t sphere_tests = 0, triangle_sweeps = 0, exact_fallbacks = 0;
+};
+
+// The least t in R at which `moving` translated by t v touches `fixed`: the first contact of the
+// mover coming from far away on the side of -v. v must be nonzero.
+MeshContact first_contact_along_line(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v);
+
+// The same by exact sweeps of all triangle pairs (reference for tests).
+MeshContact first_contact_brute_force(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v);
+
+// The exact rational time of a contact found by either function.
+mpq_class exact_contact_time(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v, const MeshContact& c);
+
+}  // namespace cdbench
