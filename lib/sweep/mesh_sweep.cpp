@@ -39,25 +39,28 @@ struct Best {
   }
 };
 
+// Lower bound of the first time the moving sphere (centre + t v) meets the fixed one; +inf if never.
+// Must run under upward rounding, as CGAL's intervals require.
+double entry_lower_bound(const Sphere& f, const Sphere& m, const I& vx, const I& vy, const I& vz, const I& vv) {
+  const I wx = I(m.center.x()) - f.center.x(), wy = I(m.center.y()) - f.center.y(), wz = I(m.center.z()) - f.center.z();
+  const I R = I(f.radius) + m.radius;
+  const I wv = wx * vx + wy * vy + wz * vz;
+  const I ww = wx * wx + wy * wy + wz * wz;
+  const I disc = wv * wv - vv * (ww - R * R);
+  if (disc.sup() < 0.0) return std::numeric_limits<double>::infinity();
+  const I root = CGAL::sqrt(I(std::max(0.0, disc.inf()), disc.sup()));
+  return ((-wv - root) / vv).inf();
+}
+
 struct SweepPolicy {
   Best& best;
   I vx, vy, vz, vv;
 
   SweepPolicy(Best& b, const Vec3& v) : best(b), vx(v.x()), vy(v.y()), vz(v.z()) { vv = vx * vx + vy * vy + vz * vz; }
 
-  // Lower bound of the first time the moving sphere (centre + t v) meets the fixed one; +inf if never.
-  // Runs under upward rounding (set by the caller) as CGAL's intervals require.
   double bound(const Sphere& f, const Sphere& m) {
     ++best.result.sphere_tests;
-    const I wx = I(m.center.x()) - f.center.x(), wy = I(m.center.y()) - f.center.y(),
-            wz = I(m.center.z()) - f.center.z();
-    const I R = I(f.radius) + m.radius;
-    const I wv = wx * vx + wy * vy + wz * vz;
-    const I ww = wx * wx + wy * wy + wz * wz;
-    const I disc = wv * wv - vv * (ww - R * R);
-    if (disc.sup() < 0.0) return std::numeric_limits<double>::infinity();
-    const I root = CGAL::sqrt(I(std::max(0.0, disc.inf()), disc.sup()));
-    return ((-wv - root) / vv).inf();
+    return entry_lower_bound(f, m, vx, vy, vz, vv);
   }
   double prune_bound() const { return best.result.hit ? best.result.t.hi : std::numeric_limits<double>::infinity(); }
   bool split_first(const Sphere& f, const Sphere& m) const { return f.radius >= m.radius; }
@@ -66,6 +69,12 @@ struct SweepPolicy {
 };
 
 }  // namespace
+
+double sphere_entry_time_lower_bound(const Sphere& fixed, const Sphere& moving, const Vec3& v) {
+  CGAL::Protect_FPU_rounding<true> guard;
+  const I vx(v.x()), vy(v.y()), vz(v.z());
+  return entry_lower_bound(fixed, moving, vx, vy, vz, vx * vx + vy * vy + vz * vz);
+}
 
 SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces) {
   SweepMesh m;

@@ -35,6 +35,10 @@ struct MeshContact {
   std::uint64_t sphere_tests = 0, triangle_sweeps = 0, exact_fallbacks = 0;
 };
 
+// A lower bound of the first t at which the sphere `moving` translated by t v meets `fixed`
+// (+inf when it never does), rigorous: interval arithmetic with outward rounding.
+double sphere_entry_time_lower_bound(const Sphere& fixed, const Sphere& moving, const Vec3& v);
+
 // The least t in R at which `moving` translated by t v touches `fixed`: the first contact of the
 // mover coming from far away on the side of -v. v must be nonzero.
 MeshContact first_contact_along_line(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v);

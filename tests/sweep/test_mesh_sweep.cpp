@@ -85,3 +85,48 @@ TEST(MeshSweep, MissingLineAndTranslationInvariance) {
 
 }  // namespace
 }  // namespace cdbench
+
+namespace cdbench {
+namespace {
+
+// The pruning bound against exact rational arithmetic: at t = bound the spheres are still apart or
+// touching (|w + t v|^2 >= R^2) and t is before the closest approach, so t <= the entry time; an
+// infinite bound means the exact discriminant is negative. Near-tangent lines are the hard cases.
+TEST(MeshSweep, SphereEntryBoundIsRigorous) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int finite = 0, infinite = 0;
+  for (int k = 0; k < 20000; ++k) {
+    Sphere f{Vec3(u(rng), u(rng), u(rng)) * 10.0, 1.0 + u(rng) * 0.5};
+    Sphere m{f.center + Vec3(5 + u(rng), u(rng), u(rng)), 0.5 + u(rng) * 0.25};
+    const Vec3 v(-1.0, u(rng) * 1e-3, u(rng) * 1e-3);
+    // Make the line nearly tangent: the perpendicular offset of the centres about R.
+    const Vec3 side = v.cross(Vec3(0, 0, 1)).normalized();
+    const double R = f.radius + m.radius;
+    m.center = f.center + Vec3(5, 0, 0) + side * (R * (1.0 + u(rng) * 1e-12));
+    const double b = sphere_entry_time_lower_bound(f, m, v);
+    const auto q = [](double x) { return mpq_class(x); };
+    mpq_class wx = q(m.center.x()) - q(f.center.x()), wy = q(m.center.y()) - q(f.center.y()),
+              wz = q(m.center.z()) - q(f.center.z());
+    const mpq_class Rq = q(f.radius) + q(m.radius);
+    const mpq_class wv = wx * q(v.x()) + wy * q(v.y()) + wz * q(v.z());
+    const mpq_class vv = q(v.x()) * q(v.x()) + q(v.y()) * q(v.y()) + q(v.z()) * q(v.z());
+    const mpq_class ww = wx * wx + wy * wy + wz * wz;
+    const mpq_class disc = wv * wv - vv * (ww - Rq * Rq);
+    if (std::isinf(b)) {
+      ++infinite;
+      EXPECT_LT(disc, 0);
+      continue;
+    }
+    ++finite;
+    const mpq_class t = q(b);
+    const mpq_class fx = wx + t * q(v.x()), fy = wy + t * q(v.y()), fz = wz + t * q(v.z());
+    EXPECT_GE(fx * fx + fy * fy + fz * fz, Rq * Rq);
+    EXPECT_LE(t * vv, -wv);
+  }
+  EXPECT_GT(finite, 1000);
+  EXPECT_GT(infinite, 1000);
+}
+
+}  // namespace
+}  // namespace cdbench
