@@ -4,11 +4,13 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <vector>
 
+#include "distance/depth_bound.h"
 #include "distance/point_triangle_distance.h"
 #include "util/progress.h"
 #include "util/timer.h"
@@ -33,61 +35,13 @@ struct Outcome {
   double child_margin = 0.0;  // dist lower bound at the centre: children closer than it share the sign
 };
 
-// Upper bound of the depth over the interior points of a cube (centre c, half-size h) from the
-// convexity of the triangle distances d_j (certification-math note 2): for weights lambda_j >= 0,
-// depth(x) <= sum_j lambda_j d_j(x) / sum_j lambda_j, and the right side is convex, so its maximum
-// over the cube is attained at a corner. Any weights give a valid bound; weights making the
-// gradients of the nearest triangles cancel (the min-norm point of their convex hull) make it
-// tight at a medial point and exact on a plateau between parallel faces.
-// Also returns in `candidate` the lambda-weighted mean of the nearest points, a good guess for a
-// deep point (the mid-plane point between parallel faces), to be certified by the caller.
+// The convexity bound over a cube: its 8 corners (see distance/depth_bound.h).
 double convexity_bound(const SignedDistance& sdf, const Vec3& c, double h, double radius,
                        std::vector<std::uint32_t>& ids, Vec3& candidate) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  sdf.triangles_within(c, radius, 48, ids);  // a partial set is still valid
-  if (ids.empty()) return kInf;
-  const TriangleMesh& m = sdf.mesh();
-  const std::size_t n = ids.size();
-  std::vector<Vec3> g(n), nearest(n);
-  std::vector<std::pair<double, std::uint32_t>> order(n);
-  for (std::size_t j = 0; j < n; ++j) {
-    const Face& f = m.faces[ids[j]];
-    order[j] = {(c - closest_point_on_triangle(c, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]])).squaredNorm(),
-                ids[j]};
-  }
-  // Nearest first (ties by id): the search below then prefers, among triangles of one face, the one
-  // holding the projection, whose gradient is the exact face normal.
-  std::sort(order.begin(), order.end());
-  for (std::size_t j = 0; j < n; ++j) ids[j] = order[j].second;
-  for (std::size_t j = 0; j < n; ++j) {
-    const Face& f = m.faces[ids[j]];
-    nearest[j] = closest_point_on_triangle(c, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
-    const Vec3 v = c - nearest[j];
-    const double len = v.norm();
-    if (!(len > 0.0)) return kInf;
-    g[j] = v / len;
-  }
-  // Weights near the min-norm point of conv{g_j} (heuristic: only tightness depends on them).
-  std::vector<double> lambda;
-  min_norm_combination(g, lambda, 100);
-  candidate = Vec3::Zero();
-  for (std::size_t j = 0; j < n; ++j) candidate += lambda[j] * nearest[j];
-  double worst = 0.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 v = c + Vec3((corner & 1) ? h : -h, (corner & 2) ? h : -h, (corner & 4) ? h : -h);
-    double sum = 0.0, weights = 0.0;
-    for (std::size_t j = 0; j < n; ++j) {
-      if (lambda[j] <= 0.0) continue;
-      const Face& f = m.faces[ids[j]];
-      const Interval d2 = point_triangle_squared_distance(v, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
-      sum += lambda[j] * round_up(std::sqrt(d2.hi));  // sqrt is correctly rounded: one ulp up bounds it
-      weights += lambda[j];
-    }
-    // Positive terms only: the relative rounding error of at most ~50 additions and one product each
-    // is below 1e-13; the factor covers it with margin.
-    worst = std::max(worst, sum * (1.0 + 1e-12) / (weights * (1.0 - 1e-12)));
-  }
-  return round_up(worst);
+  std::array<Vec3, 8> corners;
+  for (int corner = 0; corner < 8; ++corner)
+    corners[corner] = c + Vec3((corner & 1) ? h : -h, (corner & 2) ? h : -h, (corner & 4) ? h : -h);
+  return depth_upper_bound(sdf, c, radius, corners.data(), 8, ids, &candidate);
 }
 
 // sqrt(3) rounded up to a double (the nearest double is below sqrt(3)).

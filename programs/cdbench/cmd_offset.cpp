@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "offset_set.h"
 #include "distance/max_penetration.h"
 #include "mesh/write_mesh.h"
 #include "mesh_loading.h"
@@ -43,14 +44,6 @@ std::string exact(double x) {
   return os.str();
 }
 
-std::string file_name(std::size_t index, const std::string& text) {
-  std::string s;
-  for (char c : text) s += c == '-' ? std::string("m") : c == '%' ? std::string("pct") : c == '.' ? std::string("p") : std::string(1, c);
-  std::ostringstream os;
-  os << "offset_" << std::setw(2) << std::setfill('0') << index << "_" << s << ".off";
-  return os.str();
-}
-
 int run_offset(const OffsetCliOptions& opt) {
   std::unique_ptr<tbb::global_control> threads;
   if (opt.threads > 0)
@@ -75,130 +68,30 @@ int run_offset(const OffsetCliOptions& opt) {
   const MaxPenetrationResult mp = certified_max_penetration(sdf, mpo);
   const double seconds_mp = t_mp.seconds();
 
-  OffsetOptions oo = opt.offset;
-  oo.tolerance_relative = opt.tolerance;
-  std::mutex log_mutex;
-  if (opt.verbose)
-    oo.log = [&](const std::string& line) {
-      std::lock_guard<std::mutex> lock(log_mutex);
-      std::cerr << "cdbench offset: " << line << std::endl;
-    };
-  std::ostringstream option_key;
-  option_key << CDBENCH_VERSION << "|" << exact(oo.tolerance_relative) << "|" << exact(oo.radius_relative) << "|"
-             << exact(oo.distance_over_tolerance) << "|" << oo.max_attempts << "|" << oo.seeds << "|"
-             << exact(opt.max_penetration_tolerance);
-
-  // Reuse: levels of an earlier run with the same input, level and options, whose file is intact.
-  const std::string manifest_path = opt.out + "/manifest.json";
-  std::map<std::string, nlohmann::json> previous;
-  {
-    std::ifstream in(manifest_path);
-    if (in) {
-      try {
-        const nlohmann::json old = nlohmann::json::parse(in);
-        for (const auto& l : old.at("levels")) previous[l.at("key").get<std::string>()] = l;
-      } catch (const std::exception&) {
-        std::cerr << "cdbench: note: ignoring unreadable " << manifest_path << "\n";
-      }
-    }
+  OffsetSetRequest req;
+  req.loaded = &loaded;
+  req.sdf = &sdf;
+  req.max_penetration = &mp;
+  req.max_penetration_tolerance = opt.max_penetration_tolerance;
+  req.seconds_max_penetration = seconds_mp;
+  req.mesh_path = opt.mesh;
+  req.input_sha = input_sha;
+  req.out_dir = opt.out;
+  for (const LevelSpec& l : specs) {
+    req.names.push_back(l.text);
+    req.distances.push_back(level_distance(l, mp.depth.lo));
   }
-
+  req.options = opt.offset;
+  req.options.tolerance_relative = opt.tolerance;
+  req.verbose = opt.verbose;
+  const OffsetSetResult set = write_offset_set(req);
+  const nlohmann::json& manifest = set.manifest;
+  const std::vector<double>& seconds = set.seconds;
+  const std::vector<char>& failed = set.failed;
+  const std::vector<char>& reused = set.reused;
+  const OffsetOptions& oo = req.options;
   const std::size_t n = specs.size();
-  std::vector<nlohmann::json> entries(n);
-  std::vector<double> seconds(n, 0.0);
-  std::vector<char> failed(n, 0), reused(n, 0);
-  Progress progress("offset levels", n);
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    Timer t_level;
-    const double d = level_distance(specs[i], mp.depth.lo);
-    const std::string key = input_sha + "|" + exact(d) + "|" + option_key.str();
-    const std::string name = file_name(i, specs[i].text);
-    const auto old = previous.find(key);
-    if (old != previous.end()) {
-      const nlohmann::json& e = old->second;
-      const bool has_file = !e.at("file").is_null();
-      if (!has_file || (std::filesystem::exists(opt.out + "/" + e.at("file").get<std::string>()) &&
-                        sha256_file(opt.out + "/" + e.at("file").get<std::string>()) == e.at("sha256").get<std::string>())) {
-        entries[i] = e;
-        entries[i]["level"] = specs[i].text;
-        reused[i] = 1;
-        progress.advance();
-        return;
-      }
-    }
-    const OffsetLevel level = compute_offset_level(sdf, mp, d, oo);
-    nlohmann::json e;
-    e["level"] = specs[i].text;
-    e["key"] = key;
-    e["d"] = d;
-    e["fraction_of_max_penetration"] = d / mp.depth.lo;
-    e["status"] = to_string(level.status);
-    e["message"] = level.message;
-    e["epsilon"] = level.epsilon;
-    e["epsilon_over_diagonal"] = level.epsilon / diag;
-    e["complete"] = level.complete;
-    e["attempts"] = level.attempts;
-    e["mesher_distance_bound"] = level.distance_bound;
-    e["file"] = nullptr;
-    e["sha256"] = nullptr;
-    if (level.status == OffsetStatus::Certified) {
-      std::ostringstream os;
-      write_off(level.mesh, os);
-      const std::string bytes = os.str();
-      write_file_atomically(opt.out + "/" + name, [&](std::ostream& out) { out << bytes; });
-      e["file"] = name;
-      e["sha256"] = sha256_hex(bytes);
-      e["vertices"] = level.mesh.vertices.size();
-      e["faces"] = level.mesh.faces.size();
-      e["genus"] = level.report.genus;
-      e["components"] = level.report.components;
-    } else {
-      e["vertices"] = 0;
-      e["faces"] = 0;
-    }
-    if (level.status == OffsetStatus::Failed) failed[i] = 1;
-    e["seconds"] = {{"mesh", level.seconds_mesh}, {"band", level.seconds_band},
-                    {"completeness", level.seconds_completeness}};
-    entries[i] = e;
-    seconds[i] = t_level.seconds();
-    progress.advance();
-  });
-  progress.finish();
-
-  nlohmann::json manifest;
-  manifest["format"] = "cdbench-offsets";
-  manifest["format_version"] = 1;
-  manifest["generator"] = std::string("cdbench ") + CDBENCH_VERSION;
-  manifest["input"] = {{"path", opt.mesh},
-                       {"sha256", input_sha},
-                       {"vertices", loaded.validated.mesh.vertices.size()},
-                       {"faces", loaded.validated.mesh.faces.size()},
-                       {"diagonal", diag}};
-  manifest["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
-                                 {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
-                                 {"relative_tolerance", opt.max_penetration_tolerance}};
-  manifest["options"] = {{"tolerance_relative", oo.tolerance_relative},
-                         {"tolerance", oo.tolerance_relative * diag},
-                         {"mesher_radius_relative", oo.radius_relative},
-                         {"mesher_distance_over_tolerance", oo.distance_over_tolerance},
-                         {"max_attempts", oo.max_attempts},
-                         {"seeds", oo.seeds}};
-  nlohmann::json timings;
-  timings["max_penetration"] = seconds_mp;
-  timings["read"] = loaded.seconds_read;
-  timings["validate"] = loaded.seconds_validate;
-  manifest["levels"] = nlohmann::json::array();
-  for (std::size_t i = 0; i < n; ++i) {
-    nlohmann::json e = entries[i];
-    timings["levels"].push_back({{"level", specs[i].text}, {"reused", reused[i] != 0}, {"seconds", seconds[i]},
-                                 {"detail", e.contains("seconds") ? e["seconds"] : nlohmann::json()}});
-    e.erase("seconds");  // timings vary between runs: kept out of the manifest
-    manifest["levels"].push_back(e);
-  }
-  timings["total"] = total.seconds();
-  write_file_atomically(manifest_path, [&](std::ostream& out) { out << std::setw(2) << manifest << "\n"; });
-  write_file_atomically(opt.out + "/timings.json", [&](std::ostream& out) { out << std::setw(2) << timings << "\n"; });
-
+  const std::string manifest_path = opt.out + "/manifest.json";
   std::cout << "input:           " << opt.mesh << " (" << loaded.validated.mesh.faces.size() << " faces, diagonal "
             << std::setprecision(9) << diag << ")\n";
   std::cout << "max penetration: [" << exact(mp.depth.lo) << ", " << exact(mp.depth.hi) << "]\n";

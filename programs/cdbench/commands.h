@@ -13,5 +13,7 @@ constexpr int kExitInternal = 3;
 void register_check(CLI::App& app, int& exit_code);
 void register_wrap(CLI::App& app, int& exit_code);
 void register_offset(CLI::App& app, int& exit_code);
+void register_poses(CLI::App& app, int& exit_code, const std::string& command_line);
+void register_merge(CLI::App& app, int& exit_code);
 
 }  // namespace cdbench::cli

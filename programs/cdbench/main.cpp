@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <string>
 
 #include "commands.h"
 #include "util/error.h"
@@ -17,6 +18,10 @@ int main(int argc, char** argv) {
   register_check(app, exit_code);
   register_wrap(app, exit_code);
   register_offset(app, exit_code);
+  std::string command_line;
+  for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
+  register_poses(app, exit_code, command_line);
+  register_merge(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,62 @@
+#include "distance/depth_bound.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "distance/point_triangle_distance.h"
+
+namespace cdbench {
+
+double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
+                         std::vector<std::uint32_t>& ids, Vec3* candidate) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  sdf.triangles_within(c, radius, 48, ids);  // a partial set is still valid
+  if (ids.empty()) return kInf;
+  const TriangleMesh& m = sdf.mesh();
+  const std::size_t n = ids.size();
+  std::vector<Vec3> g(n), nearest(n);
+  std::vector<std::pair<double, std::uint32_t>> order(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const Face& f = m.faces[ids[j]];
+    order[j] = {(c - closest_point_on_triangle(c, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]])).squaredNorm(),
+                ids[j]};
+  }
+  // Nearest first (ties by id): the search below then prefers, among triangles of one face, the one
+  // holding the projection, whose gradient is the exact face normal.
+  std::sort(order.begin(), order.end());
+  for (std::size_t j = 0; j < n; ++j) ids[j] = order[j].second;
+  for (std::size_t j = 0; j < n; ++j) {
+    const Face& f = m.faces[ids[j]];
+    nearest[j] = closest_point_on_triangle(c, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
+    const Vec3 v = c - nearest[j];
+    const double len = v.norm();
+    if (!(len > 0.0)) return kInf;
+    g[j] = v / len;
+  }
+  // Weights near the min-norm point of conv{g_j} (heuristic: only tightness depends on them).
+  std::vector<double> lambda;
+  min_norm_combination(g, lambda, 100);
+  if (candidate) {
+    *candidate = Vec3::Zero();
+    for (std::size_t j = 0; j < n; ++j) *candidate += lambda[j] * nearest[j];
+  }
+  double worst = 0.0;
+  for (int corner = 0; corner < n_corners; ++corner) {
+    const Vec3& v = corners[corner];
+    double sum = 0.0, weights = 0.0;
+    for (std::size_t j = 0; j < n; ++j) {
+      if (lambda[j] <= 0.0) continue;
+      const Face& f = m.faces[ids[j]];
+      const Interval d2 = point_triangle_squared_distance(v, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
+      sum += lambda[j] * round_up(std::sqrt(d2.hi));  // sqrt is correctly rounded: one ulp up bounds it
+      weights += lambda[j];
+    }
+    // Positive terms only: the relative rounding error of at most ~50 additions and one product each
+    // is below 1e-13; the factor covers it with margin.
+    worst = std::max(worst, sum * (1.0 + 1e-12) / (weights * (1.0 - 1e-12)));
+  }
+  return round_up(worst);
+}
+
+}  // namespace cdbench

@@ -1,0 +1,241 @@
+#include "placement/clearance.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+#include "distance/depth_bound.h"
+#include "distance/point_triangle_distance.h"
+#include "distance/triangle_distance.h"
+
+namespace cdbench {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+inline double down(double x) { return std::nextafter(x, -kInf); }
+inline double up(double x) { return std::nextafter(x, kInf); }
+
+// The box of a tree node after translation by t: rounding to nearest is monotone, so it contains
+// fl(p + t) for every p in the box.
+inline Aabb moved(const Aabb& b, const Vec3& t) {
+  Aabb m;
+  for (int k = 0; k < 3; ++k) {
+    m.lo[k] = b.lo[k] + t[k];
+    m.hi[k] = b.hi[k] + t[k];
+  }
+  return m;
+}
+
+// Minimum triangle-pair distance between the placed mover and F (squared, certified), stopping at
+// the first proven intersection.
+struct DistancePolicy {
+  const TriangleMesh& F;
+  const std::vector<Vec3>& P;
+  const std::vector<Face>& faces;
+  const Vec3& t;
+  double min_lo_sq = kInf, best_hi_sq = kInf;
+  bool intersect = false;
+  std::uint64_t tests = 0;
+
+  double bound(const Aabb& f, const Aabb& m) const { return squared_distance_lower_bound(f, moved(m, t)); }
+  double prune_bound() const { return best_hi_sq; }
+  bool split_first(const Aabb& f, const Aabb& m) const { return f.extent().squaredNorm() >= m.extent().squaredNorm(); }
+  void leaf(std::uint32_t fi, std::uint32_t mi) {
+    ++tests;
+    const Face& a = F.faces[fi];
+    const Face& b = faces[mi];
+    const Interval d2 = triangle_triangle_squared_distance(F.vertices[a[0]], F.vertices[a[1]], F.vertices[a[2]], P[b[0]],
+                                                           P[b[1]], P[b[2]]);
+    min_lo_sq = std::min(min_lo_sq, d2.lo);
+    best_hi_sq = std::min(best_hi_sq, d2.hi);
+    if (d2.hi == 0.0) intersect = true;
+  }
+  bool done() const { return intersect; }
+};
+
+// A cell of the branch and bound: a node of the mover's tree, or a (sub)triangle of a face given by
+// the dyadic barycentric coordinates of its corners.
+struct Cell {
+  double lower;
+  std::uint64_t seq;  // deterministic order among equal bounds
+  bool is_node;
+  std::uint32_t id;   // node index or face index
+  int level;
+  std::array<std::array<double, 2>, 3> bary;  // (beta, gamma) of the corners; exact dyadics
+};
+struct CellOrder {
+  bool operator()(const Cell& a, const Cell& b) const {
+    return a.lower > b.lower || (a.lower == b.lower && a.seq > b.seq);
+  }
+};
+
+class BranchAndBound {
+ public:
+  BranchAndBound(const SignedDistance& fixed, const MoverOrientation& o, const std::vector<Vec3>& P, const Vec3& t,
+                 double tol)
+      : fixed_(fixed), o_(o), P_(P), t_(t), tol_(tol) {}
+
+  void run(std::uint64_t max_cells, ClearanceResult& r) {
+    push(evaluate_node(0));
+    while (!queue_.empty()) {
+      const Cell c = queue_.top();
+      if (c.lower >= upper_ - tol_) break;
+      if (r.cells >= max_cells) break;
+      queue_.pop();
+      ++r.cells;
+      if (c.is_node) {
+        const auto& node = o_.boxes.nodes[c.id];
+        if (node.count == 0) {
+          push(evaluate_node(node.first));
+          push(evaluate_node(node.first + 1));
+        } else {
+          for (std::uint32_t i = 0; i < node.count; ++i) {
+            Cell f{0, 0, false, o_.boxes.order[node.first + i], 0, {{{0, 0}, {1, 0}, {0, 1}}}};
+            push(evaluate_face(f));
+          }
+        }
+      } else {
+        // Four children by the edge midpoints (dyadic, so exact in the barycentrics).
+        const auto& b = c.bary;
+        const std::array<double, 2> m01{0.5 * (b[0][0] + b[1][0]), 0.5 * (b[0][1] + b[1][1])};
+        const std::array<double, 2> m12{0.5 * (b[1][0] + b[2][0]), 0.5 * (b[1][1] + b[2][1])};
+        const std::array<double, 2> m20{0.5 * (b[2][0] + b[0][0]), 0.5 * (b[2][1] + b[0][1])};
+        const std::array<std::array<std::array<double, 2>, 3>, 4> kids{
+            {{{b[0], m01, m20}}, {{m01, b[1], m12}}, {{m20, m12, b[2]}}, {{m01, m12, m20}}}};
+        for (const auto& k : kids) push(evaluate_face(Cell{0, 0, false, c.id, c.level + 1, k}));
+      }
+    }
+    double lower = min_discarded_;
+    if (!queue_.empty()) lower = std::min(lower, queue_.top().lower);
+    r.tolerance_reached = queue_.empty() || queue_.top().lower >= upper_ - tol_;
+    r.clearance = {lower, upper_};
+    r.distance_queries = queries_;
+  }
+
+ private:
+  void push(Cell c) {
+    c.seq = seq_++;
+    if (c.lower >= upper_ - tol_) {
+      min_discarded_ = std::min(min_discarded_, c.lower);
+      return;
+    }
+    queue_.push(c);
+  }
+
+  Cell evaluate_node(std::uint32_t n) {
+    Cell c{0, 0, true, n, 0, {}};
+    const Aabb box = moved(o_.boxes.nodes[n].bv, t_);
+    const Vec3 centre = box.center();
+    // Half diagonal, plus the rounding of the centre, rounded up.
+    const double r = up(up(0.5 * box.diagonal()) * (1.0 + 1e-12));
+    ++queries_;
+    const Interval ud = fixed_.unsigned_distance(centre);
+    const Interval s = fixed_.signed_distance(centre, ud);
+    double lower = down(s.lo - r);
+    if (lower < upper_ - tol_ && s.hi < 0.0) {
+      std::array<Vec3, 8> corners;
+      for (int k = 0; k < 8; ++k) corners[k] = box.corner(k);
+      const double depth = depth_upper_bound(fixed_, centre, up(ud.hi + 2 * r), corners.data(), 8, ids_);
+      lower = std::max(lower, -depth);
+    }
+    c.lower = lower;
+    return c;
+  }
+
+  Cell evaluate_face(Cell c) {
+    const Face& f = (*o_.faces)[c.id];
+    const Vec3 &p0 = P_[f[0]], &p1 = P_[f[1]], &p2 = P_[f[2]];
+    std::array<Vec3, 3> v;
+    double eta = 0.0;  // how far the computed corners may be from the exact sub-triangle's
+    if (c.level == 0) {
+      v = {p0, p1, p2};
+    } else {
+      const Vec3 e1 = p1 - p0, e2 = p2 - p0;
+      for (int k = 0; k < 3; ++k) v[k] = p0 + c.bary[k][0] * e1 + c.bary[k][1] * e2;
+      // Each coordinate: a few roundings, each at most u times a magnitude below
+      // |p0| + |p1 - p0| + |p2 - p0|; 1e-14 covers them (u = 1.1e-16) with margin.
+      eta = 1e-14 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) * 1.7320508075688774;
+    }
+    const Vec3 m = (v[0] + v[1] + v[2]) / 3.0;
+    // m lies within a few ulps (of the corners' magnitude) of the computed triangle; eta_m covers it.
+    const double mag = std::max({v[0].cwiseAbs().maxCoeff(), v[1].cwiseAbs().maxCoeff(), v[2].cwiseAbs().maxCoeff()});
+    const double eta_m = eta + 2e-15 * mag * 1.7320508075688774 + 1e-300;
+    double r = 0.0;
+    for (const Vec3& x : v) r = std::max(r, (x - m).norm());
+    r = up(r * (1.0 + 1e-12));
+    ++queries_;
+    const Interval ud = fixed_.unsigned_distance(m);
+    const Interval s = fixed_.signed_distance(m, ud);
+    upper_ = std::min(upper_, up(s.hi + eta_m));
+    double lower = down(down(s.lo - r) - eta_m);
+    if (lower < upper_ - tol_) {
+      // Distance from the cell to F, needed only where the cell may reach F (otherwise the
+      // Lipschitz bound already proves it disjoint): the nearest triangles of any cell point lie
+      // within ud + 2r of m.
+      double dlo = down(down(ud.lo - r) - eta_m);
+      if (!(dlo > 0.0)) {
+        fixed_.triangles_within(m, up(ud.hi + 2 * r), std::numeric_limits<std::size_t>::max(), ids_);
+        double d2lo = kInf;
+        for (std::uint32_t j : ids_) {
+          const Face& g = fixed_.mesh().faces[j];
+          const auto& fv = fixed_.mesh().vertices;
+          d2lo = std::min(d2lo, triangle_triangle_squared_distance(fv[g[0]], fv[g[1]], fv[g[2]], v[0], v[1], v[2]).lo);
+          if (d2lo == 0.0) break;
+        }
+        dlo = down(sqrt_interval({d2lo, d2lo}).lo - eta);
+      }
+      if (dlo > eta_m && s.lo > 0.0) {
+        // The exact cell is disjoint from F and on m's side (outside).
+        lower = std::max(lower, dlo);
+      } else if (s.hi < 0.0 || !(dlo > eta_m)) {
+        const double depth = depth_upper_bound(fixed_, m, up(ud.hi + 2 * r), v.data(), 3, ids_);
+        lower = std::max(lower, down(-depth - eta));
+      }
+    }
+    c.lower = lower;
+    return c;
+  }
+
+  const SignedDistance& fixed_;
+  const MoverOrientation& o_;
+  const std::vector<Vec3>& P_;
+  const Vec3& t_;
+  double tol_;
+  double upper_ = kInf;
+  double min_discarded_ = kInf;
+  std::uint64_t seq_ = 0, queries_ = 0;
+  std::vector<std::uint32_t> ids_;
+  std::priority_queue<Cell, std::vector<Cell>, CellOrder> queue_;
+};
+
+}  // namespace
+
+ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover,
+                                  const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
+                                  const Vec3& t, const ClearanceOptions& options) {
+  ClearanceResult r;
+  const std::vector<Vec3> P = orientation.placed(t);
+  DistancePolicy dist{fixed.mesh(), P, mover.faces, t};
+  traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, dist);
+  r.pair_tests = dist.tests;
+  bool all_outside = !dist.intersect && dist.min_lo_sq > 0.0;
+  if (all_outside)
+    for (std::uint32_t v : components)
+      if (fixed.side(P[v]) < 0) all_outside = false;
+  if (all_outside) {
+    r.separated = true;
+    r.clearance = sqrt_interval({dist.min_lo_sq, dist.best_hi_sq});
+  } else {
+    BranchAndBound bb(fixed, orientation, P, t, options.tolerance);
+    bb.run(options.max_cells, r);
+  }
+  r.transform_error = orientation.transform_error(t);
+  r.clearance.lo = down(r.clearance.lo - 2 * r.transform_error);
+  r.clearance.hi = up(r.clearance.hi + 2 * r.transform_error);
+  return r;
+}
+
+}  // namespace cdbench

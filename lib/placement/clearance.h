@@ -1,0 +1,40 @@
+#pragma once
+// Certified clearance of a placed mover against the fixed surface F:
+//   c = min over the points x of the mover's surface of s(x)
+// (s the signed distance to F, negative inside; for a penetrating pose -c is its maximal depth).
+// The result [lo, hi] contains c for the exact real transform R x + t of the stored doubles and for
+// any IEEE-double evaluation of it. See doc/poses.md for the argument:
+//  * surfaces provably disjoint and every mover component outside F: c is the minimum triangle
+//    pair distance (certified intervals, exact intersection tests), a few ulps wide;
+//  * otherwise branch and bound over the mover's AABB tree, its triangles and their dyadic
+//    subdivisions, with the Lipschitz bound, the convexity (depth) bound and a certified
+//    cell-to-F distance for cells proved disjoint, down to the requested tolerance;
+//  * then widened by twice the transform's rounding bound (ours vs exact, exact vs any other).
+#include <cstdint>
+#include <vector>
+
+#include "distance/signed_distance.h"
+#include "placement/mover.h"
+#include "util/interval.h"
+
+namespace cdbench {
+
+struct ClearanceOptions {
+  double tolerance = 0.0;             // absolute; target width for the branch-and-bound case
+  std::uint64_t max_cells = 400000;   // safety stop (the result then reports a wider interval)
+};
+
+struct ClearanceResult {
+  Interval clearance;
+  bool tolerance_reached = true;
+  bool separated = false;  // decided by the distance path (surfaces disjoint, mover outside)
+  double transform_error = 0.0;
+  std::uint64_t pair_tests = 0, cells = 0, distance_queries = 0;
+};
+
+// `mover` is the mover mesh in its own coordinates, `components` its component_representatives.
+ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover,
+                                  const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
+                                  const Vec3& t, const ClearanceOptions& options);
+
+}  // namespace cdbench

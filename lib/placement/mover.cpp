@@ -1,0 +1,73 @@
+#include "placement/mover.h"
+
+#include <cmath>
+#include <numeric>
+
+namespace cdbench {
+
+MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::Matrix3d& R) {
+  MoverOrientation o;
+  o.R = R;
+  o.faces = &mover.faces;
+  o.rotated.resize(mover.vertices.size());
+  const Eigen::Matrix3d absR = R.cwiseAbs();
+  for (std::size_t k = 0; k < mover.vertices.size(); ++k) {
+    const Vec3& x = mover.vertices[k];
+    // Written out so that the evaluation order is fixed: ((r0 x0 + r1 x1) + r2 x2).
+    for (int i = 0; i < 3; ++i) o.rotated[k][i] = R(i, 0) * x[0] + R(i, 1) * x[1] + R(i, 2) * x[2];
+    o.abs_max = o.abs_max.cwiseMax(absR * x.cwiseAbs());
+  }
+  std::vector<Vec3> centroids(mover.faces.size());
+  for (std::size_t f = 0; f < mover.faces.size(); ++f)
+    centroids[f] = (o.rotated[mover.faces[f][0]] + o.rotated[mover.faces[f][1]] + o.rotated[mover.faces[f][2]]) / 3.0;
+  o.boxes = build_bvh<Aabb>(centroids, [&](const std::uint32_t* ids, std::uint32_t n) {
+    Aabb b;
+    for (std::uint32_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) b.extend(o.rotated[mover.faces[ids[i]][k]]);
+    return b;
+  });
+  return o;
+}
+
+std::vector<Vec3> MoverOrientation::placed(const Vec3& t) const {
+  std::vector<Vec3> p(rotated.size());
+  for (std::size_t k = 0; k < rotated.size(); ++k) p[k] = Vec3(rotated[k][0] + t[0], rotated[k][1] + t[1], rotated[k][2] + t[2]);
+  return p;
+}
+
+double MoverOrientation::transform_error(const Vec3& t) const {
+  constexpr double u = 0x1p-53;
+  constexpr double gamma4 = 4 * u / (1 - 4 * u);
+  // abs_max is itself a double evaluation (relative error << 1e-12); the factor covers it.
+  const Vec3 e = gamma4 * (abs_max + t.cwiseAbs()) * (1.0 + 1e-10);
+  return std::nextafter(e.norm() * (1.0 + 1e-12), HUGE_VAL);
+}
+
+std::vector<std::uint32_t> component_representatives(const TriangleMesh& mesh) {
+  std::vector<std::uint32_t> parent(mesh.vertices.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  const auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const Face& f : mesh.faces)
+    for (int k = 1; k < 3; ++k) {
+      const std::uint32_t a = find(f[0]), b = find(f[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<char> used(mesh.vertices.size(), 0);
+  for (const Face& f : mesh.faces) used[f[0]] = 1;
+  std::vector<std::uint32_t> reps;
+  std::vector<char> seen(mesh.vertices.size(), 0);
+  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (!used[v]) continue;
+    const std::uint32_t r = find(v);
+    if (!seen[r]) {
+      seen[r] = 1;
+      reps.push_back(v);
+    }
+  }
+  return reps;
+}
+
+}  // namespace cdbench

@@ -1,0 +1,122 @@
+#include "placement/place_pose.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cdbench {
+namespace {
+
+Vec3 bbox_centre(const std::vector<Vec3>& v) {
+  Aabb b;
+  for (const Vec3& p : v) b.extend(p);
+  return b.center();
+}
+
+double max_distance(const std::vector<Vec3>& v, const Vec3& c) {
+  double r = 0.0;
+  for (const Vec3& p : v) r = std::max(r, (p - c).norm());
+  return r * (1.0 + 1e-12);
+}
+
+Vec3 translation(const OrientationFrame& f, const Vec3& dir, double lambda) {
+  return Vec3(f.t0[0] + lambda * dir[0], f.t0[1] + lambda * dir[1], f.t0[2] + lambda * dir[2]);
+}
+
+}  // namespace
+
+ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover) {
+  ApproachSetup s;
+  s.fixed = &fixed;
+  s.mover = &mover;
+  s.components = component_representatives(mover);
+  s.fixed_ref = bbox_centre(fixed.mesh().vertices);
+  s.mover_ref = bbox_centre(mover.vertices);
+  s.fixed_radius = max_distance(fixed.mesh().vertices, s.fixed_ref);
+  s.mover_radius = max_distance(mover.vertices, s.mover_ref);
+  return s;
+}
+
+OrientationFrame make_orientation_frame(const ApproachSetup& setup, const Eigen::Matrix3d& R) {
+  OrientationFrame f;
+  f.orientation = make_mover_orientation(*setup.mover, R);
+  const Vec3 rc = R * setup.mover_ref;
+  f.t0 = setup.fixed_ref - rc;
+  f.swept = make_sweep_mesh(f.orientation.placed(f.t0), setup.mover->faces);
+  return f;
+}
+
+PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame, const SweepMesh& offset,
+                       const Vec3& dir, double target, const PoseOptions& options) {
+  PoseOutcome out;
+  const Vec3 v = -dir;
+  const MeshContact mc = first_contact_along_line(offset, frame.swept, v);
+  out.sphere_tests = mc.sphere_tests;
+  out.triangle_sweeps = mc.triangle_sweeps;
+  if (!mc.hit) {
+    out.reason = "no-contact";
+    return out;
+  }
+  out.contact = true;
+  // The swept mover sits at t0 + t_contact v = t0 - t_contact d.
+  const mpq_class lambda_exact = -exact_contact_time(offset, frame.swept, v, mc);
+  out.lambda_raw = out.lambda = lambda_exact.get_d();
+  ClearanceOptions copt;
+  copt.tolerance = 0.5 * options.tolerance;  // leaves room for the target band below
+  copt.max_cells = options.max_cells;
+  const auto certify = [&](double lambda, double tolerance) {
+    copt.tolerance = tolerance;
+    const Vec3 t = translation(frame, dir, lambda);
+    const ClearanceResult r = certify_clearance(*setup.fixed, *setup.mover, setup.components, frame.orientation, t, copt);
+    out.clearance_cells += r.cells;
+    return r;
+  };
+  const double final_tol = copt.tolerance;
+  // While far from the target an advance step needs only a loose lower bound (a width of 1/8 of
+  // the remaining gap costs at most 1/8 of the step); the final poses get the full tolerance.
+  const auto step_tolerance = [&](const Interval& previous) {
+    return std::max(final_tol, 0.125 * (previous.lo - target));
+  };
+  ClearanceResult c = certify(out.lambda, final_tol);
+  out.raw_clearance = c.clearance;
+  const auto within = [&](const Interval& x) {
+    return x.lo >= target - options.tolerance && x.hi <= target + options.tolerance;
+  };
+  if (options.polish) {
+    if (!(c.clearance.lo > target)) {
+      // Not provably before the crossing: start where the bounding spheres are apart by more than
+      // |target| and separating further, so that every later (farther) pose has c > target.
+      out.lambda = setup.fixed_radius + setup.mover_radius + std::abs(target) + 1e-3 * (setup.fixed_radius + 1.0);
+      c = certify(out.lambda, final_tol);
+    }
+    double current_tol = final_tol;
+    while (!within(c.clearance) && out.steps < options.max_steps) {
+      // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
+      // margin; the rounding of t by the absolute one): stepping by c_lo - target cannot pass the
+      // first crossing.
+      const double slack = 8.0 * 0x1p-52 * (frame.t0.cwiseAbs().maxCoeff() + std::abs(out.lambda));
+      const double step = (c.clearance.lo - target) * (1.0 - 1e-9) - slack;
+      if (!(step > 0.0)) {
+        if (current_tol > final_tol) {  // a loose certificate: tighten it before giving up
+          c = certify(out.lambda, current_tol = final_tol);
+          continue;
+        }
+        break;
+      }
+      current_tol = step_tolerance(c.clearance);
+      out.lambda -= step;
+      ++out.steps;
+      c = certify(out.lambda, current_tol);
+      if (c.clearance.hi <= target + options.tolerance && current_tol > final_tol)
+        c = certify(out.lambda, current_tol = final_tol);  // near the end: the reported certificate
+    }
+  }
+  out.t = translation(frame, dir, out.lambda);
+  out.clearance = c.clearance;
+  out.certified = c.tolerance_reached;
+  out.on_target = within(c.clearance);
+  if (!out.certified) out.reason = "tolerance-not-reached";
+  else if (options.polish && !out.on_target) out.reason = "polish-stalled";
+  return out;
+}
+
+}  // namespace cdbench

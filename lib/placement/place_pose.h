@@ -1,0 +1,62 @@
+#pragma once
+// Placement as in the paper: the mover rotated by R about its reference point (bbox centre), the
+// two reference points together, then translated along the approach direction d: it comes from
+// far away on the side of +d and moves along -d until its first contact with an offset surface.
+// The exact first-contact time (sphere-tree query, exact sweeps) gives the raw pose; polishing then
+// advances it conservatively (certification-math note 6) until its certified clearance is within
+// the tolerance of the target. See doc/poses.md.
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "distance/signed_distance.h"
+#include "placement/clearance.h"
+#include "placement/mover.h"
+#include "sweep/mesh_sweep.h"
+
+namespace cdbench {
+
+struct ApproachSetup {
+  const SignedDistance* fixed = nullptr;  // the original fixed surface (certificates)
+  const TriangleMesh* mover = nullptr;    // in its own coordinates
+  std::vector<std::uint32_t> components;  // component_representatives(*mover)
+  Vec3 fixed_ref = Vec3::Zero(), mover_ref = Vec3::Zero();  // bbox centres
+  double fixed_radius = 0.0, mover_radius = 0.0;  // max distance of a vertex from the reference point
+};
+ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover);
+
+// Everything that depends on the orientation only.
+struct OrientationFrame {
+  MoverOrientation orientation;
+  Vec3 t0 = Vec3::Zero();  // fl(fixed_ref - fl(R mover_ref)): reference points together
+  SweepMesh swept;         // the mover at fl(fl(R x) + t0), with its sphere tree
+};
+OrientationFrame make_orientation_frame(const ApproachSetup& setup, const Eigen::Matrix3d& R);
+
+struct PoseOptions {
+  double tolerance = 0.0;  // absolute: certificate width and polishing target band
+  bool polish = true;
+  int max_steps = 400;     // conservative-advancement steps before giving up (reported)
+  std::uint64_t max_cells = 400000;
+};
+
+struct PoseOutcome {
+  bool contact = false;  // the approach line met the offset surface
+  double lambda_raw = 0.0, lambda = 0.0;  // translation along d from the reference placement
+  Vec3 t = Vec3::Zero();                  // the pose's translation (x_world = R x + t)
+  Interval raw_clearance, clearance;
+  bool certified = false;  // clearance is a rigorous interval of width within the tolerance
+  bool on_target = false;  // |c - target| <= tolerance, proven
+  int steps = 0;
+  std::string reason;      // why not certified / not on target
+  std::uint64_t sphere_tests = 0, triangle_sweeps = 0, clearance_cells = 0;
+};
+
+// `offset` is the surface swept against (level 0: the fixed surface itself). When polishing, the
+// raw pose must lie before the first crossing of `target` (an offset at target + 2 band, see
+// doc/poses.md); if its certified clearance is not above the target the advance starts far away.
+PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame, const SweepMesh& offset,
+                       const Vec3& dir, double target, const PoseOptions& options);
+
+}  // namespace cdbench

@@ -1,0 +1,180 @@
+#include "offset_set.h"
+
+#include <tbb/parallel_for.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include "mesh/write_mesh.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
+#include "util/progress.h"
+#include "util/sha256.h"
+#include "util/timer.h"
+
+namespace cdbench::cli {
+namespace {
+
+std::string exact(double x) {
+  std::ostringstream os;
+  os << std::setprecision(17) << x;
+  return os.str();
+}
+
+std::string file_name(std::size_t index, const std::string& text) {
+  std::string s;
+  for (char c : text) s += c == '-' ? std::string("m") : c == '%' ? std::string("pct") : c == '.' ? std::string("p") : std::string(1, c);
+  std::ostringstream os;
+  os << "offset_" << std::setw(2) << std::setfill('0') << index << "_" << s << ".off";
+  return os.str();
+}
+
+}  // namespace
+
+OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
+  Timer total;
+  std::error_code ec;
+  std::filesystem::create_directories(r.out_dir, ec);
+  if (!std::filesystem::is_directory(r.out_dir)) throw InputError(r.out_dir + ": cannot create the output directory");
+  const SignedDistance& sdf = *r.sdf;
+  const MaxPenetrationResult& mp = *r.max_penetration;
+  const double diag = sdf.bbox().diagonal();
+  OffsetOptions oo = r.options;
+  std::mutex log_mutex;
+  if (r.verbose)
+    oo.log = [&](const std::string& line) {
+      std::lock_guard<std::mutex> lock(log_mutex);
+      std::cerr << r.log_prefix << line << std::endl;
+    };
+  std::ostringstream option_key;
+  option_key << CDBENCH_VERSION << "|" << exact(oo.tolerance_relative) << "|" << exact(oo.radius_relative) << "|"
+             << exact(oo.distance_over_tolerance) << "|" << oo.max_attempts << "|" << oo.seeds << "|"
+             << exact(r.max_penetration_tolerance);
+
+  // Reuse: levels of an earlier run with the same input, level and options, whose file is intact.
+  const std::string manifest_path = r.out_dir + "/manifest.json";
+  std::map<std::string, nlohmann::json> previous;
+  {
+    std::ifstream in(manifest_path);
+    if (in) {
+      try {
+        const nlohmann::json old = nlohmann::json::parse(in);
+        for (const auto& l : old.at("levels")) previous[l.at("key").get<std::string>()] = l;
+      } catch (const std::exception&) {
+        std::cerr << "cdbench: note: ignoring unreadable " << manifest_path << "\n";
+      }
+    }
+  }
+
+  const std::size_t n = r.distances.size();
+  std::vector<nlohmann::json> entries(n);
+  std::vector<double> seconds(n, 0.0);
+  std::vector<char> failed(n, 0), reused(n, 0);
+  Progress progress("offset levels", n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    Timer t_level;
+    const double d = r.distances[i];
+    const std::string key = r.input_sha + "|" + exact(d) + "|" + option_key.str();
+    const std::string name = file_name(i, r.names[i]);
+    const auto old = previous.find(key);
+    if (old != previous.end()) {
+      const nlohmann::json& e = old->second;
+      const bool has_file = !e.at("file").is_null();
+      if (!has_file || (std::filesystem::exists(r.out_dir + "/" + e.at("file").get<std::string>()) &&
+                        sha256_file(r.out_dir + "/" + e.at("file").get<std::string>()) == e.at("sha256").get<std::string>())) {
+        entries[i] = e;
+        entries[i]["level"] = r.names[i];
+        reused[i] = 1;
+        progress.advance();
+        return;
+      }
+    }
+    const OffsetLevel level = compute_offset_level(sdf, mp, d, oo);
+    nlohmann::json e;
+    e["level"] = r.names[i];
+    e["key"] = key;
+    e["d"] = d;
+    e["fraction_of_max_penetration"] = d / mp.depth.lo;
+    e["status"] = to_string(level.status);
+    e["message"] = level.message;
+    e["epsilon"] = level.epsilon;
+    e["epsilon_over_diagonal"] = level.epsilon / diag;
+    e["complete"] = level.complete;
+    e["attempts"] = level.attempts;
+    e["mesher_distance_bound"] = level.distance_bound;
+    e["file"] = nullptr;
+    e["sha256"] = nullptr;
+    if (level.status == OffsetStatus::Certified) {
+      std::ostringstream os;
+      write_off(level.mesh, os);
+      const std::string bytes = os.str();
+      write_file_atomically(r.out_dir + "/" + name, [&](std::ostream& out) { out << bytes; });
+      e["file"] = name;
+      e["sha256"] = sha256_hex(bytes);
+      e["vertices"] = level.mesh.vertices.size();
+      e["faces"] = level.mesh.faces.size();
+      e["genus"] = level.report.genus;
+      e["components"] = level.report.components;
+    } else {
+      e["vertices"] = 0;
+      e["faces"] = 0;
+    }
+    if (level.status == OffsetStatus::Failed) failed[i] = 1;
+    e["seconds"] = {{"mesh", level.seconds_mesh}, {"band", level.seconds_band},
+                    {"completeness", level.seconds_completeness}};
+    entries[i] = e;
+    seconds[i] = t_level.seconds();
+    progress.advance();
+  });
+  progress.finish();
+
+  nlohmann::json manifest;
+  manifest["format"] = "cdbench-offsets";
+  manifest["format_version"] = 1;
+  manifest["generator"] = std::string("cdbench ") + CDBENCH_VERSION;
+  manifest["input"] = {{"path", r.mesh_path},
+                       {"sha256", r.input_sha},
+                       {"vertices", r.loaded->validated.mesh.vertices.size()},
+                       {"faces", r.loaded->validated.mesh.faces.size()},
+                       {"diagonal", diag}};
+  manifest["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
+                                 {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
+                                 {"relative_tolerance", r.max_penetration_tolerance}};
+  manifest["options"] = {{"tolerance_relative", oo.tolerance_relative},
+                         {"tolerance", oo.tolerance_relative * diag},
+                         {"mesher_radius_relative", oo.radius_relative},
+                         {"mesher_distance_over_tolerance", oo.distance_over_tolerance},
+                         {"max_attempts", oo.max_attempts},
+                         {"seeds", oo.seeds}};
+  nlohmann::json timings;
+  timings["max_penetration"] = r.seconds_max_penetration;
+  timings["read"] = r.loaded->seconds_read;
+  timings["validate"] = r.loaded->seconds_validate;
+  manifest["levels"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < n; ++i) {
+    nlohmann::json e = entries[i];
+    timings["levels"].push_back({{"level", r.names[i]}, {"reused", reused[i] != 0}, {"seconds", seconds[i]},
+                                 {"detail", e.contains("seconds") ? e["seconds"] : nlohmann::json()}});
+    e.erase("seconds");  // timings vary between runs: kept out of the manifest
+    manifest["levels"].push_back(e);
+  }
+  timings["total"] = total.seconds() + r.seconds_max_penetration;
+  write_file_atomically(manifest_path, [&](std::ostream& out) { out << std::setw(2) << manifest << "\n"; });
+  write_file_atomically(r.out_dir + "/timings.json", [&](std::ostream& out) { out << std::setw(2) << timings << "\n"; });
+
+  OffsetSetResult result;
+  result.manifest = manifest;
+  result.seconds = seconds;
+  result.failed = failed;
+  result.reused = reused;
+  for (std::size_t i = 0; i < n; ++i)
+    result.files.push_back(manifest["levels"][i]["file"].is_null() ? std::string() : manifest["levels"][i]["file"].get<std::string>());
+  return result;
+}
+
+}  // namespace cdbench::cli

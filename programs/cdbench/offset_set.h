@@ -1,0 +1,38 @@
+#pragma once
+// A set of certified offset levels written to a directory with manifest.json and timings.json,
+// reusing levels of an earlier run with the same input, distance and options (cdbench offset, and
+// the offsets/ of a pose set).
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "distance/max_penetration.h"
+#include "mesh_loading.h"
+#include "offset/offset_level.h"
+
+namespace cdbench::cli {
+
+struct OffsetSetRequest {
+  const LoadedMesh* loaded = nullptr;
+  const SignedDistance* sdf = nullptr;
+  const MaxPenetrationResult* max_penetration = nullptr;
+  double max_penetration_tolerance = 1e-6;
+  double seconds_max_penetration = 0.0;
+  std::string mesh_path, input_sha, out_dir;
+  std::vector<std::string> names;   // level names as the user wrote them (file names derive from them)
+  std::vector<double> distances;    // absolute signed distances
+  OffsetOptions options;
+  bool verbose = false;
+  const char* log_prefix = "cdbench offset: ";
+};
+
+struct OffsetSetResult {
+  nlohmann::json manifest;  // also written to out_dir/manifest.json
+  std::vector<double> seconds;
+  std::vector<char> failed, reused;
+  std::vector<std::string> files;  // per level, empty when the level has no mesh
+};
+
+OffsetSetResult write_offset_set(const OffsetSetRequest& request);
+
+}  // namespace cdbench::cli

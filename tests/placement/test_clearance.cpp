@@ -1,0 +1,125 @@
+// Certified clearance against cases with known answers (boxes) and against an independent fine
+// Lipschitz enclosure from dense surface sampling (spheres, torus).
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <random>
+
+#include "mesh/shapes.h"
+#include "placement/clearance.h"
+#include "placement/place_pose.h"
+
+namespace cdbench {
+namespace {
+
+struct Case {
+  SignedDistance fixed;
+  TriangleMesh mover;
+  std::vector<std::uint32_t> comps;
+  Case(TriangleMesh f, TriangleMesh m) : fixed(std::move(f)), mover(std::move(m)), comps(component_representatives(mover)) {}
+  ClearanceResult run(const Eigen::Matrix3d& R, const Vec3& t, double tol) {
+    const MoverOrientation o = make_mover_orientation(mover, R);
+    ClearanceOptions opt;
+    opt.tolerance = tol;
+    return certify_clearance(fixed, mover, comps, o, t, opt);
+  }
+};
+
+// Axis-aligned boxes are the worst case of the branch and bound (the deepest points form plateaus
+// split between coplanar triangles, or whole faces coincide; see doc/poses.md), so a coarser
+// tolerance here; the answers are known exactly.
+TEST(Clearance, BoxesWithKnownAnswers) {
+  Case c(make_box(Vec3(-2, -2, -2), Vec3(2, 2, 2)), make_box(Vec3(-1, -1, -1), Vec3(1, 1, 1)));
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double tol = 1e-2;
+  // Separated by a gap of 2: the distance path, a few ulps wide.
+  ClearanceResult r = c.run(I, Vec3(5, 0, 0), tol);
+  EXPECT_TRUE(r.separated);
+  EXPECT_TRUE(r.clearance.contains(2.0));
+  EXPECT_LT(r.clearance.width(), 1e-13);
+  EXPECT_EQ(r.cells, 0u);
+  // Inside, shifted by 0.5: the deepest mover surface point is 1.5 deep (face x = -0.5 centre).
+  r = c.run(I, Vec3(0.5, 0, 0), tol);
+  EXPECT_FALSE(r.separated);
+  EXPECT_TRUE(r.tolerance_reached);
+  EXPECT_TRUE(r.clearance.contains(-1.5)) << r.clearance.lo << " " << r.clearance.hi;
+  EXPECT_LE(r.clearance.width(), tol * 1.001);
+  // Touching along a face: c = 0.
+  r = c.run(I, Vec3(3, 0, 0), tol);
+  EXPECT_TRUE(r.clearance.contains(0.0)) << r.clearance.lo << " " << r.clearance.hi;
+  EXPECT_LE(r.clearance.width(), tol * 1.001);
+  // Crossing: mover centred at x = 2.5 reaches x = 1.5 inside; its deepest surface points are on
+  // the face x = 1.5, 0.5 deep.
+  r = c.run(I, Vec3(2.5, 0, 0), tol);
+  EXPECT_TRUE(r.clearance.contains(-0.5)) << r.clearance.lo << " " << r.clearance.hi;
+  EXPECT_LE(r.clearance.width(), tol * 1.001);
+}
+
+// Fine sampling of the mover surface: min of certified s over samples is an upper bound of c, and
+// min - h (h the sampling radius) a lower bound; the certificate must intersect that enclosure.
+Interval sampled_enclosure(const SignedDistance& fixed, const std::vector<Vec3>& P, const std::vector<Face>& faces, int n) {
+  double best = HUGE_VAL, h = 0.0;
+  for (const Face& f : faces) {
+    const Vec3 &a = P[f[0]], &b = P[f[1]], &c = P[f[2]];
+    h = std::max(h, std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) / n);
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const Vec3 x = a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n);
+        best = std::min(best, fixed.signed_distance(x).hi);
+      }
+  }
+  return {best - h, best};
+}
+
+TEST(Clearance, AgreesWithDenseSampling) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Case c(make_torus(1.0, 0.4, 24, 12), make_icosphere(0.5, 1));
+  int separated = 0, penetrating = 0;
+  for (int k = 0; k < 24; ++k) {
+    const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    const Vec3 t = k % 4 == 0 ? Vec3(0.05 * u(rng), 0.05 * u(rng), 0.05 * u(rng))  // in the hole
+                              : Vec3(1.6 * u(rng), 1.6 * u(rng), 0.9 * u(rng));
+    const double tol = 1e-6;
+    const ClearanceResult r = c.run(R, t, tol);
+    const MoverOrientation o = make_mover_orientation(c.mover, R);
+    const Interval ref = sampled_enclosure(c.fixed, o.placed(t), c.mover.faces, 12);
+    SCOPED_TRACE("case " + std::to_string(k));
+    EXPECT_TRUE(r.tolerance_reached);
+    EXPECT_LE(r.clearance.lo, ref.hi) << r.clearance.lo << " " << r.clearance.hi << " vs " << ref.lo << " " << ref.hi;
+    EXPECT_GE(r.clearance.hi, ref.lo) << r.clearance.lo << " " << r.clearance.hi << " vs " << ref.lo << " " << ref.hi;
+    EXPECT_LE(r.clearance.width(), r.separated ? 1e-12 : tol * 1.001);
+    (r.separated ? separated : penetrating)++;
+  }
+  EXPECT_GT(separated, 2);
+  EXPECT_GT(penetrating, 2);
+}
+
+TEST(PlacePose, PolishedPosesHitTheTarget) {
+  const TriangleMesh sphere = make_icosphere(1.0, 2);
+  const SignedDistance fixed(sphere);
+  const ApproachSetup setup = make_approach_setup(fixed, sphere);
+  const SweepMesh level0 = make_sweep_mesh(sphere.vertices, sphere.faces);
+  PoseOptions opt;
+  opt.tolerance = 1e-6;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int k = 0; k < 6; ++k) {
+    const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    const OrientationFrame frame = make_orientation_frame(setup, R);
+    const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
+    for (double target : {0.0, 0.1, -0.2}) {
+      // Raw placement against the surface itself, so polishing to a negative target starts from a
+      // pose before the crossing, and to a positive one from far away.
+      const PoseOutcome p = place_pose(setup, frame, level0, dir, target, opt);
+      ASSERT_TRUE(p.contact);
+      EXPECT_TRUE(p.certified);
+      EXPECT_TRUE(p.on_target) << target << ": [" << p.clearance.lo << ", " << p.clearance.hi << "] steps " << p.steps;
+      EXPECT_GE(p.clearance.lo, target - opt.tolerance);
+      EXPECT_LE(p.clearance.hi, target + opt.tolerance);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace cdbench
