@@ -4,6 +4,8 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <csignal>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -284,7 +286,10 @@ int run_poses(const PosesCliOptions& opt) {
               << " approaches already certified" << std::endl;
   Progress progress("poses", todo * L);
   Timer t_poses;
-  std::uint64_t computed = 0;
+  std::uint64_t computed = 0, batches_written = 0;
+  // For the resume test only: die (as from a kill or power loss) after this many journal batches.
+  const char* kill_env = std::getenv("CDBENCH_TEST_KILL_AFTER_BATCHES");
+  const std::uint64_t kill_after = kill_env ? std::strtoull(kill_env, nullptr, 10) : 0;
   for (std::uint64_t o = first / N; o < K && o * N < last; ++o) {
     const std::uint64_t a0 = std::max(first, o * N), a1 = std::min(last, (o + 1) * N);
     std::vector<std::uint64_t> pending;
@@ -345,6 +350,8 @@ int run_poses(const PosesCliOptions& opt) {
     journal.flush();
     if (!journal) throw InputError(journal_path + ": write failed (disk full?)");
     computed += pending.size() * L;
+    ++batches_written;
+    if (kill_after > 0 && batches_written >= kill_after) std::raise(SIGKILL);  // tests: a hard interruption
   }
   progress.finish();
   const double seconds_poses = t_poses.seconds();

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# cdbench poses / merge: determinism across thread counts and shards, resume after a hard
+# interruption, and errors on bad options. Usage: poses.sh CDBENCH MESH
+set -u
+bin=$1
+mesh=$2
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+args=(--levels=-20%,0,10% --directions 6 --orientations 3 --band-tolerance 5e-3)
+
+"$bin" poses "$mesh" "${args[@]}" --threads 2 -o "$dir/a" > "$dir/a.log" 2>&1 || { cat "$dir/a.log"; fail "reference run"; }
+head -1 "$dir/a/poses.csv" | grep -q '^pose,level,target,r00,r01,r02,r10,r11,r12,r20,r21,r22,tx,ty,tz,dir_x,dir_y,dir_z,clearance_lo,clearance_hi,status' || fail "header"
+[ "$(tail -n +2 "$dir/a/poses.csv" | wc -l)" -eq 54 ] || fail "expected 54 poses"
+grep -q '"format": "cdbench-poseset"' "$dir/a/poseset.json" || fail "poseset.json format"
+[ ! -e "$dir/a/poses.journal" ] || fail "journal left behind"
+# Every pose certified and on target.
+awk -F, 'NR > 1 && $21 != "certified" { bad++ } END { exit bad > 0 }' "$dir/a/poses.csv" || fail "uncertified poses"
+
+# Reuse the offsets in the other directories (manifest keys match): the runs stay quick.
+for d in b s0 s1 r; do mkdir -p "$dir/$d"; cp -r "$dir/a/offsets" "$dir/$d/"; done
+
+"$bin" poses "$mesh" "${args[@]}" --threads 1 -o "$dir/b" > /dev/null 2>&1 || fail "one-thread run"
+cmp -s "$dir/a/poses.csv" "$dir/b/poses.csv" || fail "poses.csv depends on the thread count"
+
+"$bin" poses "$mesh" "${args[@]}" --shard 0/2 -o "$dir/s0" > /dev/null 2>&1 || fail "shard 0"
+"$bin" poses "$mesh" "${args[@]}" --shard 1/2 -o "$dir/s1" > /dev/null 2>&1 || fail "shard 1"
+"$bin" merge "$dir/s1" "$dir/s0" -o "$dir/m" > /dev/null 2>&1 || fail "merge"
+cmp -s "$dir/a/poses.csv" "$dir/m/poses.csv" || fail "merged shards differ from the single run"
+"$bin" merge "$dir/s0" -o "$dir/m2" > "$dir/m2.log" 2>&1
+[ $? -eq 2 ] && grep -q "missing shard(s) 1 of 2" "$dir/m2.log" || fail "merge with a missing shard must fail"
+
+# Hard interruption after the first batch, then --resume.
+CDBENCH_TEST_KILL_AFTER_BATCHES=1 "$bin" poses "$mesh" "${args[@]}" -o "$dir/r" > /dev/null 2>&1
+[ -s "$dir/r/poses.journal" ] || fail "no journal after the interruption"
+[ ! -e "$dir/r/poses.csv" ] || fail "a poses.csv after the interruption"
+"$bin" poses "$mesh" "${args[@]}" -o "$dir/r" > "$dir/r.log" 2>&1
+[ $? -eq 2 ] && grep -q "pass --resume" "$dir/r.log" || fail "a run over a journal without --resume must refuse"
+"$bin" poses "$mesh" --levels=-20%,0,10% --directions 7 --orientations 3 --band-tolerance 5e-3 --resume -o "$dir/r" > "$dir/r.log" 2>&1
+[ $? -eq 2 ] && grep -q "belongs to a run with other inputs" "$dir/r.log" || fail "--resume with other options must refuse"
+"$bin" poses "$mesh" "${args[@]}" --resume -o "$dir/r" > "$dir/r.log" 2>&1 || { cat "$dir/r.log"; fail "resume"; }
+grep -q "resuming: 6 of 18 approaches already certified" "$dir/r.log" || { cat "$dir/r.log"; fail "resume did not reuse the journal"; }
+cmp -s "$dir/a/poses.csv" "$dir/r/poses.csv" || fail "resumed run differs"
+
+# Bad options.
+"$bin" poses "$mesh" "${args[@]}" --shard 2/2 -o "$dir/x" > "$dir/x.log" 2>&1
+[ $? -eq 2 ] && grep -q "0 <= I < N" "$dir/x.log" || fail "--shard 2/2"
+"$bin" poses "$mesh" --levels=1,1 --directions 2 --orientations 1 -o "$dir/x" > "$dir/x.log" 2>&1
+[ $? -eq 2 ] && grep -q "listed twice" "$dir/x.log" || fail "duplicate level"
+echo "poses: all checks passed"
