@@ -70,4 +70,79 @@ Interval triangle_triangle_squared_distance(const Vec3& a, const Vec3& b, const 
   return r;
 }
 
+namespace {
+
+// Closest points of segments p0p1 and q0q1 in doubles (clamped parameters).
+double segment_closest(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, Vec3* cp, Vec3* cq) {
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0.0, t = 0.0;
+  if (a <= 0.0 && e <= 0.0) {
+    s = t = 0.0;
+  } else if (a <= 0.0) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= 0.0) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  *cp = p0 + s * d1;
+  *cq = q0 + t * d2;
+  return (*cp - *cq).squaredNorm();
+}
+
+}  // namespace
+
+double triangle_triangle_closest_points(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e,
+                                        const Vec3& f, Vec3* p, Vec3* q) {
+  double best = HUGE_VAL;
+  const auto offer = [&](const Vec3& x, const Vec3& y) {
+    const double d2 = (x - y).squaredNorm();
+    if (d2 < best) {
+      best = d2;
+      *p = x;
+      *q = y;
+    }
+  };
+  for (const Vec3* v : {&d, &e, &f}) offer(closest_point_on_triangle(*v, a, b, c), *v);
+  for (const Vec3* v : {&a, &b, &c}) offer(*v, closest_point_on_triangle(*v, d, e, f));
+  const Vec3* s1[3][2] = {{&a, &b}, {&b, &c}, {&c, &a}};
+  const Vec3* s2[3][2] = {{&d, &e}, {&e, &f}, {&f, &d}};
+  for (auto& x : s1)
+    for (auto& y : s2) {
+      Vec3 cp, cq;
+      segment_closest(*x[0], *x[1], *y[0], *y[1], &cp, &cq);
+      offer(cp, cq);
+    }
+  return best;
+}
+
+double triangle_distance_lower_bound(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e,
+                                     const Vec3& f, const Vec3& u) {
+  CGAL::Protect_FPU_rounding<true> guard;
+  const V U = vec(u);
+  const I pa = dot(vec(a), U), pb = dot(vec(b), U), pc = dot(vec(c), U);
+  const I pd = dot(vec(d), U), pe = dot(vec(e), U), pf = dot(vec(f), U);
+  // Gap with abc below def along u, or above it. Under upward rounding, -(y - x) is x - y rounded down.
+  const double gap_up = -(std::max({pa.sup(), pb.sup(), pc.sup()}) - std::min({pd.inf(), pe.inf(), pf.inf()}));
+  const double gap_down = -(std::max({pd.sup(), pe.sup(), pf.sup()}) - std::min({pa.inf(), pb.inf(), pc.inf()}));
+  const double gap = std::max(gap_up, gap_down);
+  if (!(gap > 0.0)) return 0.0;
+  const I len = CGAL::sqrt(dot(U, U));
+  // gap / |u| rounded down: divide the negated value under upward rounding.
+  return -((-gap) / len.sup());
+}
+
 }  // namespace cdbench

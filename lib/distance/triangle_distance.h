@@ -15,4 +15,17 @@ Interval segment_segment_squared_distance(const Vec3& p0, const Vec3& p1, const 
 Interval triangle_triangle_squared_distance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
                                             const Vec3& e, const Vec3& f);
 
+// Closest points of two triangles in plain doubles (not certified): an estimate of their distance
+// and of the direction of the segment joining them, from the 6 vertex-triangle and 9 edge-edge
+// pairs. Returns the squared distance estimate; *p on abc, *q on def.
+double triangle_triangle_closest_points(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e,
+                                        const Vec3& f, Vec3* p, Vec3* q);
+
+// A rigorous lower bound of the distance between triangles abc and def from any direction u:
+// the gap between their projections on u (interval arithmetic, rounded down), divided by |u|
+// rounded up; 0 when the projections overlap. Exact (up to rounding) when u joins the closest points
+// of disjoint triangles, since the slab orthogonal to it separates them.
+double triangle_distance_lower_bound(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e,
+                                     const Vec3& f, const Vec3& u);
+
 }  // namespace cdbench

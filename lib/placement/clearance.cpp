@@ -30,25 +30,52 @@ inline Aabb moved(const Aabb& b, const Vec3& t) {
 }
 
 // Minimum triangle-pair distance between the placed mover and F (squared, certified), stopping at
-// the first proven intersection.
+// the first proven intersection. In the fast mode a leaf costs a double closest-point estimate plus
+// a rigorous lower bound from the projections on the estimated direction (exact up to rounding for
+// the closest pair); pruning uses the estimated best distance with a margin, and the caller
+// verifies afterwards, rigorously, that the margin held (else it reruns in the rigorous mode).
 struct DistancePolicy {
   const TriangleMesh& F;
   const std::vector<Vec3>& P;
   const std::vector<Face>& faces;
   const Vec3& t;
-  double min_lo_sq = kInf, best_hi_sq = kInf;
+  bool fast = true;
+  double min_lo_sq = kInf, best_hi_sq = kInf;  // rigorous mode: enclosure of the minimum
+  double best_est_sq = kInf, threshold_sq = kInf;  // fast mode: estimate and pruning threshold
+  double tiny_sq = 0.0, margin_sq = 0.0;
+  std::uint32_t best_f = 0, best_m = 0;
   bool intersect = false;
   std::uint64_t tests = 0;
 
   double bound(const Aabb& f, const Aabb& m) const { return squared_distance_lower_bound(f, moved(m, t)); }
-  double prune_bound() const { return best_hi_sq; }
+  double prune_bound() const { return fast ? threshold_sq : best_hi_sq; }
   bool split_first(const Aabb& f, const Aabb& m) const { return f.extent().squaredNorm() >= m.extent().squaredNorm(); }
   void leaf(std::uint32_t fi, std::uint32_t mi) {
     ++tests;
     const Face& a = F.faces[fi];
     const Face& b = faces[mi];
-    const Interval d2 = triangle_triangle_squared_distance(F.vertices[a[0]], F.vertices[a[1]], F.vertices[a[2]], P[b[0]],
-                                                           P[b[1]], P[b[2]]);
+    const Vec3 &A0 = F.vertices[a[0]], &A1 = F.vertices[a[1]], &A2 = F.vertices[a[2]];
+    const Vec3 &B0 = P[b[0]], &B1 = P[b[1]], &B2 = P[b[2]];
+    if (fast) {
+      Vec3 p, q;
+      const double e2 = triangle_triangle_closest_points(A0, A1, A2, B0, B1, B2, &p, &q);
+      const double lb = e2 > tiny_sq ? triangle_distance_lower_bound(A0, A1, A2, B0, B1, B2, q - p) : 0.0;
+      if (lb > 0.0) {
+        min_lo_sq = std::min(min_lo_sq, down(lb * lb));
+      } else {
+        const Interval d2 = triangle_triangle_squared_distance(A0, A1, A2, B0, B1, B2);
+        min_lo_sq = std::min(min_lo_sq, d2.lo);
+        if (d2.hi == 0.0) intersect = true;
+      }
+      if (e2 < best_est_sq) {
+        best_est_sq = e2;
+        threshold_sq = e2 * (1.0 + 1e-6) + margin_sq;
+        best_f = fi;
+        best_m = mi;
+      }
+      return;
+    }
+    const Interval d2 = triangle_triangle_squared_distance(A0, A1, A2, B0, B1, B2);
     min_lo_sq = std::min(min_lo_sq, d2.lo);
     best_hi_sq = std::min(best_hi_sq, d2.hi);
     if (d2.hi == 0.0) intersect = true;
@@ -219,8 +246,32 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   ClearanceResult r;
   const std::vector<Vec3> P = orientation.placed(t);
   DistancePolicy dist{fixed.mesh(), P, mover.faces, t};
+  double scale = fixed.bbox().lo.cwiseAbs().maxCoeff() + fixed.bbox().hi.cwiseAbs().maxCoeff();
+  for (const Vec3& p : P) scale = std::max(scale, p.cwiseAbs().maxCoeff());
+  dist.tiny_sq = (1e-9 * scale) * (1e-9 * scale);
+  dist.margin_sq = (1e-10 * scale) * (1e-10 * scale);
   traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, dist);
   r.pair_tests = dist.tests;
+  if (!dist.intersect && dist.best_est_sq < kInf) {
+    // Rigorous upper end from the best pair; pruned pairs lie beyond the final threshold, so they
+    // cannot hold the minimum if it is below that threshold. Otherwise redo rigorously.
+    const Face& a = fixed.mesh().faces[dist.best_f];
+    const Face& b = mover.faces[dist.best_m];
+    const auto& fv = fixed.mesh().vertices;
+    const Interval best =
+        triangle_triangle_squared_distance(fv[a[0]], fv[a[1]], fv[a[2]], P[b[0]], P[b[1]], P[b[2]]);
+    dist.min_lo_sq = std::min(dist.min_lo_sq, best.lo);
+    dist.best_hi_sq = best.hi;
+    if (!(best.hi <= dist.threshold_sq)) {
+      DistancePolicy rigorous{fixed.mesh(), P, mover.faces, t};
+      rigorous.fast = false;
+      traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, rigorous);
+      r.pair_tests += rigorous.tests;
+      dist.min_lo_sq = rigorous.min_lo_sq;
+      dist.best_hi_sq = rigorous.best_hi_sq;
+      dist.intersect = rigorous.intersect;
+    }
+  }
   bool all_outside = !dist.intersect && dist.min_lo_sq > 0.0;
   if (all_outside)
     for (std::uint32_t v : components)

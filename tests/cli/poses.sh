@@ -47,4 +47,12 @@ cmp -s "$dir/a/poses.csv" "$dir/r/poses.csv" || fail "resumed run differs"
 [ $? -eq 2 ] && grep -q "0 <= I < N" "$dir/x.log" || fail "--shard 2/2"
 "$bin" poses "$mesh" --levels=1,1 --directions 2 --orientations 1 -o "$dir/x" > "$dir/x.log" 2>&1
 [ $? -eq 2 ] && grep -q "listed twice" "$dir/x.log" || fail "duplicate level"
+# The numpy reader of doc/pose-set-format.md, when a python3 with numpy is at hand.
+reader="$(dirname "$0")/../../scripts/read_poseset.py"
+for py in python3 /usr/bin/python3; do
+  if "$py" -c "import numpy" > /dev/null 2>&1; then
+    "$py" "$reader" "$dir/a" || fail "numpy reader"
+    break
+  fi
+done
 echo "poses: all checks passed"

@@ -65,5 +65,34 @@ TEST(SegmentDistance, AgainstExactRationals) {
   }
 }
 
+// The projection lower bound: never above the exact distance (exact rationals), whatever the
+// direction; and, along the estimated closest-point direction, tight for disjoint triangles.
+TEST(TriangleDistance, ProjectionLowerBoundAgainstExactRationals) {
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int tight = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+    const Vec3 shift = 1.5 * Vec3(u(rng), u(rng), u(rng));
+    const Vec3 d = Vec3(u(rng), u(rng), u(rng)) + shift, e = Vec3(u(rng), u(rng), u(rng)) + shift,
+               f = Vec3(u(rng), u(rng), u(rng)) + shift;
+    const Epeck::FT exact = CGAL::squared_distance(Epeck::Triangle_3(exact_point(a), exact_point(b), exact_point(c)),
+                                                   Epeck::Triangle_3(exact_point(d), exact_point(e), exact_point(f)));
+    Vec3 p, q;
+    const double est = triangle_triangle_closest_points(a, b, c, d, e, f, &p, &q);
+    for (const Vec3& dir : {Vec3(q - p), Vec3(u(rng), u(rng), u(rng))}) {
+      const double lb = triangle_distance_lower_bound(a, b, c, d, e, f, dir);
+      ASSERT_GE(lb, 0.0);
+      EXPECT_TRUE(Epeck::FT(lb) * Epeck::FT(lb) <= exact) << k;
+    }
+    if (est > 1e-6) {
+      const double lb = triangle_distance_lower_bound(a, b, c, d, e, f, q - p);
+      EXPECT_NEAR(lb * lb, CGAL::to_double(exact), 1e-12 * (1 + est)) << k;
+      ++tight;
+    }
+  }
+  EXPECT_GT(tight, 1000);
+}
+
 }  // namespace
 }  // namespace cdbench
