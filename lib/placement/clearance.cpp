@@ -105,7 +105,12 @@ class BranchAndBound {
                  double tol)
       : fixed_(fixed), o_(o), P_(P), t_(t), tol_(tol) {}
 
-  void run(std::uint64_t max_cells, ClearanceResult& r) {
+  void run(std::uint64_t max_cells, std::int64_t hint_face, double hint_beta, double hint_gamma, ClearanceResult& r) {
+    if (hint_face >= 0 && static_cast<std::size_t>(hint_face) < o_.faces->size()) {
+      Cell h{0, 0, false, static_cast<std::uint32_t>(hint_face), 1,
+             {{{hint_beta, hint_gamma}, {hint_beta, hint_gamma}, {hint_beta, hint_gamma}}}};
+      evaluate_face(h);  // sets the upper bound only (a point cell, not pushed)
+    }
     push(evaluate_node(0));
     while (!queue_.empty()) {
       const Cell c = queue_.top();
@@ -140,6 +145,9 @@ class BranchAndBound {
     r.tolerance_reached = queue_.empty() || queue_.top().lower >= upper_ - tol_;
     r.clearance = {lower, upper_};
     r.distance_queries = queries_;
+    r.argmin_face = argmin_face_;
+    r.argmin_beta = argmin_bary_[0];
+    r.argmin_gamma = argmin_bary_[1];
   }
 
  private:
@@ -196,7 +204,11 @@ class BranchAndBound {
     ++queries_;
     const Interval ud = fixed_.unsigned_distance(m);
     const Interval s = fixed_.signed_distance(m, ud);
-    upper_ = std::min(upper_, up(s.hi + eta_m));
+    if (up(s.hi + eta_m) < upper_) {
+      upper_ = up(s.hi + eta_m);
+      argmin_face_ = c.id;
+      argmin_bary_ = {(c.bary[0][0] + c.bary[1][0] + c.bary[2][0]) / 3, (c.bary[0][1] + c.bary[1][1] + c.bary[2][1]) / 3};
+    }
     double lower = down(down(s.lo - r) - eta_m);
     if (lower < upper_ - tol_) {
       // Distance from the cell to F, needed only where the cell may reach F (otherwise the
@@ -232,6 +244,8 @@ class BranchAndBound {
   const Vec3& t_;
   double tol_;
   double upper_ = kInf;
+  std::int64_t argmin_face_ = -1;
+  std::array<double, 2> argmin_bary_{0.0, 0.0};
   double min_discarded_ = kInf;
   std::uint64_t seq_ = 0, queries_ = 0;
   std::vector<std::uint32_t> ids_;
@@ -281,7 +295,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     r.clearance = sqrt_interval({dist.min_lo_sq, dist.best_hi_sq});
   } else {
     BranchAndBound bb(fixed, orientation, P, t, options.tolerance);
-    bb.run(options.max_cells, r);
+    bb.run(options.max_cells, options.hint_face, options.hint_beta, options.hint_gamma, r);
   }
   r.transform_error = orientation.transform_error(t);
   r.clearance.lo = down(r.clearance.lo - 2 * r.transform_error);

@@ -22,6 +22,10 @@ namespace cdbench {
 struct ClearanceOptions {
   double tolerance = 0.0;             // absolute; target width for the branch-and-bound case
   std::uint64_t max_cells = 400000;   // safety stop (the result then reports a wider interval)
+  // A mover surface point (face, barycentrics) likely to be near the minimum, e.g. the previous
+  // pose's: it only speeds up the branch and bound (an early upper bound prunes more).
+  std::int64_t hint_face = -1;
+  double hint_beta = 1.0 / 3, hint_gamma = 1.0 / 3;
 };
 
 struct ClearanceResult {
@@ -30,6 +34,9 @@ struct ClearanceResult {
   bool separated = false;  // decided by the distance path (surfaces disjoint, mover outside)
   double transform_error = 0.0;
   std::uint64_t pair_tests = 0, cells = 0, distance_queries = 0;
+  // Where the branch and bound found its upper end (a hint for the next, nearby pose); -1 if unused.
+  std::int64_t argmin_face = -1;
+  double argmin_beta = 0.0, argmin_gamma = 0.0;
 };
 
 // `mover` is the mover mesh in its own coordinates, `components` its component_representatives.

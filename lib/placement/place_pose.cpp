@@ -68,6 +68,11 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     const Vec3 t = translation(frame, dir, lambda);
     const ClearanceResult r = certify_clearance(*setup.fixed, *setup.mover, setup.components, frame.orientation, t, copt);
     out.clearance_cells += r.cells;
+    if (r.argmin_face >= 0) {  // the next, nearby pose starts from this minimum
+      copt.hint_face = r.argmin_face;
+      copt.hint_beta = r.argmin_beta;
+      copt.hint_gamma = r.argmin_gamma;
+    }
     return r;
   };
   const double final_tol = copt.tolerance;

@@ -1,0 +1,145 @@
+// The pose pipeline against FCL's translational conservative advancement, on the approaches of a
+// pose set made by `cdbench poses` (validation/bench_poses.sh runs both):
+//  - our exact first contact of the mover with the fixed surface (sphere trees, exact sweeps);
+//  - fcl::detail::conservativeAdvancementMeshOriented (OBBRSS, TranslationMotion) on the same
+//    approach, from the same far start to the mirrored far end;
+//  - how far FCL's contact is from the exact one, and the certified pose rate of the pose set.
+// Usage: bench_poses POSESET_DIR [--approaches M]
+#include <fcl/fcl.h>
+#include <fcl/narrowphase/detail/conservative_advancement_func_matrix.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "mesh/read_mesh.h"
+#include "mesh/validate_mesh.h"
+#include "placement/place_pose.h"
+#include "sampling/sampling.h"
+
+using namespace cdbench;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::shared_ptr<fcl::BVHModel<fcl::OBBRSS<double>>> fcl_model(const TriangleMesh& m) {
+  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSS<double>>>();
+  std::vector<fcl::Vector3<double>> v(m.vertices.begin(), m.vertices.end());
+  std::vector<fcl::Triangle> t;
+  for (const Face& f : m.faces) t.emplace_back(f[0], f[1], f[2]);
+  model->beginModel();
+  model->addSubModel(v, t);
+  model->endModel();
+  return model;
+}
+
+TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_soup(path)).mesh; }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: bench_poses POSESET_DIR [--approaches M]\n");
+    return 2;
+  }
+  const std::string dir = argv[1];
+  std::size_t wanted = 200;
+  for (int i = 2; i + 1 < argc; ++i)
+    if (std::strcmp(argv[i], "--approaches") == 0) wanted = std::stoul(argv[i + 1]);
+  std::ifstream in(dir + "/poseset.json");
+  if (!in) {
+    std::fprintf(stderr, "%s/poseset.json: cannot be read\n", dir.c_str());
+    return 2;
+  }
+  const nlohmann::json ps = nlohmann::json::parse(in);
+  const TriangleMesh fixed_mesh = load(ps["fixed"]["path"].get<std::string>());
+  const TriangleMesh mover = load(ps["mover"]["path"].get<std::string>());
+  const SignedDistance fixed(fixed_mesh);
+  const double diag = fixed.bbox().diagonal();
+  const ApproachSetup setup = make_approach_setup(fixed, mover);
+  const SweepMesh level0 = make_sweep_mesh(fixed_mesh.vertices, fixed_mesh.faces);
+
+  // The pose set's samples, regenerated exactly as `cdbench poses` makes them.
+  const auto& s = ps["sampling"];
+  const std::size_t N = s["directions"]["count"], K = s["orientations"]["count"];
+  const std::vector<Vec3> dirs =
+      s["directions"]["kind"] == "grid" ? sphere_grid(N) : sphere_fibonacci(N);
+  const std::vector<Eigen::Quaterniond> rots = s["orientations"]["kind"] == "random"
+                                                   ? rotations_random(K, s["orientations"]["seed"].get<std::uint64_t>())
+                                                   : rotations_super_fibonacci(K);
+  const std::size_t A = N * K, M = std::min(wanted, A);
+
+  auto fcl_fixed = fcl_model(fixed_mesh);
+  auto fcl_mover = fcl_model(mover);
+  const double far = setup.fixed_radius + setup.mover_radius + 1e-3 * diag;
+  double t_exact = 0.0, t_fcl = 0.0, max_over = 0.0, max_under = 0.0;
+  std::size_t differ = 0, overshoot = 0, both = 0, fcl_miss = 0;
+  std::size_t current_orientation = static_cast<std::size_t>(-1);
+  std::unique_ptr<OrientationFrame> frame;
+  for (std::size_t k = 0; k < M; ++k) {
+    const std::size_t a = k * A / M;  // spread over the whole set
+    const std::size_t o = a / N;
+    const Vec3& d = dirs[a % N];
+    if (o != current_orientation) {
+      frame = std::make_unique<OrientationFrame>(make_orientation_frame(setup, rots[o].toRotationMatrix()));
+      current_orientation = o;
+    }
+    auto t0 = Clock::now();
+    const MeshContact c = first_contact_along_line(level0, frame->swept, -d);
+    const double lambda_exact = c.hit ? -exact_contact_time(level0, frame->swept, -d, c).get_d() : NAN;
+    t_exact += seconds_since(t0);
+
+    const fcl::Matrix3<double> R = frame->orientation.R;
+    fcl::Transform3<double> start = fcl::Transform3<double>::Identity(), end = start, id = start;
+    start.linear() = R;
+    end.linear() = R;
+    start.translation() = frame->t0 + far * d;
+    end.translation() = frame->t0 - far * d;
+    fcl::TranslationMotion<double> m1(id, id), m2(start, end);
+    fcl::CollisionRequest<double> request;
+    fcl::CollisionResult<double> result;
+    double toc = 1.0;
+    t0 = Clock::now();
+    const bool hit = fcl::detail::conservativeAdvancementMeshOriented<fcl::OBBRSS<double>,
+                                                                       fcl::detail::MeshConservativeAdvancementTraversalNodeOBBRSS<double>>(
+        *fcl_fixed, &m1, *fcl_mover, &m2, request, result, toc);
+    t_fcl += seconds_since(t0);
+    if (!c.hit) continue;
+    if (!hit) {
+      ++fcl_miss;
+      continue;
+    }
+    ++both;
+    const double lambda_fcl = far - toc * 2 * far;
+    const double err = lambda_fcl - lambda_exact;  // < 0: FCL moved past the exact first contact
+    if (std::abs(err) > 1e-6 * diag) ++differ;
+    if (err < -1e-6 * diag) ++overshoot;
+    max_over = std::max(max_over, -err);
+    max_under = std::max(max_under, err);
+  }
+  const double pps = ps["timings"]["poses_per_second"].get<double>();
+  const std::size_t levels = ps["levels"].size();
+  std::printf("pose set %s: %zu faces, %zu directions x %zu orientations x %zu levels\n", dir.c_str(),
+              fixed_mesh.faces.size(), N, K, levels);
+  std::printf("certified poses per second (cdbench poses, its own run): %.1f\n", pps);
+  std::printf("%-52s %12s\n", "per approach, one thread", "ms");
+  std::printf("%-52s %12.3f\n", "cdbench exact first contact (sphere trees)", 1e3 * t_exact / M);
+  std::printf("%-52s %12.3f\n", "FCL conservativeAdvancementMeshOriented (OBBRSS)", 1e3 * t_fcl / M);
+  std::printf("ratio FCL CA / exact first contact: %.2f\n", t_fcl / t_exact);
+  std::printf("ratio certified pose (all levels, polished) / FCL CA, per pose: %.2f\n",
+              (1.0 / pps) / (t_fcl / M));
+  std::printf("approaches %zu, contact found by both %zu, FCL found none %zu\n", M, both, fcl_miss);
+  std::printf("FCL contact differs from the exact one by > 1e-6 diag: %zu (%.1f%%), past it: %zu; max past %.3g, "
+              "max short %.3g (x diag: %.3g, %.3g)\n",
+              differ, both ? 100.0 * differ / both : 0.0, overshoot, max_over, max_under, max_over / diag,
+              max_under / diag);
+  return 0;
+}
