@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The main job on the embedded default input: install, build, then `cdbench check` with the
-# certified maximum penetration on CGAL's armadillo (from Debian's libcgal-demo), falling back to
-# the committed torus when the CGAL data is unavailable.
+# The main job on the embedded default input: install, build, check CGAL's armadillo (from
+# Debian's libcgal-demo; the committed torus when that data is unavailable), then make a certified
+# pose set of it (5 levels from -25% to +25% of the maximum penetration, 40 directions x 2
+# orientations) and summarise it with the numpy reader when numpy is present.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$root/scripts/install-deps.sh"
@@ -9,3 +10,13 @@ bash "$root/scripts/build.sh"
 mesh="$root/data/meshes/torus.off"
 if bash "$root/scripts/fetch-cgal-data.sh"; then mesh="$root/data/cgal/meshes/armadillo.off"; fi
 "$root/build/cdbench" check "$mesh"
+echo
+out="$root/build/demo-poses"
+"$root/build/cdbench" poses "$mesh" --levels=-25%,-10%,0,10%,25% --directions 40 --orientations 2 -o "$out"
+for py in python3 /usr/bin/python3; do
+  if "$py" -c "import numpy" > /dev/null 2>&1; then
+    echo
+    "$py" "$root/scripts/read_poseset.py" "$out"
+    break
+  fi
+done
