@@ -9,7 +9,7 @@
 namespace cdbench {
 
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
-                         std::vector<std::uint32_t>& ids, Vec3* candidate) {
+                         std::vector<std::uint32_t>& ids, Vec3* candidate, const Vec3* plane_normal, int* worst_corner) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   sdf.triangles_within(c, radius, 48, ids);  // a partial set is still valid
   if (ids.empty()) return kInf;
@@ -36,6 +36,8 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
   }
   // Weights near the min-norm point of conv{g_j} (heuristic: only tightness depends on them).
   std::vector<double> lambda;
+  if (plane_normal)
+    for (Vec3& x : g) x -= x.dot(*plane_normal) * *plane_normal;
   min_norm_combination(g, lambda, 100);
   if (candidate) {
     *candidate = Vec3::Zero();
@@ -54,7 +56,11 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
     }
     // Positive terms only: the relative rounding error of at most ~50 additions and one product each
     // is below 1e-13; the factor covers it with margin.
-    worst = std::max(worst, sum * (1.0 + 1e-12) / (weights * (1.0 - 1e-12)));
+    const double bound = sum * (1.0 + 1e-12) / (weights * (1.0 - 1e-12));
+    if (bound > worst || corner == 0) {
+      worst = std::max(worst, bound);
+      if (worst_corner) *worst_corner = corner;
+    }
   }
   return round_up(worst);
 }

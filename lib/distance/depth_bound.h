@@ -17,7 +17,13 @@ namespace cdbench {
 // of c (any subset gives a valid bound; it must reach the nearest ones to be tight). Returns +inf
 // when no triangle qualifies. `candidate` (optional) receives the lambda-weighted mean of the
 // nearest points: a good guess for a deep point, to be certified by the caller.
+// For a flat cell (a triangle), pass its unit normal: the weights then cancel the gradients'
+// components within the cell's plane, which makes the bound tight where the depth restricted to
+// the plane peaks on a ridge between nearest triangles (only tightness depends on the weights).
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
-                         std::vector<std::uint32_t>& scratch, Vec3* candidate = nullptr);
+                         std::vector<std::uint32_t>& scratch, Vec3* candidate = nullptr,
+                         const Vec3* plane_normal = nullptr, int* worst_corner = nullptr);
+// worst_corner (optional) receives the corner attaining the bound: where the true depth is likely
+// largest, worth certifying as a candidate (a lower bound on the maximum depth).
 
 }  // namespace cdbench

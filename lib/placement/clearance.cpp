@@ -230,7 +230,23 @@ class BranchAndBound {
         // The exact cell is disjoint from F and on m's side (outside).
         lower = std::max(lower, dlo);
       } else if (s.hi < 0.0 || !(dlo > eta_m)) {
-        const double depth = depth_upper_bound(fixed_, m, up(ud.hi + 2 * r), v.data(), 3, ids_);
+        Vec3 normal = (v[1] - v[0]).cross(v[2] - v[0]);
+        const double len = normal.norm();
+        int corner = 0;
+        if (len > 0.0) normal /= len;
+        const double depth = depth_upper_bound(fixed_, m, up(ud.hi + 2 * r), v.data(), 3, ids_, nullptr,
+                                               len > 0.0 ? &normal : nullptr, &corner);
+        // The deepest point of a cell is often a corner (a mover vertex or edge): certify it, so
+        // that the upper end meets the convexity bound without subdividing towards that corner.
+        if (depth < kInf) {
+          ++queries_;
+          const double at_corner = up(fixed_.signed_distance(v[corner]).hi + eta);
+          if (at_corner < upper_) {
+            upper_ = at_corner;
+            argmin_face_ = c.id;
+            argmin_bary_ = c.bary[corner];
+          }
+        }
         lower = std::max(lower, down(-depth - eta));
       }
     }
