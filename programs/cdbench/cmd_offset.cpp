@@ -62,21 +62,11 @@ int run_offset(const OffsetCliOptions& opt) {
   const std::string input_sha = sha256_file(opt.mesh);
   const SignedDistance sdf(loaded.validated.mesh);
   const double diag = sdf.bbox().diagonal();
-  MaxPenetrationOptions mpo;
-  mpo.relative_tolerance = opt.max_penetration_tolerance;
-  Timer t_mp;
-  const MaxPenetrationResult mp = certified_max_penetration(sdf, mpo);
-  const double seconds_mp = t_mp.seconds();
+  double seconds_mp = 0.0;
+  const MaxPenetrationResult mp = timed_max_penetration(sdf, opt.max_penetration_tolerance, &seconds_mp);
 
-  OffsetSetRequest req;
-  req.loaded = &loaded;
-  req.sdf = &sdf;
-  req.max_penetration = &mp;
-  req.max_penetration_tolerance = opt.max_penetration_tolerance;
-  req.seconds_max_penetration = seconds_mp;
-  req.mesh_path = opt.mesh;
-  req.input_sha = input_sha;
-  req.out_dir = opt.out;
+  OffsetSetRequest req = make_offset_request(loaded, sdf, mp, opt.max_penetration_tolerance, seconds_mp, input_sha,
+                                            opt.out);
   for (const LevelSpec& l : specs) {
     req.names.push_back(l.text);
     req.distances.push_back(level_distance(l, mp.depth.lo));

@@ -169,11 +169,8 @@ int run_poses(const PosesCliOptions& opt) {
 
   const SignedDistance sdf(fixed_loaded.validated.mesh);
   const double diag = sdf.bbox().diagonal();
-  MaxPenetrationOptions mpo;
-  mpo.relative_tolerance = opt.max_penetration_tolerance;
-  Timer t_mp;
-  const MaxPenetrationResult mp = certified_max_penetration(sdf, mpo);
-  const double seconds_mp = t_mp.seconds();
+  double seconds_mp = 0.0;
+  const MaxPenetrationResult mp = timed_max_penetration(sdf, opt.max_penetration_tolerance, &seconds_mp);
   const bool polish = !opt.no_polish;
   const double tol = opt.tolerance * diag;
 
@@ -221,15 +218,8 @@ int run_poses(const PosesCliOptions& opt) {
   }
 
   // Offsets (reused across runs by their own manifest).
-  OffsetSetRequest req;
-  req.loaded = &fixed_loaded;
-  req.sdf = &sdf;
-  req.max_penetration = &mp;
-  req.max_penetration_tolerance = opt.max_penetration_tolerance;
-  req.seconds_max_penetration = seconds_mp;
-  req.mesh_path = opt.mesh;
-  req.input_sha = fixed_sha;
-  req.out_dir = opt.out + "/offsets";
+  OffsetSetRequest req = make_offset_request(fixed_loaded, sdf, mp, opt.max_penetration_tolerance, seconds_mp, fixed_sha,
+                                            opt.out + "/offsets");
   for (std::size_t l = 0; l < L; ++l) {
     req.names.push_back(polish ? specs[l].text + "+2band" : specs[l].text);
     req.distances.push_back(swept[l]);

@@ -36,6 +36,31 @@ std::string file_name(std::size_t index, const std::string& text) {
 
 }  // namespace
 
+MaxPenetrationResult timed_max_penetration(const SignedDistance& sdf, double relative_tolerance, double* seconds) {
+  MaxPenetrationOptions mpo;
+  mpo.relative_tolerance = relative_tolerance;
+  Timer t;
+  MaxPenetrationResult mp = certified_max_penetration(sdf, mpo);
+  *seconds = t.seconds();
+  return mp;
+}
+
+OffsetSetRequest make_offset_request(const LoadedMesh& loaded, const SignedDistance& sdf,
+                                     const MaxPenetrationResult& max_penetration, double max_penetration_tolerance,
+                                     double seconds_max_penetration, const std::string& input_sha,
+                                     const std::string& out_dir) {
+  OffsetSetRequest req;
+  req.loaded = &loaded;
+  req.sdf = &sdf;
+  req.max_penetration = &max_penetration;
+  req.max_penetration_tolerance = max_penetration_tolerance;
+  req.seconds_max_penetration = seconds_max_penetration;
+  req.mesh_path = loaded.path;
+  req.input_sha = input_sha;
+  req.out_dir = out_dir;
+  return req;
+}
+
 OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
   Timer total;
   std::error_code ec;

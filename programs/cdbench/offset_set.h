@@ -35,4 +35,14 @@ struct OffsetSetResult {
 
 OffsetSetResult write_offset_set(const OffsetSetRequest& request);
 
+// The certified maximum penetration (what every offset set needs first), with its duration.
+MaxPenetrationResult timed_max_penetration(const SignedDistance& sdf, double relative_tolerance, double* seconds);
+
+// A request for the offsets of `loaded` (whose signed distance and max penetration are given),
+// with the levels still to be filled in.
+OffsetSetRequest make_offset_request(const LoadedMesh& loaded, const SignedDistance& sdf,
+                                     const MaxPenetrationResult& max_penetration, double max_penetration_tolerance,
+                                     double seconds_max_penetration, const std::string& input_sha,
+                                     const std::string& out_dir);
+
 }  // namespace cdbench::cli
