@@ -1,0 +1,82 @@
+#pragma once
+// Oriented bounding box (Gottschalk, Lin, Manocha 1996): centre, orthonormal axes (columns), half
+// extents; fitted by the principal axes of the points; separating-axis overlap test. Rounded
+// outward: the extents carry a relative margin far above the rounding of the fit and of the test.
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+#include "bvh/aabb.h"
+
+namespace cdbench {
+
+struct Obb {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns: unit axes
+  Eigen::Vector3d half = Eigen::Vector3d::Constant(-1.0);
+};
+
+// An OBB containing the points p[0..n): axes from the covariance of the points, extents from the
+// projections (so containment holds for any axes; the margin covers rounding).
+template <class PointAt>
+Obb fit_obb(int n, const PointAt& point_at) {
+  Obb b;
+  if (n <= 0) return b;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) mean += point_at(i);
+  mean /= n;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d d = point_at(i) - mean;
+    cov += d * d.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  Eigen::Matrix3d axes = eig.eigenvectors();
+  // Re-orthonormalise (Gram-Schmidt) so the test's assumption |axes| orthonormal holds closely.
+  axes.col(0).normalize();
+  axes.col(1) = (axes.col(1) - axes.col(0).dot(axes.col(1)) * axes.col(0)).normalized();
+  axes.col(2) = axes.col(0).cross(axes.col(1));
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
+  double scale = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d q = axes.transpose() * point_at(i);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+    scale = std::max(scale, point_at(i).cwiseAbs().maxCoeff());
+  }
+  b.axes = axes;
+  b.center = axes * (0.5 * (lo + hi));
+  // Containment: a point's projection is exact up to ~1e-15 * scale; the centre's reconstruction
+  // and the axes' departure from orthonormality (~1e-15) likewise. The margin covers them amply.
+  b.half = 0.5 * (hi - lo) + Eigen::Vector3d::Constant(1e-12 * (scale + 1.0));
+  return b;
+}
+
+// Whether box a and box b, the latter moved by (R, t) (x -> R x + t), may overlap. Conservative:
+// false only when a separating axis is proven with a margin above rounding.
+inline bool obb_overlap(const Obb& a, const Obb& b, const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  // b's axes and centre in a's frame.
+  const Eigen::Matrix3d B = a.axes.transpose() * (R * b.axes);
+  const Eigen::Vector3d T = a.axes.transpose() * (R * b.center + t - a.center);
+  const Eigen::Matrix3d absB = B.cwiseAbs().array() + 1e-12;  // also covers nearly parallel edges
+  const Eigen::Vector3d& ea = a.half;
+  const Eigen::Vector3d& eb = b.half;
+  // Rounding of B and T is ~1e-15 of the magnitudes involved; the slack is a thousand times that.
+  const double slack = 1e-12 * (a.center.cwiseAbs().maxCoeff() + b.center.cwiseAbs().maxCoeff() +
+                                t.cwiseAbs().maxCoeff() + ea.maxCoeff() + eb.maxCoeff());
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(T[i]) > ea[i] + absB.row(i).dot(eb) + slack) return false;
+  for (int j = 0; j < 3; ++j)
+    if (std::abs(T.dot(B.col(j))) > absB.col(j).dot(ea) + eb[j] + slack) return false;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const double ra = ea[i1] * absB(i2, j) + ea[i2] * absB(i1, j);
+      const double rb = eb[j1] * absB(i, j2) + eb[j2] * absB(i, j1);
+      if (std::abs(T[i2] * B(i1, j) - T[i1] * B(i2, j)) > ra + rb + slack) return false;
+    }
+  return true;
+}
+
+}  // namespace cdbench

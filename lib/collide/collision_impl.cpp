@@ -1,0 +1,29 @@
+#include "collide/collision_impl.h"
+
+#include "collide/own_trees.h"
+
+namespace cdbench {
+
+#ifdef CDBENCH_WITH_FCL
+std::unique_ptr<CollisionImpl> make_fcl_impl(const std::string& name);
+#endif
+
+std::vector<std::string> collision_impl_names() {
+  std::vector<std::string> names{"obb", "aabb", "sphere"};
+#ifdef CDBENCH_WITH_FCL
+  for (const char* n : {"fcl-obb", "fcl-rss", "fcl-obbrss", "fcl-kios"}) names.emplace_back(n);
+#endif
+  return names;
+}
+
+std::unique_ptr<CollisionImpl> make_collision_impl(const std::string& name) {
+  if (name == "obb") return make_own_tree(OwnBv::Obb);
+  if (name == "aabb") return make_own_tree(OwnBv::Aabb);
+  if (name == "sphere") return make_own_tree(OwnBv::Sphere);
+#ifdef CDBENCH_WITH_FCL
+  if (auto impl = make_fcl_impl(name)) return impl;
+#endif
+  return nullptr;
+}
+
+}  // namespace cdbench

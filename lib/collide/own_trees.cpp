@@ -1,0 +1,180 @@
+#include "collide/own_trees.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/intersections.h>
+
+#include <cmath>
+
+#include "bvh/aabb.h"
+#include "bvh/bvh.h"
+#include "bvh/obb.h"
+#include "bvh/sphere.h"
+#include "distance/signed_distance.h"
+#include "placement/mover.h"
+
+namespace cdbench {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+K::Point_3 P(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
+
+// Exact intersection of two closed triangles (degenerate ones as segments or points).
+bool triangles_intersect(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e, const Vec3& f) {
+  const K::Triangle_3 t1(P(a), P(b), P(c)), t2(P(d), P(e), P(f));
+  const bool dg1 = t1.is_degenerate(), dg2 = t2.is_degenerate();
+  if (!dg1 && !dg2) return CGAL::do_intersect(t1, t2);
+  // A degenerate triangle is the union of its edges (segments or points).
+  const auto edges_hit = [](const K::Triangle_3& deg, const K::Triangle_3& other, bool other_degenerate) {
+    for (int k = 0; k < 3; ++k) {
+      const K::Point_3 p = deg.vertex(k), q = deg.vertex((k + 1) % 3);
+      if (!other_degenerate) {
+        if (p == q ? other.has_on(p) : CGAL::do_intersect(K::Segment_3(p, q), other)) return true;
+      } else {
+        for (int m = 0; m < 3; ++m) {
+          const K::Point_3 r = other.vertex(m), s = other.vertex((m + 1) % 3);
+          if (p == q && r == s) {
+            if (p == r) return true;
+          } else if (p == q) {
+            if (K::Segment_3(r, s).has_on(p)) return true;
+          } else if (r == s) {
+            if (K::Segment_3(p, q).has_on(r)) return true;
+          } else if (CGAL::do_intersect(K::Segment_3(p, q), K::Segment_3(r, s))) {
+            return true;
+          }
+        }
+      }
+    }
+    return false;
+  };
+  return dg1 ? edges_hit(t1, t2, dg2) : edges_hit(t2, t1, false);
+}
+
+// Overlap of a fixed-frame volume with a mover volume moved by (R, t); conservative.
+inline bool overlap(const Obb& a, const Obb& b, const Eigen::Matrix3d& R, const Vec3& t) { return obb_overlap(a, b, R, t); }
+inline bool overlap(const Aabb& a, const Aabb& b, const Eigen::Matrix3d& R, const Vec3& t) {
+  const Vec3 c = R * b.center() + t;
+  const Vec3 h = R.cwiseAbs() * (0.5 * b.extent());
+  const double slack = 1e-12 * (c.cwiseAbs().maxCoeff() + t.cwiseAbs().maxCoeff() + h.maxCoeff() +
+                                a.lo.cwiseAbs().maxCoeff() + a.hi.cwiseAbs().maxCoeff());
+  for (int k = 0; k < 3; ++k)
+    if (c[k] - h[k] > a.hi[k] + slack || c[k] + h[k] < a.lo[k] - slack) return false;
+  return true;
+}
+inline bool overlap(const Sphere& a, const Sphere& b, const Eigen::Matrix3d& R, const Vec3& t) {
+  const Vec3 c = R * b.center + t;
+  const double slack = 1e-12 * (c.cwiseAbs().maxCoeff() + t.cwiseAbs().maxCoeff() + a.center.cwiseAbs().maxCoeff() +
+                                a.radius + b.radius);
+  return (c - a.center).norm() <= a.radius + b.radius + slack;
+}
+inline double size_of(const Obb& b) { return b.half.squaredNorm(); }
+inline double size_of(const Aabb& b) { return b.extent().squaredNorm(); }
+inline double size_of(const Sphere& b) { return b.radius; }
+
+template <class BV>
+BV fit(const std::vector<Vec3>& v, const std::vector<Face>& faces, const std::uint32_t* ids, std::uint32_t n);
+template <>
+Obb fit<Obb>(const std::vector<Vec3>& v, const std::vector<Face>& faces, const std::uint32_t* ids, std::uint32_t n) {
+  return fit_obb(static_cast<int>(3 * n), [&](int k) -> const Vec3& { return v[faces[ids[k / 3]][k % 3]]; });
+}
+template <>
+Aabb fit<Aabb>(const std::vector<Vec3>& v, const std::vector<Face>& faces, const std::uint32_t* ids, std::uint32_t n) {
+  Aabb b;
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) b.extend(v[faces[ids[i]][k]]);
+  return b;
+}
+template <>
+Sphere fit<Sphere>(const std::vector<Vec3>& v, const std::vector<Face>& faces, const std::uint32_t* ids, std::uint32_t n) {
+  return bounding_sphere(static_cast<int>(3 * n), [&](int k) -> const Vec3& { return v[faces[ids[k / 3]][k % 3]]; });
+}
+
+template <class BV>
+Bvh<BV> build_tree(const TriangleMesh& m) {
+  std::vector<Vec3> centroids(m.faces.size());
+  for (std::size_t f = 0; f < m.faces.size(); ++f)
+    centroids[f] = (m.vertices[m.faces[f][0]] + m.vertices[m.faces[f][1]] + m.vertices[m.faces[f][2]]) / 3.0;
+  return build_bvh<BV>(centroids, [&](const std::uint32_t* ids, std::uint32_t n) { return fit<BV>(m.vertices, m.faces, ids, n); });
+}
+
+template <class BV>
+struct OverlapPolicy {
+  const TriangleMesh& fixed;
+  const TriangleMesh& mover;
+  const Eigen::Matrix3d& R;
+  const Vec3& t;
+  QueryAnswer& answer;
+
+  double bound(const BV& a, const BV& b) {
+    ++answer.bv_tests;
+    return overlap(a, b, R, t) ? 0.0 : std::numeric_limits<double>::infinity();
+  }
+  double prune_bound() const { return 0.0; }
+  bool split_first(const BV& a, const BV& b) const { return size_of(a) >= size_of(b); }
+  void leaf(std::uint32_t fi, std::uint32_t mi) {
+    ++answer.triangle_tests;
+    const Face& f = fixed.faces[fi];
+    const Face& m = mover.faces[mi];
+    const auto place = [&](const Vec3& x) {
+      Vec3 y;
+      for (int i = 0; i < 3; ++i) y[i] = R(i, 0) * x[0] + R(i, 1) * x[1] + R(i, 2) * x[2] + t[i];
+      return y;
+    };
+    if (triangles_intersect(fixed.vertices[f[0]], fixed.vertices[f[1]], fixed.vertices[f[2]], place(mover.vertices[m[0]]),
+                            place(mover.vertices[m[1]]), place(mover.vertices[m[2]])))
+      answer.collides = true;
+  }
+  bool done() const { return answer.collides; }
+};
+
+template <class BV>
+class OwnTree final : public CollisionImpl {
+ public:
+  explicit OwnTree(std::string name) : name_(std::move(name)) {}
+  std::string name() const override { return name_; }
+  bool detects_containment() const override { return true; }
+  void build(const TriangleMesh& fixed, const TriangleMesh& mover) override {
+    fixed_ = fixed;
+    mover_ = mover;
+    tf_ = build_tree<BV>(fixed_);
+    tm_ = build_tree<BV>(mover_);
+    sdf_ = std::make_unique<SignedDistance>(fixed_);
+    components_ = component_representatives(mover_);
+  }
+  QueryAnswer query(const Eigen::Matrix3d& R, const Vec3& t) override {
+    QueryAnswer a;
+    OverlapPolicy<BV> policy{fixed_, mover_, R, t, a};
+    traverse_pairs_nearest_first(tf_, tm_, policy);
+    if (!a.collides)
+      for (std::uint32_t v : components_) {
+        const Vec3& x = mover_.vertices[v];
+        Vec3 y;
+        for (int i = 0; i < 3; ++i) y[i] = R(i, 0) * x[0] + R(i, 1) * x[1] + R(i, 2) * x[2] + t[i];
+        if (sdf_->side(y) <= 0) {
+          a.collides = true;
+          break;
+        }
+      }
+    return a;
+  }
+
+ private:
+  std::string name_;
+  TriangleMesh fixed_, mover_;
+  Bvh<BV> tf_, tm_;
+  std::unique_ptr<SignedDistance> sdf_;
+  std::vector<std::uint32_t> components_;
+};
+
+}  // namespace
+
+std::unique_ptr<CollisionImpl> make_own_tree(OwnBv bv) {
+  switch (bv) {
+    case OwnBv::Obb: return std::make_unique<OwnTree<Obb>>("obb");
+    case OwnBv::Aabb: return std::make_unique<OwnTree<Aabb>>("aabb");
+    case OwnBv::Sphere: return std::make_unique<OwnTree<Sphere>>("sphere");
+  }
+  return nullptr;
+}
+
+}  // namespace cdbench
