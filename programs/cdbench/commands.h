@@ -15,5 +15,7 @@ void register_wrap(CLI::App& app, int& exit_code);
 void register_offset(CLI::App& app, int& exit_code);
 void register_poses(CLI::App& app, int& exit_code, const std::string& command_line);
 void register_merge(CLI::App& app, int& exit_code);
+void register_bench(CLI::App& app, int& exit_code);
+void register_plot(CLI::App& app, int& exit_code);
 
 }  // namespace cdbench::cli

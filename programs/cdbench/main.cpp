@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
   for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
   register_poses(app, exit_code, command_line);
   register_merge(app, exit_code);
+  register_bench(app, exit_code);
+  register_plot(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

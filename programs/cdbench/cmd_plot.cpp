@@ -1,0 +1,103 @@
+// cdbench plot DIR: gnuplot figures of a benchmark's summary.json (PNG and SVG) and an error table.
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "commands.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
+
+namespace cdbench::cli {
+namespace {
+
+struct PlotCliOptions {
+  std::string dir;
+};
+
+int run_plot(const PlotCliOptions& opt) {
+  const std::string path = opt.dir + "/summary.json";
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot be read (run 'cdbench bench' first)");
+  nlohmann::json s;
+  try {
+    s = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw InputError(path + ": not valid JSON (" + std::string(e.what()) + ")");
+  }
+  if (s.value("format", "") != "cdbench-bench") throw InputError(path + ": not a cdbench benchmark summary");
+  if (std::system("gnuplot --version > /dev/null 2>&1") != 0)
+    throw InputError("gnuplot not found (Debian: apt-get install gnuplot-nox)");
+
+  // One data block per implementation: percent of max penetration, mean us, median us, p95 us, BV tests.
+  std::ostringstream data, errors;
+  errors << std::left << std::setw(12) << "impl" << std::setw(10) << "level" << std::setw(9) << "% maxpen" << std::setw(7)
+         << "poses" << std::setw(7) << "FP" << std::setw(7) << "FN" << std::setw(10) << "missed*" << "ambiguous\n";
+  std::vector<std::string> names;
+  for (const auto& impl : s["implementations"]) {
+    names.push_back(impl["name"].get<std::string>());
+    data << "# " << names.back() << "\n";
+    for (const auto& l : impl["levels"]) {
+      data << std::setprecision(10) << l["percent_of_max_penetration"].get<double>() << " " << l["mean_us"].get<double>()
+           << " " << l["median_us"].get<double>() << " " << l["p95_us"].get<double>() << " "
+           << l["mean_bv_tests"].get<double>() << "\n";
+      errors << std::left << std::setw(12) << names.back() << std::setw(10) << l["level"].get<std::string>() << std::setw(9)
+             << std::setprecision(4) << l["percent_of_max_penetration"].get<double>() << std::setw(7)
+             << l["poses"].get<std::size_t>() << std::setw(7) << l["false_positives"].get<std::size_t>() << std::setw(7)
+             << l["false_negatives"].get<std::size_t>() << std::setw(10) << l["missed_or_contained"].get<std::size_t>()
+             << l["ambiguous"].get<std::size_t>() << "\n";
+    }
+    data << "\n\n";
+  }
+  errors << "* surface-only libraries: penetrating poses reported free (mover inside the solid, or a miss)\n";
+  write_file_atomically(opt.dir + "/plot.dat", [&](std::ostream& out) { out << data.str(); });
+  write_file_atomically(opt.dir + "/errors.txt", [&](std::ostream& out) { out << errors.str(); });
+
+  std::ostringstream gp;
+  const auto plots = [&](const std::string& term, const std::string& ext) {
+    const auto series = [&](int column) {
+      std::ostringstream p;
+      for (std::size_t i = 0; i < names.size(); ++i)
+        p << (i ? ", " : "") << "'plot.dat' index " << i << " using 1:" << column << " with linespoints title '"
+          << names[i] << "'";
+      return p.str();
+    };
+    gp << "set terminal " << term << "\n";
+    gp << "set grid\nset key outside right\nset xlabel 'level (% of the maximum penetration; < 0: penetrating)'\n";
+    gp << "set logscale y\n";
+    gp << "set output 'time_vs_level." << ext << "'\nset ylabel 'mean query time (us)'\n";
+    gp << "set title 'Static collision query time vs distance'\nplot " << series(2) << "\n";
+    gp << "set output 'bv_tests_vs_level." << ext << "'\nset ylabel 'mean bounding-volume tests'\n";
+    gp << "set title 'Bounding-volume tests vs distance'\nplot " << series(5) << "\n";
+    gp << "unset logscale y\n";
+  };
+  plots("pngcairo size 1000,600 noenhanced", "png");
+  plots("svg size 1000,600 noenhanced", "svg");
+  write_file_atomically(opt.dir + "/plot.gp", [&](std::ostream& out) { out << gp.str(); });
+  const std::string cmd = "cd '" + opt.dir + "' && gnuplot plot.gp";
+  if (std::system(cmd.c_str()) != 0) throw InputError("gnuplot failed on " + opt.dir + "/plot.gp");
+  std::cout << errors.str();
+  for (const char* f : {"time_vs_level.png", "time_vs_level.svg", "bv_tests_vs_level.png", "bv_tests_vs_level.svg"})
+    std::cout << "plot: " << opt.dir << "/" << f << "\n";
+  std::cout << "errors: " << opt.dir << "/errors.txt\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_plot(CLI::App& app, int& exit_code) {
+  auto opt = std::make_shared<PlotCliOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "plot",
+      "Plots of a benchmark (cdbench bench): mean query time and bounding-volume tests vs level (% of the maximum "
+      "penetration) per implementation, PNG and SVG, with gnuplot; and the error table (errors.txt).");
+  cmd->add_option("dir", opt->dir, "a benchmark output directory")->required()->check(CLI::ExistingDirectory);
+  cmd->callback([opt, &exit_code]() { exit_code = run_plot(*opt); });
+}
+
+}  // namespace cdbench::cli
