@@ -2,7 +2,8 @@
 # The main job on the embedded default input: install, build, check CGAL's armadillo (from
 # Debian's libcgal-demo; the committed torus when that data is unavailable), then make a certified
 # pose set of it (5 levels from -25% to +25% of the maximum penetration, 40 directions x 2
-# orientations) and summarise it with the numpy reader when numpy is present.
+# orientations), summarise it with the numpy reader when numpy is present, and benchmark the
+# static collision implementations (our OBB/AABB/sphere trees, FCL) over it, with plots.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$root/scripts/install-deps.sh"
@@ -20,3 +21,7 @@ for py in python3 /usr/bin/python3; do
     break
   fi
 done
+echo
+"$root/build/cdbench" bench "$out" -o "$root/build/demo-bench"
+echo
+"$root/build/cdbench" plot "$root/build/demo-bench"

@@ -47,6 +47,24 @@ cmp -s "$dir/a/poses.csv" "$dir/r/poses.csv" || fail "resumed run differs"
 [ $? -eq 2 ] && grep -q "0 <= I < N" "$dir/x.log" || fail "--shard 2/2"
 "$bin" poses "$mesh" --levels=1,1 --directions 2 --orientations 1 -o "$dir/x" > "$dir/x.log" 2>&1
 [ $? -eq 2 ] && grep -q "listed twice" "$dir/x.log" || fail "duplicate level"
+# The collision benchmark on this pose set: every implementation, answers checked against the
+# certificates (a wrong answer of our trees exits 3), then the plots.
+"$bin" bench "$dir/a" --repeat 1 -o "$dir/bench" > "$dir/bench.log" 2>&1 || { cat "$dir/bench.log"; fail "bench"; }
+[ "$(tail -n +2 "$dir/bench/results.csv" | cut -d, -f6 | sort -u | wc -l)" -ge 3 ] || fail "bench: implementations missing"
+grep -q '"format": "cdbench-bench"' "$dir/bench/summary.json" || fail "bench summary"
+awk -F, 'NR > 1 && ($12 == "false-positive" || $12 == "false-negative") { bad++ } END { exit bad > 0 }' \
+  "$dir/bench/results.csv" || fail "bench: an implementation contradicts a certificate"
+if command -v gnuplot > /dev/null 2>&1; then
+  "$bin" plot "$dir/bench" > /dev/null 2>&1 || fail "plot"
+  for f in time_vs_level.png time_vs_level.svg bv_tests_vs_level.png bv_tests_vs_level.svg errors.txt; do
+    [ -s "$dir/bench/$f" ] || fail "plot: $f missing"
+  done
+fi
+"$bin" bench "$dir/a" --impl obb,nope -o "$dir/bench2" > "$dir/x.log" 2>&1
+[ $? -eq 2 ] && grep -q "unknown implementation 'nope'" "$dir/x.log" || fail "bench with an unknown implementation"
+"$bin" bench "$dir/a/offsets" -o "$dir/bench2" > "$dir/x.log" 2>&1
+[ $? -eq 2 ] && grep -q "poseset.json: cannot be read" "$dir/x.log" || fail "bench on a directory without a pose set"
+
 # The numpy reader of doc/pose-set-format.md, when a python3 with numpy is at hand.
 reader="$(dirname "$0")/../../scripts/read_poseset.py"
 for py in python3 /usr/bin/python3; do
