@@ -7,11 +7,17 @@ namespace cdbench {
 #ifdef CDBENCH_WITH_FCL
 std::unique_ptr<CollisionImpl> make_fcl_impl(const std::string& name);
 #endif
+#ifdef CDBENCH_WITH_BULLET
+std::unique_ptr<CollisionImpl> make_bullet_impl();
+#endif
 
 std::vector<std::string> collision_impl_names() {
   std::vector<std::string> names{"obb", "aabb", "sphere"};
 #ifdef CDBENCH_WITH_FCL
   for (const char* n : {"fcl-obb", "fcl-rss", "fcl-obbrss", "fcl-kios"}) names.emplace_back(n);
+#endif
+#ifdef CDBENCH_WITH_BULLET
+  names.emplace_back("bullet-gimpact");
 #endif
   return names;
 }
@@ -22,6 +28,9 @@ std::unique_ptr<CollisionImpl> make_collision_impl(const std::string& name) {
   if (name == "sphere") return make_own_tree(OwnBv::Sphere);
 #ifdef CDBENCH_WITH_FCL
   if (auto impl = make_fcl_impl(name)) return impl;
+#endif
+#ifdef CDBENCH_WITH_BULLET
+  if (name == "bullet-gimpact") return make_bullet_impl();
 #endif
   return nullptr;
 }

@@ -25,6 +25,8 @@ class CollisionImpl {
   // Whether "collides" also covers a mover lying entirely inside the fixed solid (surface-only
   // libraries miss that case; the benchmark reports it separately).
   virtual bool detects_containment() const { return false; }
+  // Whether bv_tests / triangle_tests are the implementation's own counts (Bullet exposes none).
+  virtual bool counts_tests() const { return true; }
   virtual void build(const TriangleMesh& fixed, const TriangleMesh& mover) = 0;
   virtual QueryAnswer query(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) = 0;
 };

@@ -28,7 +28,7 @@ namespace cdbench::cli {
 namespace {
 
 struct BenchCliOptions {
-  std::string poseset, impls = "obb,aabb,sphere,fcl-obb,fcl-rss,fcl-obbrss,fcl-kios", out;
+  std::string poseset, impls, out;  // impls empty: every available implementation
   int repeat = 5;
   bool pin = true;
 };
@@ -61,7 +61,7 @@ double percentile(std::vector<double> v, double p) {
 }
 
 int run_bench(const BenchCliOptions& opt) {
-  const std::vector<std::string> names = split_list(opt.impls);
+  const std::vector<std::string> names = opt.impls.empty() ? collision_impl_names() : split_list(opt.impls);
   if (names.empty()) throw InputError("--impl: empty list");
   for (const std::string& n : names)
     if (!make_collision_impl(n)) {
@@ -252,7 +252,9 @@ void register_bench(CLI::App& app, int& exit_code) {
       "times, the median kept; one pinned thread) and check every answer against the pose's certified clearance: "
       "clearance_hi < 0 must collide, clearance_lo > 0 must not. Writes DIR/results.csv and DIR/summary.json.");
   cmd->add_option("poseset", opt->poseset, "a pose-set directory (cdbench poses)")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("--impl", opt->impls, "comma-separated implementations")->capture_default_str();
+  std::string all;
+  for (const std::string& n : collision_impl_names()) all += (all.empty() ? "" : ",") + n;
+  cmd->add_option("--impl", opt->impls, "comma-separated implementations (default: all available: " + all + ")");
   cmd->add_option("--repeat", opt->repeat, "runs per query (the median is kept)")->capture_default_str()->check(CLI::Range(1, 1000));
   cmd->add_flag("!--no-pin", opt->pin, "do not pin the thread to one core");
   cmd->add_option("-o,--output", opt->out, "output directory")->required();

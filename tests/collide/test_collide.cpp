@@ -57,7 +57,7 @@ TEST(Collide, AllImplementationsAgreeWithCertificates) {
       }
       if (!impl->detects_containment() && maybe_inside) continue;
       EXPECT_EQ(ans.collides, expect) << "clearance [" << c.lo << ", " << c.hi << "]";
-      EXPECT_GT(ans.bv_tests, 0u);
+      if (impl->counts_tests()) EXPECT_GT(ans.bv_tests, 0u);
     }
   }
   EXPECT_GT(colliding, 50);
