@@ -16,6 +16,7 @@
 
 #include "collide/collision_impl.h"
 #include "commands.h"
+#include "json_file.h"
 #include "mesh_loading.h"
 #include "poseset/pose_csv.h"
 #include "util/atomic_file.h"
@@ -69,14 +70,7 @@ int run_bench(const BenchCliOptions& opt) {
       for (const std::string& k : collision_impl_names()) known += (known.empty() ? "" : ", ") + k;
       throw InputError("--impl: unknown implementation '" + n + "' (available: " + known + ")");
     }
-  std::ifstream in(opt.poseset + "/poseset.json");
-  if (!in) throw InputError(opt.poseset + "/poseset.json: cannot be read (not a pose-set directory?)");
-  nlohmann::json ps;
-  try {
-    ps = nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw InputError(opt.poseset + "/poseset.json: not valid JSON (" + std::string(e.what()) + ")");
-  }
+  const nlohmann::json ps = read_json_file(opt.poseset + "/poseset.json", "not a pose-set directory?");
   if (ps.value("format", "") != "cdbench-poseset") throw InputError(opt.poseset + "/poseset.json: not a cdbench pose set");
   std::unique_ptr<LoadedMesh> fixed_holder, mover_holder;
   const TriangleMesh& fixed = load_valid(ps["fixed"], opt.poseset, fixed_holder);

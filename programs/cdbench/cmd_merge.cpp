@@ -10,6 +10,7 @@
 #include <set>
 
 #include "commands.h"
+#include "json_file.h"
 #include "poseset/pose_csv.h"
 #include "poseset_summary.h"
 #include "util/atomic_file.h"
@@ -23,15 +24,7 @@ struct MergeCliOptions {
   std::string out;
 };
 
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot be read (not a pose-set directory?)");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw InputError(path + ": not valid JSON (" + std::string(e.what()) + ")");
-  }
-}
+nlohmann::json read_json(const std::string& path) { return read_json_file(path, "not a pose-set directory?"); }
 
 int run_merge(const MergeCliOptions& opt) {
   std::vector<nlohmann::json> sets;

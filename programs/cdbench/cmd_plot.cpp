@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "json_file.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 
@@ -22,14 +23,7 @@ struct PlotCliOptions {
 
 int run_plot(const PlotCliOptions& opt) {
   const std::string path = opt.dir + "/summary.json";
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot be read (run 'cdbench bench' first)");
-  nlohmann::json s;
-  try {
-    s = nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw InputError(path + ": not valid JSON (" + std::string(e.what()) + ")");
-  }
+  const nlohmann::json s = read_json_file(path, "run 'cdbench bench' first");
   if (s.value("format", "") != "cdbench-bench") throw InputError(path + ": not a cdbench benchmark summary");
   if (std::system("gnuplot --version > /dev/null 2>&1") != 0)
     throw InputError("gnuplot not found (Debian: apt-get install gnuplot-nox)");
