@@ -14,7 +14,9 @@ std::unique_ptr<CollisionImpl> make_bullet_impl();
 std::vector<std::string> collision_impl_names() {
   std::vector<std::string> names{"obb", "aabb", "sphere"};
 #ifdef CDBENCH_WITH_FCL
-  for (const char* n : {"fcl-obb", "fcl-rss", "fcl-obbrss", "fcl-kios"}) names.emplace_back(n);
+  for (const char* n : {"fcl-obb", "fcl-rss", "fcl-obbrss", "fcl-kios", "fcl-rss-distance", "fcl-obbrss-distance",
+                        "fcl-kios-distance"})
+    names.emplace_back(n);
 #endif
 #ifdef CDBENCH_WITH_BULLET
   names.emplace_back("bullet-gimpact");

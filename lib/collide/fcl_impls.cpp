@@ -55,6 +55,42 @@ class FclImpl final : public CollisionImpl {
   std::shared_ptr<fcl::BVHModel<BV>> fixed_, mover_;
 };
 
+// The same models through FCL's distance traversal: collides when the distance is <= 0. FCL's
+// meshes are surfaces: penetrating meshes get distance 0, a mover inside the solid a positive one.
+template <class BV, class Node>
+class FclDistanceImpl final : public CollisionImpl {
+ public:
+  explicit FclDistanceImpl(std::string name) : name_(std::move(name)) {}
+  std::string name() const override { return name_; }
+  void build(const TriangleMesh& fixed, const TriangleMesh& mover) override {
+    fixed_ = model_of<BV>(fixed);
+    mover_ = model_of<BV>(mover);
+  }
+  QueryAnswer query(const Eigen::Matrix3d& R, const Vec3& t) override {
+    fcl::Transform3<double> tf1 = fcl::Transform3<double>::Identity(), tf2 = tf1;
+    tf2.linear() = R;
+    tf2.translation() = t;
+    fcl::DistanceRequest<double> request;
+    fcl::DistanceResult<double> result;
+    Node node;
+    node.enable_statistics = true;
+    const fcl::BVHModel<BV>& m1 = *fixed_;
+    const fcl::BVHModel<BV>& m2 = *mover_;
+    fcl::detail::initialize(node, m1, tf1, m2, tf2, request, result);
+    fcl::detail::distance<double>(&node, nullptr, 2);
+    QueryAnswer a;
+    a.distance = result.min_distance;
+    a.collides = result.min_distance <= 0.0;
+    a.bv_tests = static_cast<std::uint64_t>(node.num_bv_tests);
+    a.triangle_tests = static_cast<std::uint64_t>(node.num_leaf_tests);
+    return a;
+  }
+
+ private:
+  std::string name_;
+  std::shared_ptr<fcl::BVHModel<BV>> fixed_, mover_;
+};
+
 }  // namespace
 
 std::unique_ptr<CollisionImpl> make_fcl_impl(const std::string& name) {
@@ -64,6 +100,12 @@ std::unique_ptr<CollisionImpl> make_fcl_impl(const std::string& name) {
   if (name == "fcl-kios") return std::make_unique<FclImpl<fcl::kIOS<S>, fcl::detail::MeshCollisionTraversalNodekIOS<S>>>(name);
   if (name == "fcl-obbrss")
     return std::make_unique<FclImpl<fcl::OBBRSS<S>, fcl::detail::MeshCollisionTraversalNodeOBBRSS<S>>>(name);
+  if (name == "fcl-rss-distance")
+    return std::make_unique<FclDistanceImpl<fcl::RSS<S>, fcl::detail::MeshDistanceTraversalNodeRSS<S>>>(name);
+  if (name == "fcl-obbrss-distance")
+    return std::make_unique<FclDistanceImpl<fcl::OBBRSS<S>, fcl::detail::MeshDistanceTraversalNodeOBBRSS<S>>>(name);
+  if (name == "fcl-kios-distance")
+    return std::make_unique<FclDistanceImpl<fcl::kIOS<S>, fcl::detail::MeshDistanceTraversalNodekIOS<S>>>(name);
   return nullptr;
 }
 

@@ -155,7 +155,8 @@ int run_bench(const BenchCliOptions& opt) {
     for (std::size_t l = 0; l < ps["levels"].size(); ++l) {
       std::vector<double> t;
       double bv = 0.0, tri = 0.0;
-      std::size_t fp = 0, fn = 0, missed = 0, ambiguous = 0, n = 0;
+      std::size_t fp = 0, fn = 0, missed = 0, ambiguous = 0, n = 0, with_distance = 0;
+      double max_abs_error = 0.0, max_rel_error = 0.0;
       for (std::size_t i = 0; i < rows.size(); ++i) {
         if (static_cast<std::size_t>(rows[i].level) != l) continue;
         ++n;
@@ -168,6 +169,15 @@ int run_bench(const BenchCliOptions& opt) {
         fn += v == "false-negative";
         missed += v == "missed-or-contained";
         ambiguous += v == "ambiguous";
+        // Distance answers against the certified interval, on separated poses (where the clearance
+        // is the distance between the surfaces): how far outside the interval they fall.
+        const double d = rec[i].answer.distance;
+        if (std::isfinite(d) && rows[i].clearance_lo > 0.0) {
+          ++with_distance;
+          const double e = std::max({d - rows[i].clearance_hi, rows[i].clearance_lo - d, 0.0});
+          max_abs_error = std::max(max_abs_error, e);
+          max_rel_error = std::max(max_rel_error, e / rows[i].clearance_lo);
+        }
       }
       double mean = 0.0;
       for (double x : t) mean += x;
@@ -185,6 +195,9 @@ int run_bench(const BenchCliOptions& opt) {
                                      {"median_us", percentile(t, 0.5) / 1e3},
                                      {"p95_us", percentile(t, 0.95) / 1e3},
                                      {"mean_bv_tests", n ? bv / n : NAN},
+                                     {"distance_answers", with_distance},
+                                     {"max_distance_error", max_abs_error},
+                                     {"max_relative_distance_error", max_rel_error},
                                      {"mean_triangle_tests", n ? tri / n : NAN}});
     }
     summary["implementations"].push_back(impl_json);
@@ -220,6 +233,13 @@ int run_bench(const BenchCliOptions& opt) {
                 << std::setw(9) << l["missed_or_contained"].get<std::size_t>() << l["ambiguous"].get<std::size_t>()
                 << "\n";
   std::cout << "* surface-only libraries: penetrating poses reported free (a mover inside the solid, or a real miss)\n";
+  for (const auto& impl : summary["implementations"])
+    for (const auto& l : impl["levels"])
+      if (l["distance_answers"].get<std::size_t>() > 0)
+        std::cout << "distance " << impl["name"].get<std::string>() << " level " << l["level"].get<std::string>() << ": "
+                  << l["distance_answers"].get<std::size_t>() << " separated poses, max error outside the certified "
+                  << "interval " << l["max_distance_error"].get<double>() << " (relative "
+                  << l["max_relative_distance_error"].get<double>() << ")\n";
   std::cout << "build seconds:";
   for (const auto& impl : summary["implementations"])
     std::cout << " " << impl["name"].get<std::string>() << " " << std::setprecision(3) << impl["build_seconds"].get<double>();

@@ -31,7 +31,8 @@ int run_plot(const PlotCliOptions& opt) {
   // One data block per implementation: percent of max penetration, mean us, median us, p95 us, BV tests.
   std::ostringstream data, errors;
   errors << std::left << std::setw(12) << "impl" << std::setw(10) << "level" << std::setw(9) << "% maxpen" << std::setw(7)
-         << "poses" << std::setw(7) << "FP" << std::setw(7) << "FN" << std::setw(10) << "missed*" << "ambiguous\n";
+         << "poses" << std::setw(7) << "FP" << std::setw(7) << "FN" << std::setw(10) << "missed*" << std::setw(11)
+         << "ambiguous" << "max distance error (relative)\n";
   std::vector<std::string> names;
   for (const auto& impl : s["implementations"]) {
     names.push_back(impl["name"].get<std::string>());
@@ -44,7 +45,12 @@ int run_plot(const PlotCliOptions& opt) {
              << std::setprecision(4) << l["percent_of_max_penetration"].get<double>() << std::setw(7)
              << l["poses"].get<std::size_t>() << std::setw(7) << l["false_positives"].get<std::size_t>() << std::setw(7)
              << l["false_negatives"].get<std::size_t>() << std::setw(10) << l["missed_or_contained"].get<std::size_t>()
-             << l["ambiguous"].get<std::size_t>() << "\n";
+             << std::setw(11) << l["ambiguous"].get<std::size_t>()
+             << (l["distance_answers"].get<std::size_t>() > 0
+                     ? std::to_string(l["max_distance_error"].get<double>()) + " (" +
+                           std::to_string(l["max_relative_distance_error"].get<double>()) + ")"
+                     : std::string("-"))
+             << "\n";
     }
     data << "\n\n";
   }
