@@ -219,12 +219,12 @@ int run_bench(const BenchCliOptions& opt) {
 
   std::cout << "pose set: " << opt.poseset << " (" << rows.size() << " placed poses), median of " << opt.repeat
             << " runs per query, one pinned thread\n";
-  std::cout << std::left << std::setw(12) << "impl" << std::setw(10) << "level" << std::setw(7) << "poses" << std::setw(11)
+  std::cout << std::left << std::setw(21) << "impl" << std::setw(10) << "level" << std::setw(7) << "poses" << std::setw(11)
             << "mean us" << std::setw(11) << "median us" << std::setw(11) << "p95 us" << std::setw(11) << "BV tests"
             << std::setw(6) << "FP" << std::setw(6) << "FN" << std::setw(9) << "missed*" << "ambiguous\n";
   for (const auto& impl : summary["implementations"])
     for (const auto& l : impl["levels"])
-      std::cout << std::left << std::setw(12) << impl["name"].get<std::string>() << std::setw(10)
+      std::cout << std::left << std::setw(21) << impl["name"].get<std::string>() << std::setw(10)
                 << l["level"].get<std::string>() << std::setw(7) << l["poses"].get<std::size_t>() << std::fixed
                 << std::setprecision(2) << std::setw(11) << l["mean_us"].get<double>() << std::setw(11)
                 << l["median_us"].get<double>() << std::setw(11) << l["p95_us"].get<double>() << std::setprecision(0)

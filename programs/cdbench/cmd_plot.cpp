@@ -30,7 +30,7 @@ int run_plot(const PlotCliOptions& opt) {
 
   // One data block per implementation: percent of max penetration, mean us, median us, p95 us, BV tests.
   std::ostringstream data, errors;
-  errors << std::left << std::setw(12) << "impl" << std::setw(10) << "level" << std::setw(9) << "% maxpen" << std::setw(7)
+  errors << std::left << std::setw(21) << "impl" << std::setw(10) << "level" << std::setw(9) << "% maxpen" << std::setw(7)
          << "poses" << std::setw(7) << "FP" << std::setw(7) << "FN" << std::setw(10) << "missed*" << std::setw(11)
          << "ambiguous" << "max distance error (relative)\n";
   std::vector<std::string> names;
@@ -41,7 +41,7 @@ int run_plot(const PlotCliOptions& opt) {
       data << std::setprecision(10) << l["percent_of_max_penetration"].get<double>() << " " << l["mean_us"].get<double>()
            << " " << l["median_us"].get<double>() << " " << l["p95_us"].get<double>() << " "
            << l["mean_bv_tests"].get<double>() << "\n";
-      errors << std::left << std::setw(12) << names.back() << std::setw(10) << l["level"].get<std::string>() << std::setw(9)
+      errors << std::left << std::setw(21) << names.back() << std::setw(10) << l["level"].get<std::string>() << std::setw(9)
              << std::setprecision(4) << l["percent_of_max_penetration"].get<double>() << std::setw(7)
              << l["poses"].get<std::size_t>() << std::setw(7) << l["false_positives"].get<std::size_t>() << std::setw(7)
              << l["false_negatives"].get<std::size_t>() << std::setw(10) << l["missed_or_contained"].get<std::size_t>()
