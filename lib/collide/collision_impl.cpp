@@ -14,8 +14,8 @@ std::unique_ptr<CollisionImpl> make_bullet_impl();
 std::vector<std::string> collision_impl_names() {
   std::vector<std::string> names{"obb", "aabb", "sphere"};
 #ifdef CDBENCH_WITH_FCL
-  for (const char* n : {"fcl-obb", "fcl-rss", "fcl-obbrss", "fcl-kios", "fcl-rss-distance", "fcl-obbrss-distance",
-                        "fcl-kios-distance"})
+  for (const char* n : {"fcl-obb", "fcl-rss", "fcl-obbrss", "fcl-kios", "fcl-aabb", "fcl-kdop16", "fcl-kdop18",
+                        "fcl-kdop24", "fcl-rss-distance", "fcl-obbrss-distance", "fcl-kios-distance"})
     names.emplace_back(n);
 #endif
 #ifdef CDBENCH_WITH_BULLET
