@@ -4,6 +4,8 @@
 
 namespace cdbench {
 
+std::unique_ptr<CollisionImpl> make_cgal_impl();
+
 #ifdef CDBENCH_WITH_FCL
 std::unique_ptr<CollisionImpl> make_fcl_impl(const std::string& name);
 #endif
@@ -11,7 +13,7 @@ std::unique_ptr<CollisionImpl> make_fcl_impl(const std::string& name);
 std::unique_ptr<CollisionImpl> make_bullet_impl();
 #endif
 
-std::vector<std::string> collision_impl_names() {
+std::vector<std::string> collision_impl_names(bool include_slow) {
   std::vector<std::string> names{"obb", "aabb", "sphere"};
 #ifdef CDBENCH_WITH_FCL
   for (const char* n : {"fcl-obb", "fcl-rss", "fcl-obbrss", "fcl-kios", "fcl-aabb", "fcl-kdop16", "fcl-kdop18",
@@ -21,6 +23,7 @@ std::vector<std::string> collision_impl_names() {
 #ifdef CDBENCH_WITH_BULLET
   names.emplace_back("bullet-gimpact");
 #endif
+  if (include_slow) names.emplace_back("cgal-exact");
   return names;
 }
 
@@ -28,6 +31,7 @@ std::unique_ptr<CollisionImpl> make_collision_impl(const std::string& name) {
   if (name == "obb") return make_own_tree(OwnBv::Obb);
   if (name == "aabb") return make_own_tree(OwnBv::Aabb);
   if (name == "sphere") return make_own_tree(OwnBv::Sphere);
+  if (name == "cgal-exact") return make_cgal_impl();
 #ifdef CDBENCH_WITH_FCL
   if (auto impl = make_fcl_impl(name)) return impl;
 #endif

@@ -31,9 +31,10 @@ class CollisionImpl {
   virtual QueryAnswer query(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) = 0;
 };
 
-// Implementations by name: "obb", "aabb", "sphere" (ours); "fcl-obb", "fcl-rss", "fcl-obbrss",
-// "fcl-kios" when built with FCL. Returns nullptr for an unknown name.
+// Implementations by name: "obb", "aabb", "sphere" (ours); "fcl-..." when built with FCL;
+// "bullet-gimpact" with Bullet; "cgal-exact" (slow: one tree query per mover triangle, so it is
+// listed only with include_slow). Returns nullptr for an unknown name.
 std::unique_ptr<CollisionImpl> make_collision_impl(const std::string& name);
-std::vector<std::string> collision_impl_names();
+std::vector<std::string> collision_impl_names(bool include_slow = false);
 
 }  // namespace cdbench

@@ -67,7 +67,7 @@ int run_bench(const BenchCliOptions& opt) {
   for (const std::string& n : names)
     if (!make_collision_impl(n)) {
       std::string known;
-      for (const std::string& k : collision_impl_names()) known += (known.empty() ? "" : ", ") + k;
+      for (const std::string& k : collision_impl_names(true)) known += (known.empty() ? "" : ", ") + k;
       throw InputError("--impl: unknown implementation '" + n + "' (available: " + known + ")");
     }
   const nlohmann::json ps = read_json_file(opt.poseset + "/poseset.json", "not a pose-set directory?");
@@ -268,7 +268,9 @@ void register_bench(CLI::App& app, int& exit_code) {
   cmd->add_option("poseset", opt->poseset, "a pose-set directory (cdbench poses)")->required()->check(CLI::ExistingDirectory);
   std::string all;
   for (const std::string& n : collision_impl_names()) all += (all.empty() ? "" : ",") + n;
-  cmd->add_option("--impl", opt->impls, "comma-separated implementations (default: all available: " + all + ")");
+  cmd->add_option("--impl", opt->impls,
+                  "comma-separated implementations (default: all available: " + all +
+                      "; also cgal-exact, the slow exact reference)");
   cmd->add_option("--repeat", opt->repeat, "runs per query (the median is kept)")->capture_default_str()->check(CLI::Range(1, 1000));
   cmd->add_flag("!--no-pin", opt->pin, "do not pin the thread to one core");
   cmd->add_option("-o,--output", opt->out, "output directory")->required();
