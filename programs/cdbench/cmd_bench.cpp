@@ -99,7 +99,7 @@ int run_bench(const BenchCliOptions& opt) {
   };
   std::map<std::string, std::vector<Record>> records;
   std::map<std::string, double> build_seconds;
-  std::map<std::string, bool> containment;
+  std::map<std::string, bool> containment, counts;
   Progress progress("bench", names.size() * rows.size());
   for (const std::string& name : names) {
     auto impl = make_collision_impl(name);
@@ -107,6 +107,7 @@ int run_bench(const BenchCliOptions& opt) {
     impl->build(fixed, mover);
     build_seconds[name] = tb.seconds();
     containment[name] = impl->detects_containment();
+    counts[name] = impl->counts_tests();
     for (const PoseRow& r : rows) impl->query(r.R, r.t);  // warm caches and branch predictors
     std::vector<Record>& rec = records[name];
     rec.resize(rows.size());
@@ -151,7 +152,8 @@ int run_bench(const BenchCliOptions& opt) {
   for (const std::string& name : names) {
     const std::vector<Record>& rec = records[name];
     nlohmann::json impl_json = {{"name", name}, {"build_seconds", build_seconds[name]},
-                                {"detects_containment", containment[name]}, {"levels", nlohmann::json::array()}};
+                                {"detects_containment", containment[name]}, {"counts_tests", counts[name]},
+                                {"levels", nlohmann::json::array()}};
     for (std::size_t l = 0; l < ps["levels"].size(); ++l) {
       std::vector<double> t;
       double bv = 0.0, tri = 0.0;

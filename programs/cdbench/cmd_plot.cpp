@@ -34,8 +34,10 @@ int run_plot(const PlotCliOptions& opt) {
          << "poses" << std::setw(7) << "FP" << std::setw(7) << "FN" << std::setw(10) << "missed*" << std::setw(11)
          << "ambiguous" << "max distance error (relative)\n";
   std::vector<std::string> names;
+  std::vector<bool> counted;  // whether the implementation reports its own BV tests
   for (const auto& impl : s["implementations"]) {
     names.push_back(impl["name"].get<std::string>());
+    counted.push_back(impl.value("counts_tests", true));
     data << "# " << names.back() << "\n";
     for (const auto& l : impl["levels"]) {
       data << std::setprecision(10) << l["percent_of_max_penetration"].get<double>() << " " << l["mean_us"].get<double>()
@@ -62,9 +64,14 @@ int run_plot(const PlotCliOptions& opt) {
   const auto plots = [&](const std::string& term, const std::string& ext) {
     const auto series = [&](int column) {
       std::ostringstream p;
-      for (std::size_t i = 0; i < names.size(); ++i)
-        p << (i ? ", " : "") << "'plot.dat' index " << i << " using 1:" << column << " with linespoints title '"
-          << names[i] << "'";
+      bool first = true;
+      for (std::size_t i = 0; i < names.size(); ++i) {
+        if (column == 5 && !counted[i]) continue;
+        // Colours repeat after 8 series: a different dash pattern and point type tell them apart.
+        p << (first ? "" : ", ") << "'plot.dat' index " << i << " using 1:" << column << " with linespoints lc "
+          << (i % 8 + 1) << " dt " << (i / 8 + 1) << " pt " << (i % 13 + 1) << " title '" << names[i] << "'";
+        first = false;
+      }
       return p.str();
     };
     gp << "set terminal " << term << "\n";
