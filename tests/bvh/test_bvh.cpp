@@ -5,6 +5,10 @@
 
 #include "bvh/aabb.h"
 #include "bvh/bvh.h"
+#include "bvh/obb.h"
+#include "bvh/sphere.h"
+
+#include <Eigen/Geometry>
 
 namespace cdbench {
 namespace {
@@ -129,6 +133,39 @@ TEST(Aabb, SegmentTestNeverMissesAHit) {
       EXPECT_TRUE(segment_may_hit(b, p, q, 1e-9));
     }
   }
+}
+
+// A fitted OBB (and sphere) contains its points; two boxes that share a point (one moved by a
+// random rigid motion so that a point of it lands on a point of the other) always overlap; boxes
+// separated along an axis by more than their extents do not.
+TEST(Obb, FitContainsPointsAndOverlapIsConservative) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int separated = 0;
+  for (int k = 0; k < 2000; ++k) {
+    std::vector<Eigen::Vector3d> pa(9), pb(9);
+    const Eigen::Vector3d ca = 100.0 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    for (auto& p : pa) p = ca + Eigen::Vector3d(u(rng), 0.2 * u(rng), 0.05 * u(rng));
+    for (auto& p : pb) p = Eigen::Vector3d(u(rng), u(rng), 0.01 * u(rng));
+    const Obb a = fit_obb(9, [&](int i) -> const Eigen::Vector3d& { return pa[i]; });
+    const Obb b = fit_obb(9, [&](int i) -> const Eigen::Vector3d& { return pb[i]; });
+    const Sphere sa = bounding_sphere(9, [&](int i) -> const Eigen::Vector3d& { return pa[i]; });
+    for (const auto& p : pa) {
+      const Eigen::Vector3d q = a.axes.transpose() * (p - a.center);
+      EXPECT_TRUE((q.cwiseAbs().array() <= a.half.array()).all());
+      EXPECT_LE((p - sa.center).norm(), sa.radius);
+    }
+    const Eigen::Matrix3d R =
+        Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    // A point of b's hull (a vertex) placed exactly on a point of a's hull.
+    const Eigen::Vector3d t = pa[k % 9] - R * pb[(k / 9) % 9];
+    EXPECT_TRUE(obb_overlap(a, b, R, t)) << k;
+    // Far apart along a's first axis.
+    const Eigen::Vector3d far = a.center + a.axes.col(0) * (a.half[0] + b.half.norm() + 1.0) - R * b.center;
+    EXPECT_FALSE(obb_overlap(a, b, R, far));
+    separated += !obb_overlap(a, b, R, far);
+  }
+  EXPECT_EQ(separated, 2000);
 }
 
 }  // namespace
