@@ -17,6 +17,12 @@
 namespace cdbench::cli {
 namespace {
 
+std::string short_number(double x) {
+  std::ostringstream os;
+  os << std::setprecision(3) << x;
+  return os.str();
+}
+
 struct PlotCliOptions {
   std::string dir;
 };
@@ -48,10 +54,9 @@ int run_plot(const PlotCliOptions& opt) {
              << l["poses"].get<std::size_t>() << std::setw(7) << l["false_positives"].get<std::size_t>() << std::setw(7)
              << l["false_negatives"].get<std::size_t>() << std::setw(10) << l["missed_or_contained"].get<std::size_t>()
              << std::setw(11) << l["ambiguous"].get<std::size_t>()
-             << (l["distance_answers"].get<std::size_t>() > 0
-                     ? std::to_string(l["max_distance_error"].get<double>()) + " (" +
-                           std::to_string(l["max_relative_distance_error"].get<double>()) + ")"
-                     : std::string("-"))
+             << (l["distance_answers"].get<std::size_t>() > 0 ? short_number(l["max_distance_error"].get<double>()) + " (" +
+                                                                 short_number(l["max_relative_distance_error"].get<double>()) + ")"
+                                                           : std::string("-"))
              << "\n";
     }
     data << "\n\n";
