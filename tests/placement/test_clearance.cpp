@@ -121,5 +121,35 @@ TEST(PlacePose, PolishedPosesHitTheTarget) {
   }
 }
 
+// Without polishing, the raw pose against the surface itself is the exact first contact: its
+// certified clearance must be 0 up to the rounding of the stored translation and the tolerance
+// (an independent check of the sweep against the clearance certificate).
+TEST(PlacePose, RawFirstContactWithTheSurfaceTouches) {
+  const TriangleMesh torus = make_torus(1.0, 0.4, 24, 12);
+  const SignedDistance fixed(torus);
+  const TriangleMesh mover = make_icosphere(0.3, 2);
+  const ApproachSetup setup = make_approach_setup(fixed, mover);
+  const SweepMesh level0 = make_sweep_mesh(torus.vertices, torus.faces);
+  PoseOptions opt;
+  opt.tolerance = 1e-9;
+  opt.polish = false;
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int touching = 0;
+  for (int k = 0; k < 20; ++k) {
+    const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    const OrientationFrame frame = make_orientation_frame(setup, R);
+    const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const PoseOutcome p = place_pose(setup, frame, level0, dir, 0.0, opt);
+    if (!p.contact) continue;  // the line through the torus hole may miss
+    ++touching;
+    EXPECT_EQ(p.steps, 0);
+    EXPECT_LE(p.clearance.lo, 1e-12) << k;
+    EXPECT_GE(p.clearance.hi, -1e-12) << k;
+    EXPECT_LE(p.clearance.width(), 1e-9 * 1.001) << k;
+  }
+  EXPECT_GT(touching, 10);
+}
+
 }  // namespace
 }  // namespace cdbench
