@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "number_text.h"
 #include "offset_set.h"
 #include "distance/max_penetration.h"
 #include "mesh/write_mesh.h"
@@ -37,12 +38,6 @@ struct OffsetCliOptions {
   bool verbose = false;
   OffsetOptions offset;
 };
-
-std::string exact(double x) {
-  std::ostringstream os;
-  os << std::setprecision(17) << x;
-  return os.str();
-}
 
 int run_offset(const OffsetCliOptions& opt) {
   std::unique_ptr<tbb::global_control> threads;
@@ -84,7 +79,7 @@ int run_offset(const OffsetCliOptions& opt) {
   const std::string manifest_path = opt.out + "/manifest.json";
   std::cout << "input:           " << opt.mesh << " (" << loaded.validated.mesh.faces.size() << " faces, diagonal "
             << std::setprecision(9) << diag << ")\n";
-  std::cout << "max penetration: [" << exact(mp.depth.lo) << ", " << exact(mp.depth.hi) << "]\n";
+  std::cout << "max penetration: [" << number_text(mp.depth.lo) << ", " << number_text(mp.depth.hi) << "]\n";
   std::cout << "tolerance:       " << oo.tolerance_relative * diag << " (" << oo.tolerance_relative << " x diagonal)\n";
   std::size_t width = 8;
   for (const LevelSpec& l : specs) width = std::max(width, l.text.size() + 2);

@@ -10,18 +10,13 @@
 #include <sstream>
 
 #include "commands.h"
+#include "number_text.h"
 #include "json_file.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 
 namespace cdbench::cli {
 namespace {
-
-std::string short_number(double x) {
-  std::ostringstream os;
-  os << std::setprecision(3) << x;
-  return os.str();
-}
 
 struct PlotCliOptions {
   std::string dir;
@@ -54,8 +49,8 @@ int run_plot(const PlotCliOptions& opt) {
              << l["poses"].get<std::size_t>() << std::setw(7) << l["false_positives"].get<std::size_t>() << std::setw(7)
              << l["false_negatives"].get<std::size_t>() << std::setw(10) << l["missed_or_contained"].get<std::size_t>()
              << std::setw(11) << l["ambiguous"].get<std::size_t>()
-             << (l["distance_answers"].get<std::size_t>() > 0 ? short_number(l["max_distance_error"].get<double>()) + " (" +
-                                                                 short_number(l["max_relative_distance_error"].get<double>()) + ")"
+             << (l["distance_answers"].get<std::size_t>() > 0 ? number_text(l["max_distance_error"].get<double>(), 3) + " (" +
+                                                                 number_text(l["max_relative_distance_error"].get<double>(), 3) + ")"
                                                            : std::string("-"))
              << "\n";
     }

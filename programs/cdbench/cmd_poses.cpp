@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "number_text.h"
 #include "distance/max_penetration.h"
 #include "mesh/read_mesh.h"
 #include "mesh_loading.h"
@@ -50,12 +51,6 @@ struct PosesCliOptions {
   int max_steps = 400;
   std::string command_line;
 };
-
-std::string exact(double x) {
-  std::ostringstream os;
-  os << std::setprecision(17) << x;
-  return os.str();
-}
 
 struct Shard {
   std::uint64_t index = 0, count = 1;
@@ -226,7 +221,7 @@ int run_poses(const PosesCliOptions& opt) {
   }
   req.options.tolerance_relative = opt.band_tolerance;
   req.log_prefix = "cdbench poses: ";
-  std::cerr << "cdbench poses: max penetration [" << exact(mp.depth.lo) << ", " << exact(mp.depth.hi)
+  std::cerr << "cdbench poses: max penetration [" << number_text(mp.depth.lo) << ", " << number_text(mp.depth.hi)
             << "]; offsets for " << L << " level(s) in " << req.out_dir << std::endl;
   Timer t_offsets;
   const OffsetSetResult offsets = write_offset_set(req);
@@ -421,7 +416,7 @@ int run_poses(const PosesCliOptions& opt) {
   std::cout << "fixed:           " << opt.mesh << " (" << fixed_loaded.validated.mesh.faces.size() << " faces, diagonal "
             << std::setprecision(9) << diag << ")\n";
   std::cout << "mover:           " << mover_path << (opt.mover.empty() ? " (the fixed mesh)" : "") << "\n";
-  std::cout << "max penetration: [" << exact(mp.depth.lo) << ", " << exact(mp.depth.hi) << "]\n";
+  std::cout << "max penetration: [" << number_text(mp.depth.lo) << ", " << number_text(mp.depth.hi) << "]\n";
   std::cout << "poses:           " << N << " directions x " << K << " orientations x " << L << " levels"
             << (shard.count > 1 ? ", shard " + opt.shard : std::string()) << "; tolerance " << tol << " ("
             << opt.tolerance << " x diagonal); polishing " << (polish ? "on" : "off") << "\n";

@@ -1,5 +1,7 @@
 #include "offset_set.h"
 
+#include "number_text.h"
+
 #include <tbb/parallel_for.h>
 
 #include <filesystem>
@@ -19,12 +21,6 @@
 
 namespace cdbench::cli {
 namespace {
-
-std::string exact(double x) {
-  std::ostringstream os;
-  os << std::setprecision(17) << x;
-  return os.str();
-}
 
 std::string file_name(std::size_t index, const std::string& text) {
   std::string s;
@@ -77,9 +73,9 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
       std::cerr << r.log_prefix << line << std::endl;
     };
   std::ostringstream option_key;
-  option_key << CDBENCH_VERSION << "|" << exact(oo.tolerance_relative) << "|" << exact(oo.radius_relative) << "|"
-             << exact(oo.distance_over_tolerance) << "|" << oo.max_attempts << "|" << oo.seeds << "|"
-             << exact(r.max_penetration_tolerance);
+  option_key << CDBENCH_VERSION << "|" << number_text(oo.tolerance_relative) << "|" << number_text(oo.radius_relative) << "|"
+             << number_text(oo.distance_over_tolerance) << "|" << oo.max_attempts << "|" << oo.seeds << "|"
+             << number_text(r.max_penetration_tolerance);
 
   // Reuse: levels of an earlier run with the same input, level and options, whose file is intact.
   const std::string manifest_path = r.out_dir + "/manifest.json";
@@ -104,7 +100,7 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     Timer t_level;
     const double d = r.distances[i];
-    const std::string key = r.input_sha + "|" + exact(d) + "|" + option_key.str();
+    const std::string key = r.input_sha + "|" + number_text(d) + "|" + option_key.str();
     const std::string name = file_name(i, r.names[i]);
     const auto old = previous.find(key);
     if (old != previous.end()) {
