@@ -34,6 +34,14 @@ struct Aabb {
   }
 };
 
+// The box of the points p[0..n) (exact: min and max do not round).
+template <class PointAt>
+Aabb bounding_box(int n, const PointAt& point_at) {
+  Aabb b;
+  for (int i = 0; i < n; ++i) b.extend(point_at(i));
+  return b;
+}
+
 // Relative slack that covers the rounding of a handful of double operations (each <= 2^-52
 // relative under any rounding mode) with a wide margin: a lower bound computed in doubles and then
 // multiplied by (1 - kRoundingSlack) is a true lower bound.

@@ -94,6 +94,24 @@ Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit,
   return bvh;
 }
 
+// A hierarchy over triangles given as vertex-index triples: split by the triangles' centroids;
+// a node's volume is fit_points(n, point_at), point_at(k) being corner k % 3 of its triangle k / 3
+// (bounding_box, bounding_sphere and fit_obb have that form).
+template <class BV, class Triangles, class FitPoints>
+Bvh<BV> build_triangle_bvh(const std::vector<Eigen::Vector3d>& vertices, const Triangles& triangles,
+                           const FitPoints& fit_points, const BvhBuildOptions& options = {}) {
+  std::vector<Eigen::Vector3d> centroids(triangles.size());
+  for (std::size_t f = 0; f < triangles.size(); ++f)
+    centroids[f] = (vertices[triangles[f][0]] + vertices[triangles[f][1]] + vertices[triangles[f][2]]) / 3.0;
+  return build_bvh<BV>(
+      centroids,
+      [&](const std::uint32_t* ids, std::uint32_t n) {
+        return fit_points(static_cast<int>(3 * n),
+                          [&](int k) -> const Eigen::Vector3d& { return vertices[triangles[ids[k / 3]][k % 3]]; });
+      },
+      options);
+}
+
 template <class BV, class Policy>
 void traverse_nearest_first(const Bvh<BV>& bvh, Policy& policy) {
   if (bvh.empty()) return;

@@ -71,30 +71,20 @@ inline double size_of(const Obb& b) { return b.half.squaredNorm(); }
 inline double size_of(const Aabb& b) { return b.extent().squaredNorm(); }
 inline double size_of(const Sphere& b) { return b.radius; }
 
+// The tree of a mesh with one kind of volume per BV.
 template <class BV>
-BV fit(const std::vector<Vec3>& v, const std::vector<Face>& faces, const std::uint32_t* ids, std::uint32_t n);
+Bvh<BV> build_tree(const TriangleMesh& m);
 template <>
-Obb fit<Obb>(const std::vector<Vec3>& v, const std::vector<Face>& faces, const std::uint32_t* ids, std::uint32_t n) {
-  return fit_obb(static_cast<int>(3 * n), [&](int k) -> const Vec3& { return v[faces[ids[k / 3]][k % 3]]; });
+Bvh<Obb> build_tree<Obb>(const TriangleMesh& m) {
+  return build_triangle_bvh<Obb>(m.vertices, m.faces, [](int n, const auto& p) { return fit_obb(n, p); });
 }
 template <>
-Aabb fit<Aabb>(const std::vector<Vec3>& v, const std::vector<Face>& faces, const std::uint32_t* ids, std::uint32_t n) {
-  Aabb b;
-  for (std::uint32_t i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) b.extend(v[faces[ids[i]][k]]);
-  return b;
+Bvh<Aabb> build_tree<Aabb>(const TriangleMesh& m) {
+  return build_triangle_bvh<Aabb>(m.vertices, m.faces, [](int n, const auto& p) { return bounding_box(n, p); });
 }
 template <>
-Sphere fit<Sphere>(const std::vector<Vec3>& v, const std::vector<Face>& faces, const std::uint32_t* ids, std::uint32_t n) {
-  return bounding_sphere(static_cast<int>(3 * n), [&](int k) -> const Vec3& { return v[faces[ids[k / 3]][k % 3]]; });
-}
-
-template <class BV>
-Bvh<BV> build_tree(const TriangleMesh& m) {
-  std::vector<Vec3> centroids(m.faces.size());
-  for (std::size_t f = 0; f < m.faces.size(); ++f)
-    centroids[f] = (m.vertices[m.faces[f][0]] + m.vertices[m.faces[f][1]] + m.vertices[m.faces[f][2]]) / 3.0;
-  return build_bvh<BV>(centroids, [&](const std::uint32_t* ids, std::uint32_t n) { return fit<BV>(m.vertices, m.faces, ids, n); });
+Bvh<Sphere> build_tree<Sphere>(const TriangleMesh& m) {
+  return build_triangle_bvh<Sphere>(m.vertices, m.faces, [](int n, const auto& p) { return bounding_sphere(n, p); });
 }
 
 template <class BV>

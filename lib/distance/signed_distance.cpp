@@ -95,22 +95,8 @@ struct ParityPolicy {
 }  // namespace
 
 SignedDistance::SignedDistance(TriangleMesh mesh) : mesh_(std::move(mesh)), bbox_(mesh_.bbox()) {
-  std::vector<Vec3> centroids;
-  centroids.reserve(mesh_.faces.size());
-  std::vector<Aabb> boxes;
-  boxes.reserve(mesh_.faces.size());
-  for (const Face& f : mesh_.faces) {
-    Aabb b;
-    for (std::uint32_t v : f) b.extend(mesh_.vertices[v]);
-    boxes.push_back(b);
-    centroids.push_back((mesh_.vertices[f[0]] + mesh_.vertices[f[1]] + mesh_.vertices[f[2]]) / 3.0);
-  }
-  // Boxes of double vertices are exact; unions of them too.
-  tree_ = build_bvh<Aabb>(centroids, [&](const std::uint32_t* ids, std::size_t n) {
-    Aabb b;
-    for (std::size_t i = 0; i < n; ++i) b.extend(boxes[ids[i]]);
-    return b;
-  });
+  // Boxes of double vertices are exact.
+  tree_ = build_triangle_bvh<Aabb>(mesh_.vertices, mesh_.faces, [](int n, const auto& p) { return bounding_box(n, p); });
 }
 
 Interval SignedDistance::unsigned_distance(const Vec3& p) const {

@@ -17,15 +17,7 @@ MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::
     for (int i = 0; i < 3; ++i) o.rotated[k][i] = R(i, 0) * x[0] + R(i, 1) * x[1] + R(i, 2) * x[2];
     o.abs_max = o.abs_max.cwiseMax(absR * x.cwiseAbs());
   }
-  std::vector<Vec3> centroids(mover.faces.size());
-  for (std::size_t f = 0; f < mover.faces.size(); ++f)
-    centroids[f] = (o.rotated[mover.faces[f][0]] + o.rotated[mover.faces[f][1]] + o.rotated[mover.faces[f][2]]) / 3.0;
-  o.boxes = build_bvh<Aabb>(centroids, [&](const std::uint32_t* ids, std::uint32_t n) {
-    Aabb b;
-    for (std::uint32_t i = 0; i < n; ++i)
-      for (int k = 0; k < 3; ++k) b.extend(o.rotated[mover.faces[ids[i]][k]]);
-    return b;
-  });
+  o.boxes = build_triangle_bvh<Aabb>(o.rotated, mover.faces, [](int n, const auto& p) { return bounding_box(n, p); });
   return o;
 }
 

@@ -80,12 +80,7 @@ SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces) {
   SweepMesh m;
   m.vertices = std::move(vertices);
   m.faces = std::move(faces);
-  std::vector<Vec3> centroids(m.faces.size());
-  for (std::size_t f = 0; f < m.faces.size(); ++f)
-    centroids[f] = (m.vertices[m.faces[f][0]] + m.vertices[m.faces[f][1]] + m.vertices[m.faces[f][2]]) / 3.0;
-  m.tree = build_bvh<Sphere>(centroids, [&](const std::uint32_t* ids, std::uint32_t n) {
-    return bounding_sphere(static_cast<int>(3 * n), [&](int k) -> const Vec3& { return m.vertices[m.faces[ids[k / 3]][k % 3]]; });
-  });
+  m.tree = build_triangle_bvh<Sphere>(m.vertices, m.faces, [](int n, const auto& p) { return bounding_sphere(n, p); });
   return m;
 }
 

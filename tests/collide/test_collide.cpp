@@ -58,8 +58,12 @@ TEST(Collide, AllImplementationsAgreeWithCertificates) {
       }
       if (!impl->detects_containment() && maybe_inside) continue;
       EXPECT_EQ(ans.collides, expect) << "clearance [" << c.lo << ", " << c.hi << "]";
-      if (impl->counts_tests()) EXPECT_GT(ans.bv_tests, 0u);
-      if (std::isfinite(ans.distance) && c.lo > 0.0) EXPECT_NEAR(ans.distance, c.mid(), 1e-9 * (1.0 + c.mid()));
+      if (impl->counts_tests()) {
+        EXPECT_GT(ans.bv_tests, 0u);
+      }
+      if (std::isfinite(ans.distance) && c.lo > 0.0) {
+        EXPECT_NEAR(ans.distance, c.mid(), 1e-9 * (1.0 + c.mid()));
+      }
     }
   }
   EXPECT_GT(colliding, 50);
