@@ -6,6 +6,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include "collide/collision_impl.h"
+#include "placement/mover.h"
 
 namespace cdbench {
 namespace {
@@ -32,12 +33,7 @@ class CgalImpl final : public CollisionImpl {
   QueryAnswer query(const Eigen::Matrix3d& R, const Vec3& t) override {
     QueryAnswer a;
     std::vector<K::Point_3> p(mover_.vertices.size());
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const Vec3& x = mover_.vertices[i];
-      Vec3 y;
-      for (int k = 0; k < 3; ++k) y[k] = R(k, 0) * x[0] + R(k, 1) * x[1] + R(k, 2) * x[2] + t[k];
-      p[i] = point(y);
-    }
+    for (std::size_t i = 0; i < p.size(); ++i) p[i] = point(place_point(R, t, mover_.vertices[i]));
     for (const Face& f : mover_.faces) {
       ++a.triangle_tests;
       const K::Triangle_3 tri(p[f[0]], p[f[1]], p[f[2]]);

@@ -105,11 +105,7 @@ struct OverlapPolicy {
     ++answer.triangle_tests;
     const Face& f = fixed.faces[fi];
     const Face& m = mover.faces[mi];
-    const auto place = [&](const Vec3& x) {
-      Vec3 y;
-      for (int i = 0; i < 3; ++i) y[i] = R(i, 0) * x[0] + R(i, 1) * x[1] + R(i, 2) * x[2] + t[i];
-      return y;
-    };
+    const auto place = [&](const Vec3& x) { return place_point(R, t, x); };
     if (triangles_intersect(fixed.vertices[f[0]], fixed.vertices[f[1]], fixed.vertices[f[2]], place(mover.vertices[m[0]]),
                             place(mover.vertices[m[1]]), place(mover.vertices[m[2]])))
       answer.collides = true;
@@ -137,10 +133,7 @@ class OwnTree final : public CollisionImpl {
     traverse_pairs_nearest_first(tf_, tm_, policy);
     if (!a.collides)
       for (std::uint32_t v : components_) {
-        const Vec3& x = mover_.vertices[v];
-        Vec3 y;
-        for (int i = 0; i < 3; ++i) y[i] = R(i, 0) * x[0] + R(i, 1) * x[1] + R(i, 2) * x[2] + t[i];
-        if (sdf_->side(y) <= 0) {
+        if (sdf_->side(place_point(R, t, mover_.vertices[v])) <= 0) {
           a.collides = true;
           break;
         }

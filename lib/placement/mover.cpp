@@ -13,8 +13,7 @@ MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::
   const Eigen::Matrix3d absR = R.cwiseAbs();
   for (std::size_t k = 0; k < mover.vertices.size(); ++k) {
     const Vec3& x = mover.vertices[k];
-    // Written out so that the evaluation order is fixed: ((r0 x0 + r1 x1) + r2 x2).
-    for (int i = 0; i < 3; ++i) o.rotated[k][i] = R(i, 0) * x[0] + R(i, 1) * x[1] + R(i, 2) * x[2];
+    o.rotated[k] = rotate_point(R, x);
     o.abs_max = o.abs_max.cwiseMax(absR * x.cwiseAbs());
   }
   o.boxes = build_triangle_bvh<Aabb>(o.rotated, mover.faces, [](int n, const auto& p) { return bounding_box(n, p); });

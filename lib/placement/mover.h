@@ -16,6 +16,19 @@
 
 namespace cdbench {
 
+// fl(R x), in the fixed order ((r0 x0 + r1 x1) + r2 x2) per coordinate.
+inline Vec3 rotate_point(const Eigen::Matrix3d& R, const Vec3& x) {
+  Vec3 y;
+  for (int i = 0; i < 3; ++i) y[i] = R(i, 0) * x[0] + R(i, 1) * x[1] + R(i, 2) * x[2];
+  return y;
+}
+
+// fl(fl(R x) + t): how every placed vertex is evaluated (poses, clearances, collision queries).
+inline Vec3 place_point(const Eigen::Matrix3d& R, const Vec3& t, const Vec3& x) {
+  const Vec3 r = rotate_point(R, x);
+  return Vec3(r[0] + t[0], r[1] + t[1], r[2] + t[2]);
+}
+
 struct MoverOrientation {
   Eigen::Matrix3d R;             // the stored rotation (row-major in files)
   std::vector<Vec3> rotated;     // fl(R x) per vertex
