@@ -60,13 +60,8 @@ struct DistancePolicy {
       Vec3 p, q;
       const double e2 = triangle_triangle_closest_points(A0, A1, A2, B0, B1, B2, &p, &q);
       const double lb = e2 > tiny_sq ? triangle_distance_lower_bound(A0, A1, A2, B0, B1, B2, q - p) : 0.0;
-      if (lb > 0.0) {
-        min_lo_sq = std::min(min_lo_sq, down(lb * lb));
-      } else {
-        const Interval d2 = triangle_triangle_squared_distance(A0, A1, A2, B0, B1, B2);
-        min_lo_sq = std::min(min_lo_sq, d2.lo);
-        if (d2.hi == 0.0) intersect = true;
-      }
+      if (lb > 0.0) min_lo_sq = std::min(min_lo_sq, down(lb * lb));
+      else rigorous(A0, A1, A2, B0, B1, B2);
       if (e2 < best_est_sq) {
         best_est_sq = e2;
         threshold_sq = e2 * (1.0 + 1e-6) + margin_sq;
@@ -75,12 +70,16 @@ struct DistancePolicy {
       }
       return;
     }
-    const Interval d2 = triangle_triangle_squared_distance(A0, A1, A2, B0, B1, B2);
-    min_lo_sq = std::min(min_lo_sq, d2.lo);
-    best_hi_sq = std::min(best_hi_sq, d2.hi);
-    if (d2.hi == 0.0) intersect = true;
+    best_hi_sq = std::min(best_hi_sq, rigorous(A0, A1, A2, B0, B1, B2).hi);
   }
   bool done() const { return intersect; }
+  // The certified enclosure of one pair (exact intersection test included), taken into the lower end.
+  Interval rigorous(const Vec3& A0, const Vec3& A1, const Vec3& A2, const Vec3& B0, const Vec3& B1, const Vec3& B2) {
+    const Interval d2 = triangle_triangle_squared_distance(A0, A1, A2, B0, B1, B2);
+    min_lo_sq = std::min(min_lo_sq, d2.lo);
+    if (d2.hi == 0.0) intersect = true;
+    return d2;
+  }
 };
 
 // A cell of the branch and bound: a node of the mover's tree, or a (sub)triangle of a face given by
@@ -204,11 +203,8 @@ class BranchAndBound {
     ++queries_;
     const Interval ud = fixed_.unsigned_distance(m);
     const Interval s = fixed_.signed_distance(m, ud);
-    if (up(s.hi + eta_m) < upper_) {
-      upper_ = up(s.hi + eta_m);
-      argmin_face_ = c.id;
-      argmin_bary_ = {(c.bary[0][0] + c.bary[1][0] + c.bary[2][0]) / 3, (c.bary[0][1] + c.bary[1][1] + c.bary[2][1]) / 3};
-    }
+    offer_upper(up(s.hi + eta_m), c.id,
+                {(c.bary[0][0] + c.bary[1][0] + c.bary[2][0]) / 3, (c.bary[0][1] + c.bary[1][1] + c.bary[2][1]) / 3});
     double lower = down(down(s.lo - r) - eta_m);
     if (lower < upper_ - tol_) {
       // Distance from the cell to F, needed only where the cell may reach F (otherwise the
@@ -240,18 +236,22 @@ class BranchAndBound {
         // that the upper end meets the convexity bound without subdividing towards that corner.
         if (depth < kInf) {
           ++queries_;
-          const double at_corner = up(fixed_.signed_distance(v[corner]).hi + eta);
-          if (at_corner < upper_) {
-            upper_ = at_corner;
-            argmin_face_ = c.id;
-            argmin_bary_ = c.bary[corner];
-          }
+          offer_upper(up(fixed_.signed_distance(v[corner]).hi + eta), c.id, c.bary[corner]);
         }
         lower = std::max(lower, down(-depth - eta));
       }
     }
     c.lower = lower;
     return c;
+  }
+
+  // A certified value of s at a mover surface point (face, barycentrics): the upper end so far.
+  void offer_upper(double value, std::uint32_t face, const std::array<double, 2>& bary) {
+    if (value < upper_) {
+      upper_ = value;
+      argmin_face_ = face;
+      argmin_bary_ = bary;
+    }
   }
 
   const SignedDistance& fixed_;
