@@ -46,11 +46,7 @@ int run_offset(const OffsetCliOptions& opt) {
   const std::vector<LevelSpec> specs = parse_level_list(opt.levels);  // option errors before any work
   Timer total;
   const LoadedMesh loaded = load_mesh(opt.mesh);
-  if (!loaded.validated.report.valid()) {
-    for (const auto& e : loaded.validated.report.errors) std::cerr << "cdbench: " << opt.mesh << ": " << e.message << "\n";
-    std::cerr << "cdbench: error: " << opt.mesh << " is not a valid closed solid (see 'cdbench check'; 'cdbench wrap' repairs)\n";
-    return kExitInvalidMesh;
-  }
+  if (!report_if_not_solid(loaded)) return kExitInvalidMesh;
   std::error_code ec;
   std::filesystem::create_directories(opt.out, ec);
   if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");

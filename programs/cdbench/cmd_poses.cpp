@@ -139,18 +139,12 @@ int run_poses(const PosesCliOptions& opt) {
   Timer total;
 
   const LoadedMesh fixed_loaded = load_mesh(opt.mesh);
-  const auto require_valid = [](const LoadedMesh& l) {
-    if (l.validated.report.valid()) return true;
-    for (const auto& e : l.validated.report.errors) std::cerr << "cdbench: " << l.path << ": " << e.message << "\n";
-    std::cerr << "cdbench: error: " << l.path << " is not a valid closed solid (see 'cdbench check'; 'cdbench wrap' repairs)\n";
-    return false;
-  };
-  if (!require_valid(fixed_loaded)) return kExitInvalidMesh;
+  if (!report_if_not_solid(fixed_loaded)) return kExitInvalidMesh;
   const std::string mover_path = opt.mover.empty() ? opt.mesh : opt.mover;
   LoadedMesh mover_loaded;
   if (!opt.mover.empty()) {
     mover_loaded = load_mesh(opt.mover);
-    if (!require_valid(mover_loaded)) return kExitInvalidMesh;
+    if (!report_if_not_solid(mover_loaded)) return kExitInvalidMesh;
   }
   const TriangleMesh& mover = opt.mover.empty() ? fixed_loaded.validated.mesh : mover_loaded.validated.mesh;
   const std::string fixed_sha = sha256_file(opt.mesh);

@@ -1,5 +1,7 @@
 #include "mesh_loading.h"
 
+#include <iostream>
+
 #include "mesh/read_mesh.h"
 #include "util/error.h"
 #include "util/timer.h"
@@ -16,6 +18,13 @@ LoadedMesh load_mesh(const std::string& path, const ValidateOptions& options) {
   loaded.validated = validate_mesh(soup, options);
   loaded.seconds_validate = t_validate.seconds();
   return loaded;
+}
+
+bool report_if_not_solid(const LoadedMesh& l) {
+  if (l.validated.report.valid()) return true;
+  for (const auto& e : l.validated.report.errors) std::cerr << "cdbench: " << l.path << ": " << e.message << "\n";
+  std::cerr << "cdbench: error: " << l.path << " is not a valid closed solid (see 'cdbench check'; 'cdbench wrap' repairs)\n";
+  return false;
 }
 
 }  // namespace cdbench::cli

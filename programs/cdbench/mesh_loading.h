@@ -15,4 +15,8 @@ struct LoadedMesh {
 // Throws InputError when the file cannot be read as a mesh (not when it is an invalid solid).
 LoadedMesh load_mesh(const std::string& path, const ValidateOptions& options = {});
 
+// For commands that need a closed solid: true if the mesh is one; otherwise lists its problems
+// on stderr, says how to repair it, and returns false (the caller exits with kExitInvalidMesh).
+bool report_if_not_solid(const LoadedMesh& loaded);
+
 }  // namespace cdbench::cli
