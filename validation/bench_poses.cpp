@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "collide/fcl_model.h"
 #include "mesh/read_mesh.h"
 #include "mesh/validate_mesh.h"
 #include "placement/place_pose.h"
@@ -29,17 +30,6 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-std::shared_ptr<fcl::BVHModel<fcl::OBBRSS<double>>> fcl_model(const TriangleMesh& m) {
-  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSS<double>>>();
-  std::vector<fcl::Vector3<double>> v(m.vertices.begin(), m.vertices.end());
-  std::vector<fcl::Triangle> t;
-  for (const Face& f : m.faces) t.emplace_back(f[0], f[1], f[2]);
-  model->beginModel();
-  model->addSubModel(v, t);
-  model->endModel();
-  return model;
-}
 
 TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_soup(path)).mesh; }
 
@@ -77,8 +67,8 @@ int main(int argc, char** argv) {
                                                    : rotations_super_fibonacci(K);
   const std::size_t A = N * K, M = std::min(wanted, A);
 
-  auto fcl_fixed = fcl_model(fixed_mesh);
-  auto fcl_mover = fcl_model(mover);
+  auto fcl_fixed = fcl_model<fcl::OBBRSS<double>>(fixed_mesh);
+  auto fcl_mover = fcl_model<fcl::OBBRSS<double>>(mover);
   const double far = setup.fixed_radius + setup.mover_radius + 1e-3 * diag;
   double t_exact = 0.0, t_fcl = 0.0, max_over = 0.0, max_under = 0.0;
   std::size_t differ = 0, overshoot = 0, both = 0, fcl_miss = 0;
@@ -89,7 +79,7 @@ int main(int argc, char** argv) {
   ClearanceOptions copt;
   copt.tolerance = 1e-6 * diag;
   const auto clearance_at = [&](const OrientationFrame& f, const Vec3& d, double lambda) {
-    const Vec3 t = f.t0 + lambda * d;
+    const Vec3 t = pose_translation(f, d, lambda);
     return certify_clearance(fixed, mover, setup.components, f.orientation, t, copt).clearance;
   };
   std::size_t current_orientation = static_cast<std::size_t>(-1);
@@ -111,8 +101,8 @@ int main(int argc, char** argv) {
     fcl::Transform3<double> start = fcl::Transform3<double>::Identity(), end = start, id = start;
     start.linear() = R;
     end.linear() = R;
-    start.translation() = frame->t0 + far * d;
-    end.translation() = frame->t0 - far * d;
+    start.translation() = pose_translation(*frame, d, far);
+    end.translation() = pose_translation(*frame, d, -far);
     fcl::TranslationMotion<double> m1(id, id), m2(start, end);
     fcl::CollisionRequest<double> request;
     fcl::CollisionResult<double> result;

@@ -4,22 +4,10 @@
 #include <fcl/fcl.h>
 
 #include "collide/collision_impl.h"
+#include "collide/fcl_model.h"
 
 namespace cdbench {
 namespace {
-
-template <class BV>
-std::shared_ptr<fcl::BVHModel<BV>> model_of(const TriangleMesh& m) {
-  auto model = std::make_shared<fcl::BVHModel<BV>>();
-  std::vector<fcl::Vector3<double>> v(m.vertices.begin(), m.vertices.end());
-  std::vector<fcl::Triangle> t;
-  t.reserve(m.faces.size());
-  for (const Face& f : m.faces) t.emplace_back(f[0], f[1], f[2]);
-  model->beginModel();
-  model->addSubModel(v, t);
-  model->endModel();
-  return model;
-}
 
 // The two models built once, the fixed one at the identity and the mover at (R, t) per query.
 template <class BV>
@@ -28,8 +16,8 @@ class FclModels : public CollisionImpl {
   explicit FclModels(std::string name) : name_(std::move(name)) {}
   std::string name() const override { return name_; }
   void build(const TriangleMesh& fixed, const TriangleMesh& mover) override {
-    fixed_ = model_of<BV>(fixed);
-    mover_ = model_of<BV>(mover);
+    fixed_ = fcl_model<BV>(fixed);
+    mover_ = fcl_model<BV>(mover);
   }
 
  protected:

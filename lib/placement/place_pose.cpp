@@ -18,11 +18,11 @@ double max_distance(const std::vector<Vec3>& v, const Vec3& c) {
   return r * (1.0 + 1e-12);
 }
 
-Vec3 translation(const OrientationFrame& f, const Vec3& dir, double lambda) {
+}  // namespace
+
+Vec3 pose_translation(const OrientationFrame& f, const Vec3& dir, double lambda) {
   return Vec3(f.t0[0] + lambda * dir[0], f.t0[1] + lambda * dir[1], f.t0[2] + lambda * dir[2]);
 }
-
-}  // namespace
 
 ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover) {
   ApproachSetup s;
@@ -65,7 +65,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   copt.max_cells = options.max_cells;
   const auto certify = [&](double lambda, double tolerance) {
     copt.tolerance = tolerance;
-    const Vec3 t = translation(frame, dir, lambda);
+    const Vec3 t = pose_translation(frame, dir, lambda);
     const ClearanceResult r = certify_clearance(*setup.fixed, *setup.mover, setup.components, frame.orientation, t, copt);
     out.clearance_cells += r.cells;
     if (r.argmin_face >= 0) {  // the next, nearby pose starts from this minimum
@@ -115,7 +115,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         c = certify(out.lambda, current_tol = final_tol);  // near the end: the reported certificate
     }
   }
-  out.t = translation(frame, dir, out.lambda);
+  out.t = pose_translation(frame, dir, out.lambda);
   out.clearance = c.clearance;
   out.certified = c.tolerance_reached;
   out.on_target = within(c.clearance);

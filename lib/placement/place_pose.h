@@ -34,6 +34,9 @@ struct OrientationFrame {
 };
 OrientationFrame make_orientation_frame(const ApproachSetup& setup, const Eigen::Matrix3d& R);
 
+// The translation of the pose lambda along d: fl(t0 + fl(lambda d)) per coordinate.
+Vec3 pose_translation(const OrientationFrame& frame, const Vec3& dir, double lambda);
+
 struct PoseOptions {
   double tolerance = 0.0;  // absolute: certificate width and polishing target band
   bool polish = true;
