@@ -291,17 +291,19 @@ int run_poses(const PosesCliOptions& opt) {
         row.dir = dir;
         row.orientation = o;
         row.direction = a % N;
-        const double nan = std::numeric_limits<double>::quiet_NaN();
-        if (!level_mesh[l]) {
+        // A row without a pose: its values are NaN, its status says why.
+        const auto unplaced = [&row](const std::string& reason) {
+          const double nan = std::numeric_limits<double>::quiet_NaN();
           row.t = Vec3::Constant(nan);
           row.clearance_lo = row.clearance_hi = row.raw_clearance_lo = row.raw_clearance_hi = row.lambda = nan;
-          row.status = "uncertified:offset-" + level_state[l];
+          row.status = "uncertified:" + reason;
+        };
+        if (!level_mesh[l]) {
+          unplaced("offset-" + level_state[l]);
         } else {
           const PoseOutcome p = place_pose(setup, frame, *level_mesh[l], dir, targets[l], po);
           if (!p.contact) {
-            row.t = Vec3::Constant(nan);
-            row.clearance_lo = row.clearance_hi = row.raw_clearance_lo = row.raw_clearance_hi = row.lambda = nan;
-            row.status = "uncertified:no-contact";
+            unplaced(p.reason);  // "no-contact"
           } else {
             row.t = p.t;
             row.lambda = p.lambda;
