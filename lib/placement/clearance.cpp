@@ -277,7 +277,9 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   const std::vector<Vec3> P = orientation.placed(t);
   DistancePolicy dist{fixed.mesh(), P, mover.faces, t};
   double scale = fixed.bbox().lo.cwiseAbs().maxCoeff() + fixed.bbox().hi.cwiseAbs().maxCoeff();
-  for (const Vec3& p : P) scale = std::max(scale, p.cwiseAbs().maxCoeff());
+  // The mover's root box, moved, bounds every placed vertex (and its extremes are vertices).
+  const Aabb mover_box = moved(orientation.boxes.nodes[0].bv, t);
+  scale = std::max({scale, mover_box.lo.cwiseAbs().maxCoeff(), mover_box.hi.cwiseAbs().maxCoeff()});
   dist.tiny_sq = (1e-9 * scale) * (1e-9 * scale);
   dist.margin_sq = (1e-10 * scale) * (1e-10 * scale);
   traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, dist);
