@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace cdbench {
 namespace {
@@ -45,21 +46,53 @@ OrientationFrame make_orientation_frame(const ApproachSetup& setup, const Eigen:
   return f;
 }
 
-PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame, const SweepMesh& offset,
+const char* to_string(PoseStart s) {
+  switch (s) {
+    case PoseStart::Offset: return "offset";
+    case PoseStart::Surface: return "surface";
+    case PoseStart::Far: return "far";
+  }
+  return "?";
+}
+
+PoseStart planned_start(double target, bool polish, StartPolicy policy) {
+  if (target == 0.0) return PoseStart::Surface;
+  if (!polish || policy == StartPolicy::Offsets) return PoseStart::Offset;
+  return target < 0.0 ? PoseStart::Surface : PoseStart::Far;
+}
+
+bool fallback_start(double target, bool polish, PoseStart* start) {
+  if (!polish) return false;
+  *start = planned_start(target, polish, StartPolicy::NoOffsets);
+  return true;
+}
+
+PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame, const SweepMesh* swept,
                        const Vec3& dir, double target, const PoseOptions& options) {
   PoseOutcome out;
-  const Vec3 v = -dir;
-  const MeshContact mc = first_contact_along_line(offset, frame.swept, v);
-  out.sphere_tests = mc.sphere_tests;
-  out.triangle_sweeps = mc.triangle_sweeps;
-  if (!mc.hit) {
-    out.reason = "no-contact";
-    return out;
+  // Where the bounding spheres are apart by more than |target| and separating further: every
+  // farther pose has c > target, so the advance may start there.
+  const double lambda_far =
+      setup.fixed_radius + setup.mover_radius + std::abs(target) + 1e-3 * (setup.fixed_radius + 1.0);
+  const bool far_start = options.start == PoseStart::Far;
+  if (far_start && !options.polish) throw std::invalid_argument("place_pose: a far start needs polishing");
+  if (!far_start) {
+    if (swept == nullptr) throw std::invalid_argument("place_pose: no surface to sweep against");
+    const Vec3 v = -dir;
+    const MeshContact mc = first_contact_along_line(*swept, frame.swept, v);
+    out.sphere_tests = mc.sphere_tests;
+    out.triangle_sweeps = mc.triangle_sweeps;
+    if (!mc.hit) {
+      out.reason = "no-contact";
+      return out;
+    }
+    // The swept mover sits at t0 + t_contact v = t0 - t_contact d.
+    const mpq_class lambda_exact = -exact_contact_time(*swept, frame.swept, v, mc);
+    out.lambda_raw = out.lambda = lambda_exact.get_d();
+  } else {
+    out.lambda_raw = out.lambda = lambda_far;
   }
   out.contact = true;
-  // The swept mover sits at t0 + t_contact v = t0 - t_contact d.
-  const mpq_class lambda_exact = -exact_contact_time(offset, frame.swept, v, mc);
-  out.lambda_raw = out.lambda = lambda_exact.get_d();
   ClearanceOptions copt;
   copt.tolerance = 0.5 * options.tolerance;  // leaves room for the target band below
   copt.max_cells = options.max_cells;
@@ -87,10 +120,9 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     return x.lo >= target - options.tolerance && x.hi <= target + options.tolerance;
   };
   if (options.polish) {
-    if (!(c.clearance.lo > target)) {
-      // Not provably before the crossing: start where the bounding spheres are apart by more than
-      // |target| and separating further, so that every later (farther) pose has c > target.
-      out.lambda = setup.fixed_radius + setup.mover_radius + std::abs(target) + 1e-3 * (setup.fixed_radius + 1.0);
+    if (!within(c.clearance) && !(c.clearance.lo > target)) {
+      // Neither on target nor provably before the crossing: start far away.
+      out.lambda = lambda_far;
       c = certify(out.lambda, final_tol);
     }
     double current_tol = final_tol;
@@ -110,6 +142,12 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       current_tol = step_tolerance(c.clearance);
       out.lambda -= step;
       ++out.steps;
+      if (out.lambda < -lambda_far) {
+        // Passed the fixed object without reaching the target: c > target on the whole line.
+        out.contact = false;
+        out.reason = "no-contact";
+        return out;
+      }
       c = certify(out.lambda, current_tol);
       if (c.clearance.hi <= target + options.tolerance && current_tol > final_tol)
         c = certify(out.lambda, current_tol = final_tol);  // near the end: the reported certificate

@@ -37,11 +37,36 @@ OrientationFrame make_orientation_frame(const ApproachSetup& setup, const Eigen:
 // The translation of the pose lambda along d: fl(t0 + fl(lambda d)) per coordinate.
 Vec3 pose_translation(const OrientationFrame& frame, const Vec3& dir, double lambda);
 
+// Where the raw pose comes from, before polishing by conservative advancement. Each is a pose
+// before the first crossing of the target (coming from far along +d), so the advance cannot pass
+// it (doc/poses.md):
+//  * Offset: the exact first contact with a certified offset at target + 2 band (its band and
+//    completeness keep every earlier pose above the target); the usual start.
+//  * Surface: the exact first contact with the fixed surface itself. Before it the mover is
+//    outside F, so c > 0 >= target: valid for every target <= 0 and exact for target 0. Needs no
+//    offset mesh.
+//  * Far: no sweep; the mover's bounding sphere apart from F's by more than |target|. Valid for
+//    any target (the fallback when a level's offset could not be certified).
+enum class PoseStart { Offset, Surface, Far };
+const char* to_string(PoseStart s);
+
+// Which starts a pose set uses. NoOffsets: the surface for targets <= 0, far away for targets > 0
+// (no offset mesh at all; measured cheaper overall, doc/poses.md). Offsets: a certified offset at
+// target + 2 band for every target != 0.
+enum class StartPolicy { NoOffsets, Offsets };
+// The start of a level's poses. Target 0 always starts at the surface (its exact first contact is
+// the pose); without polishing the raw first contact with the level's own offset is the pose.
+PoseStart planned_start(double target, bool polish, StartPolicy policy);
+// When a level's offset could not be certified: the NoOffsets start (polishing only; returns false
+// when there is no valid start without an offset).
+bool fallback_start(double target, bool polish, PoseStart* start);
+
 struct PoseOptions {
   double tolerance = 0.0;  // absolute: certificate width and polishing target band
   bool polish = true;
   int max_steps = 400;     // conservative-advancement steps before giving up (reported)
   std::uint64_t max_cells = 400000;
+  PoseStart start = PoseStart::Offset;
 };
 
 struct PoseOutcome {
@@ -56,10 +81,10 @@ struct PoseOutcome {
   std::uint64_t sphere_tests = 0, triangle_sweeps = 0, clearance_cells = 0;
 };
 
-// `offset` is the surface swept against (level 0: the fixed surface itself). When polishing, the
-// raw pose must lie before the first crossing of `target` (an offset at target + 2 band, see
-// doc/poses.md); if its certified clearance is not above the target the advance starts far away.
-PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame, const SweepMesh& offset,
+// `swept` is the surface swept against for the raw pose: the offset (start Offset), the fixed
+// surface (start Surface), unused for start Far (may be null). When polishing, a raw pose whose
+// certificate is neither on target nor above it restarts the advance far away.
+PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame, const SweepMesh* swept,
                        const Vec3& dir, double target, const PoseOptions& options);
 
 }  // namespace cdbench

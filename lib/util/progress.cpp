@@ -19,10 +19,10 @@ Progress::~Progress() { finish(); }
 
 void Progress::advance(std::uint64_t n) {
   done_.fetch_add(n, std::memory_order_relaxed);
-  if (!active_) return;
   const auto now = std::chrono::steady_clock::now();
-  // Cheap unlocked check first; the lock only serialises actual drawing.
-  if (now - last_draw_ < std::chrono::milliseconds(200)) return;
+  // Cheap unlocked check first; the lock only serialises actual drawing. Without a terminal (a
+  // log, a batch job) a plain line every 30 s shows that long work is alive.
+  if (now - last_draw_ < (active_ ? std::chrono::milliseconds(200) : std::chrono::milliseconds(30000))) return;
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock() || finished_) return;
   last_draw_ = now;
@@ -48,14 +48,14 @@ void Progress::draw(bool final_line) {
   if (total_ > 0) {
     const double frac = static_cast<double>(done) / static_cast<double>(total_);
     const double eta = frac > 0 ? elapsed * (1.0 / frac - 1.0) : 0.0;
-    std::fprintf(stderr, "\r%s: %5.1f%% (%llu/%llu) %.0fs elapsed, ETA %.0fs %s\033[K", label_.c_str(),
+    std::fprintf(stderr, active_ ? "\r%s: %5.1f%% (%llu/%llu) %.0fs elapsed, ETA %.0fs %s\033[K" : "%s: %5.1f%% (%llu/%llu) %.0fs elapsed, ETA %.0fs %s", label_.c_str(),
                  100.0 * frac, static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_),
                  elapsed, eta, detail_.c_str());
   } else {
-    std::fprintf(stderr, "\r%s: %llu, %.1fs elapsed %s\033[K", label_.c_str(),
+    std::fprintf(stderr, active_ ? "\r%s: %llu, %.1fs elapsed %s\033[K" : "%s: %llu, %.1fs elapsed %s", label_.c_str(),
                  static_cast<unsigned long long>(done), elapsed, detail_.c_str());
   }
-  if (final_line) std::fputc('\n', stderr);
+  if (final_line || !active_) std::fputc('\n', stderr);
   std::fflush(stderr);
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// Progress on stderr for long work: shown only when stderr is a terminal (never in logs or CI),
-// throttled to a few updates per second, safe to call from many threads.
+// Progress on stderr for long work: on a terminal a line redrawn a few times per second; otherwise
+// (logs, batch jobs, CI) a plain line every 30 s, so short runs print nothing. Safe to call from
+// many threads.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -22,7 +23,7 @@ class Progress {
   void set_detail(const std::string& detail);
   void finish();
 
-  static bool enabled();  // true when stderr is a terminal
+  static bool enabled();  // true when stderr is a terminal (redrawn line)
 
  private:
   void draw(bool final_line);

@@ -1,6 +1,5 @@
 // cdbench poses MESH --levels LIST --directions N --orientations K -o DIR: a certified pose set.
 #include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -13,6 +12,8 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <mutex>
+#include <atomic>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -29,6 +30,7 @@
 #include "poseset_summary.h"
 #include "sampling/sampling.h"
 #include "util/atomic_file.h"
+#include "util/dynamic_parallel.h"
 #include "util/error.h"
 #include "util/progress.h"
 #include "util/sha256.h"
@@ -45,6 +47,7 @@ struct PosesCliOptions {
   int threads = 0;
   std::string shard = "0/1";
   bool resume = false, no_polish = false;
+  std::string start = "auto";
   double tolerance = 1e-6;       // certification tolerance, relative to the fixed mesh's diagonal
   double band_tolerance = 1e-3;  // offsets' band tolerance, relative
   double max_penetration_tolerance = 1e-6;
@@ -163,14 +166,16 @@ int run_poses(const PosesCliOptions& opt) {
   const bool polish = !opt.no_polish;
   const double tol = opt.tolerance * diag;
 
-  // Levels: targets, and the offsets swept against. With polishing, the offset of level d is at
-  // d + 2 band: its certified band (<= band) and completeness put its first contact before the
-  // first crossing of d (doc/poses.md), where the conservative advance starts.
+  // Levels: targets and starts. Level 0 starts at the exact first contact with the surface itself;
+  // others at the first contact with a certified offset at d + 2 band (polishing; its band and
+  // completeness put it before the first crossing of d, doc/poses.md) or at d (no polishing).
   const std::size_t L = specs.size();
   std::vector<double> targets(L), swept(L);
+  std::vector<PoseStart> start(L);
   for (std::size_t l = 0; l < L; ++l) {
     targets[l] = level_distance(specs[l], mp.depth.lo);
-    swept[l] = polish ? targets[l] + 2.0 * opt.band_tolerance * diag : targets[l];
+    start[l] = planned_start(targets[l], polish, opt.start == "offset" ? StartPolicy::Offsets : StartPolicy::NoOffsets);
+    swept[l] = start[l] == PoseStart::Offset && polish ? targets[l] + 2.0 * opt.band_tolerance * diag : targets[l];
   }
 
   // Run identity: a resumed run must be the same run.
@@ -185,6 +190,7 @@ int run_poses(const PosesCliOptions& opt) {
                             {"tolerance", opt.tolerance},
                             {"band_tolerance", opt.band_tolerance},
                             {"polish", polish},
+                            {"start", opt.start},
                             {"max_steps", opt.max_steps},
                             {"shard", opt.shard},
                             {"generator", std::string("cdbench ") + CDBENCH_VERSION}};
@@ -206,36 +212,54 @@ int run_poses(const PosesCliOptions& opt) {
     done_rows = read_journal(journal_path, L);
   }
 
-  // Offsets (reused across runs by their own manifest).
+  // Offsets of the levels that start from one (reused across runs by their own manifest).
   OffsetSetRequest req = make_offset_request(fixed_loaded, sdf, mp, opt.max_penetration_tolerance, seconds_mp, fixed_sha,
                                             opt.out + "/offsets");
+  std::vector<std::ptrdiff_t> offset_of(L, -1);  // index in the offset set
   for (std::size_t l = 0; l < L; ++l) {
+    if (start[l] != PoseStart::Offset) continue;
+    offset_of[l] = static_cast<std::ptrdiff_t>(req.distances.size());
     req.names.push_back(polish ? specs[l].text + "+2band" : specs[l].text);
     req.distances.push_back(swept[l]);
   }
   req.options.tolerance_relative = opt.band_tolerance;
   req.log_prefix = "cdbench poses: ";
   std::cerr << "cdbench poses: max penetration [" << number_text(mp.depth.lo) << ", " << number_text(mp.depth.hi)
-            << "]; offsets for " << L << " level(s) in " << req.out_dir << std::endl;
+            << "]; " << (req.distances.empty() ? std::string("no offset meshes needed (--start ") + opt.start + ")"
+                                                : "offsets for " + std::to_string(req.distances.size()) + " of " +
+                                                      std::to_string(L) + " level(s) in " + req.out_dir)
+            << std::endl;
   Timer t_offsets;
   const OffsetSetResult offsets = write_offset_set(req);
   const double seconds_offsets = t_offsets.seconds();
   std::vector<std::unique_ptr<SweepMesh>> level_mesh(L);
-  std::vector<std::string> level_state(L);
-  bool any_failed = false;
+  std::vector<std::string> level_state(L), level_note(L);
   for (std::size_t l = 0; l < L; ++l) {
-    const nlohmann::json& e = offsets.manifest["levels"][l];
-    const std::string status = e["status"].get<std::string>();
+    if (offset_of[l] < 0) continue;
+    const std::size_t i = static_cast<std::size_t>(offset_of[l]);
+    const std::string status = offsets.manifest["levels"][i]["status"].get<std::string>();
     level_state[l] = status;
-    if (status == "failed") {
-      any_failed = true;
-      continue;
+    if (status == "certified") {
+      const TriangleMesh m = read_certified_offset(req.out_dir + "/" + offsets.files[i]);
+      level_mesh[l] = std::make_unique<SweepMesh>(make_sweep_mesh(m.vertices, m.faces));
+    } else if (status == "failed") {
+      // The level's poses must not depend on an offset that could not be certified.
+      if (fallback_start(targets[l], polish, &start[l])) {
+        level_note[l] = std::string("offset failed; conservative advance from the ") +
+                        (start[l] == PoseStart::Surface ? "first contact with the surface" : "far start");
+        std::cerr << "cdbench poses: note: level " << specs[l].text << ": " << level_note[l] << std::endl;
+      }
     }
-    if (status == "empty") continue;
-    const TriangleMesh m =
-        status == "original" ? fixed_loaded.validated.mesh : read_certified_offset(req.out_dir + "/" + offsets.files[l]);
-    level_mesh[l] = std::make_unique<SweepMesh>(make_sweep_mesh(m.vertices, m.faces));
+    // "empty": no point that deep (or far) exists on this side; its rows say so.
   }
+  std::unique_ptr<SweepMesh> surface;
+  if (std::count(start.begin(), start.end(), PoseStart::Surface) > 0)
+    surface = std::make_unique<SweepMesh>(
+        make_sweep_mesh(fixed_loaded.validated.mesh.vertices, fixed_loaded.validated.mesh.faces));
+  // The surface a level's poses are swept against (none for a far start).
+  const auto swept_surface = [&](std::size_t l) -> const SweepMesh* {
+    return start[l] == PoseStart::Surface ? surface.get() : level_mesh[l].get();
+  };
 
   // Sampling.
   const std::vector<Vec3> dirs =
@@ -258,82 +282,88 @@ int run_poses(const PosesCliOptions& opt) {
   std::ofstream journal(journal_path, std::ios::app | std::ios::binary);
   if (!journal) throw InputError(journal_path + ": cannot open for writing");
 
-  std::uint64_t todo = 0;
-  for (std::uint64_t a = first; a < last; ++a) todo += done_rows.count(a * L) ? 0 : 1;
+  // Pending approaches in order; an orientation's frame is built by the first thread that needs it
+  // and freed after its last approach.
+  std::vector<std::uint64_t> pending;
+  for (std::uint64_t a = first; a < last; ++a)
+    if (!done_rows.count(a * L)) pending.push_back(a);
   if (!done_rows.empty())
-    std::cerr << "cdbench poses: resuming: " << (last - first - todo) << " of " << (last - first)
+    std::cerr << "cdbench poses: resuming: " << (last - first - pending.size()) << " of " << (last - first)
               << " approaches already certified" << std::endl;
-  Progress progress("poses", todo * L);
+  struct LazyFrame {
+    std::once_flag once;
+    std::unique_ptr<OrientationFrame> frame;
+    std::atomic<std::uint64_t> left{0};
+  };
+  std::vector<LazyFrame> frames(K);
+  for (std::uint64_t a : pending) ++frames[a / N].left;
+  Progress progress("poses", pending.size() * L);
   Timer t_poses;
-  std::uint64_t computed = 0, batches_written = 0;
-  // For the resume test only: die (as from a kill or power loss) after this many journal batches.
-  const char* kill_env = std::getenv("CDBENCH_TEST_KILL_AFTER_BATCHES");
+  std::mutex journal_mutex;
+  std::uint64_t approaches_written = 0;
+  // For the resume test only: die (as from a kill or power loss) after this many journal writes.
+  const char* kill_env = std::getenv("CDBENCH_TEST_KILL_AFTER_APPROACHES");
   const std::uint64_t kill_after = kill_env ? std::strtoull(kill_env, nullptr, 10) : 0;
-  for (std::uint64_t o = first / N; o < K && o * N < last; ++o) {
-    const std::uint64_t a0 = std::max(first, o * N), a1 = std::min(last, (o + 1) * N);
-    std::vector<std::uint64_t> pending;
-    for (std::uint64_t a = a0; a < a1; ++a)
-      if (!done_rows.count(a * L)) pending.push_back(a);
-    if (pending.empty()) continue;
-    const Eigen::Matrix3d R = rots[o].toRotationMatrix();
-    const OrientationFrame frame = make_orientation_frame(setup, R);
-    std::vector<std::string> text(pending.size());
-    tbb::parallel_for(std::size_t{0}, pending.size(), [&](std::size_t i) {
-      const std::uint64_t a = pending[i];
-      const Vec3& dir = dirs[a % N];
-      std::string rows;
-      for (std::size_t l = 0; l < L; ++l) {
-        PoseRow row;
-        row.pose = a * L + l;
-        row.level = static_cast<int>(l);
-        row.target = targets[l];
-        row.R = R;
-        row.dir = dir;
-        row.orientation = o;
-        row.direction = a % N;
-        // A row without a pose: its values are NaN, its status says why.
-        const auto unplaced = [&row](const std::string& reason) {
-          const double nan = std::numeric_limits<double>::quiet_NaN();
-          row.t = Vec3::Constant(nan);
-          row.clearance_lo = row.clearance_hi = row.raw_clearance_lo = row.raw_clearance_hi = row.lambda = nan;
-          row.status = "uncertified:" + reason;
-        };
-        if (!level_mesh[l]) {
-          unplaced("offset-" + level_state[l]);
-        } else {
-          const PoseOutcome p = place_pose(setup, frame, *level_mesh[l], dir, targets[l], po);
-          if (!p.contact) {
-            unplaced(p.reason);  // "no-contact"
-          } else {
-            row.t = p.t;
-            row.lambda = p.lambda;
-            row.clearance_lo = p.clearance.lo;
-            row.clearance_hi = p.clearance.hi;
-            row.raw_clearance_lo = p.raw_clearance.lo;
-            row.raw_clearance_hi = p.raw_clearance.hi;
-            row.polish_steps = p.steps;
-            row.status = p.reason.empty() ? "certified" : "uncertified:" + p.reason;
-          }
-        }
-        rows += format_pose_row(row);
-        progress.advance();
-      }
-      text[i] = std::move(rows);
+  parallel_for_dynamic(pending.size(), [&](std::size_t i) {
+    const std::uint64_t a = pending[i], o = a / N;
+    LazyFrame& lazy = frames[o];
+    std::call_once(lazy.once, [&] {
+      lazy.frame = std::make_unique<OrientationFrame>(make_orientation_frame(setup, rots[o].toRotationMatrix()));
     });
-    // One write and flush per orientation: an interruption loses at most this batch.
-    for (std::size_t i = 0; i < pending.size(); ++i) {
-      journal << text[i];
-      std::istringstream lines(text[i]);
-      std::string line;
-      std::uint64_t l = 0;
-      while (std::getline(lines, line)) done_rows[pending[i] * L + l++] = line + "\n";
+    const OrientationFrame& frame = *lazy.frame;
+    const Vec3& dir = dirs[a % N];
+    std::vector<std::string> lines(L);
+    for (std::size_t l = 0; l < L; ++l) {
+      PoseRow row;
+      row.pose = a * L + l;
+      row.level = static_cast<int>(l);
+      row.target = targets[l];
+      row.R = frame.orientation.R;
+      row.dir = dir;
+      row.orientation = o;
+      row.direction = a % N;
+      // A row without a pose: its values are NaN, its status says why.
+      const auto unplaced = [&row](const std::string& reason) {
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        row.t = Vec3::Constant(nan);
+        row.clearance_lo = row.clearance_hi = row.raw_clearance_lo = row.raw_clearance_hi = row.lambda = nan;
+        row.status = "uncertified:" + reason;
+      };
+      const SweepMesh* swept_against = swept_surface(l);
+      if (!swept_against && start[l] != PoseStart::Far) {
+        unplaced("offset-" + level_state[l]);
+      } else {
+        PoseOptions level_po = po;
+        level_po.start = start[l];
+        const PoseOutcome p = place_pose(setup, frame, swept_against, dir, targets[l], level_po);
+        if (!p.contact) {
+          unplaced(p.reason);  // "no-contact"
+        } else {
+          row.t = p.t;
+          row.lambda = p.lambda;
+          row.clearance_lo = p.clearance.lo;
+          row.clearance_hi = p.clearance.hi;
+          row.raw_clearance_lo = p.raw_clearance.lo;
+          row.raw_clearance_hi = p.raw_clearance.hi;
+          row.polish_steps = p.steps;
+          row.status = p.reason.empty() ? "certified" : "uncertified:" + p.reason;
+        }
+      }
+      lines[l] = format_pose_row(row);
+      progress.advance();
+    }
+    if (--lazy.left == 0) lazy.frame.reset();
+    // One write and flush per approach: an interruption loses at most the approaches in flight.
+    std::lock_guard<std::mutex> lock(journal_mutex);
+    for (std::size_t l = 0; l < L; ++l) {
+      journal << lines[l];
+      done_rows[a * L + l] = std::move(lines[l]);
     }
     journal.flush();
     if (!journal) throw InputError(journal_path + ": write failed (disk full?)");
-    computed += pending.size() * L;
-    ++batches_written;
-    if (kill_after > 0 && batches_written >= kill_after) std::raise(SIGKILL);  // tests: a hard interruption
-  }
+    if (kill_after > 0 && ++approaches_written >= kill_after) std::raise(SIGKILL);  // tests: a hard interruption
+  });
+  const std::uint64_t computed = pending.size() * L;
   progress.finish();
   const double seconds_poses = t_poses.seconds();
   journal.close();
@@ -365,18 +395,25 @@ int run_poses(const PosesCliOptions& opt) {
                            {"relative_tolerance", opt.max_penetration_tolerance}};
   ps["levels"] = nlohmann::json::array();
   for (std::size_t l = 0; l < L; ++l) {
-    const nlohmann::json& e = offsets.manifest["levels"][l];
     const LevelSummary& x = summary[l];
+    nlohmann::json swept_offset;  // null: the level's poses use no offset
+    if (offset_of[l] >= 0) {
+      const std::size_t i = static_cast<std::size_t>(offset_of[l]);
+      const nlohmann::json& e = offsets.manifest["levels"][i];
+      swept_offset = {{"d", swept[l]},
+                      {"status", level_state[l]},
+                      {"file", offsets.files[i].empty() ? nlohmann::json() : nlohmann::json("offsets/" + offsets.files[i])},
+                      {"epsilon", e["epsilon"]},
+                      {"faces", e["faces"]}};
+    }
     ps["levels"].push_back({{"index", l},
                             {"spec", specs[l].text},
                             {"target", targets[l]},
                             {"fraction_of_max_penetration", targets[l] / mp.depth.lo},
                             {"target_over_diagonal", targets[l] / diag},
-                            {"swept_offset", {{"d", swept[l]},
-                                              {"status", level_state[l]},
-                                              {"file", offsets.files[l].empty() ? nlohmann::json() : nlohmann::json("offsets/" + offsets.files[l])},
-                                              {"epsilon", e["epsilon"]},
-                                              {"faces", e["faces"]}}},
+                            {"start", to_string(start[l])},
+                            {"start_note", level_note[l]},
+                            {"swept_offset", swept_offset},
                             {"poses", x.poses},
                             {"certified", x.certified},
                             {"on_target", x.on_target},
@@ -421,10 +458,6 @@ int run_poses(const PosesCliOptions& opt) {
             << seconds_offsets << " s, poses " << seconds_poses << " s, " << std::setprecision(1)
             << (seconds_poses > 0 ? computed / seconds_poses : 0.0) << " poses/s)" << std::defaultfloat << "\n";
   std::cout << "pose set:        " << opt.out << "/poses.csv, " << opt.out << "/poseset.json\n";
-  if (any_failed) {
-    std::cerr << "cdbench: error: an offset level could not be certified; its poses are marked uncertified\n";
-    return kExitInvalidMesh;
-  }
   return kExitOk;
 }
 
@@ -460,6 +493,14 @@ void register_poses(CLI::App& app, int& exit_code, const std::string& command_li
   cmd->add_option("--band-tolerance", opt->band_tolerance, "offset surfaces' band tolerance, relative to the diagonal")
       ->capture_default_str()
       ->check(CLI::Range(1e-6, 0.1));
+  cmd->add_option("--start", opt->start,
+                  "where the conservative advance of each pose starts. auto: level 0 and penetrating levels at the "
+                  "exact first contact with the surface itself, separated levels far away (no offset meshes). "
+                  "offset: every level != 0 at the exact first contact with a certified offset at level + 2 bands "
+                  "(computed into DIR/offsets, reused across runs). Without polishing, levels != 0 always use "
+                  "their own offset")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "offset"}));
   cmd->add_flag("--no-polish", opt->no_polish, "keep the raw placement (first contact with the level's own offset)");
   cmd->add_option("--max-steps", opt->max_steps, "polishing steps per pose before it is reported as stalled")
       ->capture_default_str()

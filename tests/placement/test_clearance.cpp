@@ -12,6 +12,16 @@
 namespace cdbench {
 namespace {
 
+// A random rotation (normalised random quaternion) and a random unit direction.
+Eigen::Matrix3d random_rotation(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  return Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+}
+Vec3 random_direction(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  return Vec3(u(rng), u(rng), u(rng)).normalized();
+}
+
 struct Case {
   SignedDistance fixed;
   TriangleMesh mover;
@@ -77,7 +87,7 @@ TEST(Clearance, AgreesWithDenseSampling) {
   Case c(make_torus(1.0, 0.4, 24, 12), make_icosphere(0.5, 1));
   int separated = 0, penetrating = 0;
   for (int k = 0; k < 24; ++k) {
-    const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d R = random_rotation(rng);
     const Vec3 t = k % 4 == 0 ? Vec3(0.05 * u(rng), 0.05 * u(rng), 0.05 * u(rng))  // in the hole
                               : Vec3(1.6 * u(rng), 1.6 * u(rng), 0.9 * u(rng));
     const double tol = 1e-6;
@@ -103,21 +113,67 @@ TEST(PlacePose, PolishedPosesHitTheTarget) {
   PoseOptions opt;
   opt.tolerance = 1e-6;
   std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int k = 0; k < 6; ++k) {
-    const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d R = random_rotation(rng);
     const OrientationFrame frame = make_orientation_frame(setup, R);
-    const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const Vec3 dir = random_direction(rng);
     for (double target : {0.0, 0.1, -0.2}) {
       // Raw placement against the surface itself, so polishing to a negative target starts from a
       // pose before the crossing, and to a positive one from far away.
-      const PoseOutcome p = place_pose(setup, frame, level0, dir, target, opt);
+      const PoseOutcome p = place_pose(setup, frame, &level0, dir, target, opt);
       ASSERT_TRUE(p.contact);
       EXPECT_TRUE(p.certified);
       EXPECT_TRUE(p.on_target) << target << ": [" << p.clearance.lo << ", " << p.clearance.hi << "] steps " << p.steps;
       EXPECT_GE(p.clearance.lo, target - opt.tolerance);
       EXPECT_LE(p.clearance.hi, target + opt.tolerance);
     }
+  }
+}
+
+// Every start (the surface itself for targets <= 0, far away for any target) reaches the target
+// with a certified clearance, and the polished poses of one approach agree within the tolerances
+// (the clearance is monotone near a head-on first crossing of a convex shape). A line that misses
+// the fixed object gives no pose from either start.
+TEST(PlacePose, SurfaceAndFarStartsReachTheTarget) {
+  const TriangleMesh sphere = make_icosphere(1.0, 2);
+  const SignedDistance fixed(sphere);
+  const TriangleMesh mover = make_icosphere(0.25, 1);
+  const ApproachSetup setup = make_approach_setup(fixed, mover);
+  const SweepMesh surface = make_sweep_mesh(sphere.vertices, sphere.faces);
+  PoseOptions opt;
+  opt.tolerance = 1e-7;
+  std::mt19937_64 rng(11);
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const OrientationFrame frame = make_orientation_frame(setup, R);
+    const Vec3 dir = random_direction(rng);
+    for (double target : {0.0, -0.1, 0.15}) {
+      opt.start = PoseStart::Far;
+      const PoseOutcome far = place_pose(setup, frame, nullptr, dir, target, opt);
+      ASSERT_TRUE(far.contact);
+      EXPECT_TRUE(far.on_target) << target << ": [" << far.clearance.lo << ", " << far.clearance.hi << "]";
+      EXPECT_GT(far.steps, 0);
+      if (target > 0.0) continue;
+      opt.start = PoseStart::Surface;
+      const PoseOutcome near = place_pose(setup, frame, &surface, dir, target, opt);
+      ASSERT_TRUE(near.contact);
+      EXPECT_TRUE(near.on_target) << target << ": [" << near.clearance.lo << ", " << near.clearance.hi << "]";
+      if (target == 0.0) {
+        EXPECT_EQ(near.steps, 0);  // the exact first contact is on target
+      }
+      // Both are on the first crossing of a sphere by a sphere, head-on: lambda within a few tolerances.
+      EXPECT_NEAR(near.lambda, far.lambda, 1e-5) << target;
+    }
+  }
+  // A mover offset sideways by more than both radii never reaches the fixed sphere.
+  ApproachSetup aside = setup;
+  aside.fixed_ref = setup.fixed_ref + Vec3(0.0, 3.0, 0.0);
+  const OrientationFrame frame = make_orientation_frame(aside, Eigen::Matrix3d::Identity());
+  for (PoseStart start : {PoseStart::Far, PoseStart::Surface}) {
+    opt.start = start;
+    const PoseOutcome p = place_pose(aside, frame, &surface, Vec3(1, 0, 0), -0.1, opt);
+    EXPECT_FALSE(p.contact) << to_string(start);
+    EXPECT_EQ(p.reason, "no-contact");
   }
 }
 
@@ -134,13 +190,12 @@ TEST(PlacePose, RawFirstContactWithTheSurfaceTouches) {
   opt.tolerance = 1e-9;
   opt.polish = false;
   std::mt19937_64 rng(8);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   int touching = 0;
   for (int k = 0; k < 20; ++k) {
-    const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d R = random_rotation(rng);
     const OrientationFrame frame = make_orientation_frame(setup, R);
-    const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
-    const PoseOutcome p = place_pose(setup, frame, level0, dir, 0.0, opt);
+    const Vec3 dir = random_direction(rng);
+    const PoseOutcome p = place_pose(setup, frame, &level0, dir, 0.0, opt);
     if (!p.contact) continue;  // the line through the torus hole may miss
     ++touching;
     EXPECT_EQ(p.steps, 0);
