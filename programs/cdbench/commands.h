@@ -17,5 +17,6 @@ void register_poses(CLI::App& app, int& exit_code, const std::string& command_li
 void register_merge(CLI::App& app, int& exit_code);
 void register_bench(CLI::App& app, int& exit_code);
 void register_plot(CLI::App& app, int& exit_code);
+void register_subdivide(CLI::App& app, int& exit_code);
 
 }  // namespace cdbench::cli

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   register_merge(app, exit_code);
   register_bench(app, exit_code);
   register_plot(app, exit_code);
+  register_subdivide(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

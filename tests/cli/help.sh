@@ -11,4 +11,5 @@ rc=$?
 set -e
 [ "$rc" -eq 2 ] || { echo "unknown option gave exit $rc"; exit 1; }
 "$cdbench" check /nonexistent.off 2>&1 | grep -q "no such file"
+"$cdbench" subdivide --help | grep -q -- "--steps"
 echo "help: ok"

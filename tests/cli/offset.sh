@@ -7,6 +7,15 @@ mesh=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 args=(offset "$mesh" --levels=-50%,-150%,0,0.2 --tolerance 5e-3 --mesher-radius 0.05)
+# The generator of larger meshes of the same shape: 4x the faces, validated, written.
+"$cdbench" subdivide "$mesh" "$work/fine.off" --steps 1 > "$work/s.txt"
+grep -q "verdict: valid closed solid, written" "$work/s.txt" || { cat "$work/s.txt"; exit 1; }
+[ "$(sed -n 2p "$work/fine.off" | cut -d' ' -f2)" -eq $(( 4 * $(sed -n 2p "$mesh" | cut -d' ' -f2) )) ] || { echo "subdivide: expected 4x the faces"; exit 1; }
+set +e
+"$cdbench" subdivide "$mesh" "$work/fine.stl" > "$work/s.txt" 2>&1
+rc=$?
+set -e
+[ "$rc" -eq 2 ] && grep -q "must be an .off file" "$work/s.txt" || { echo "subdivide to .stl: exit $rc"; exit 1; }
 "$cdbench" "${args[@]}" -o "$work/a" > "$work/a.txt"
 grep -q '"status": "certified"' "$work/a/manifest.json"
 grep -q '"status": "empty"' "$work/a/manifest.json"
