@@ -2,6 +2,9 @@
 
 #include <CGAL/Interval_nt.h>
 
+#include <algorithm>
+#include <limits>
+
 namespace cdbench {
 namespace {
 
@@ -38,20 +41,39 @@ Interval segment(const V& p, const V& u, const V& v) {
 Interval point_triangle_squared_distance(const Vec3& pd, const Vec3& ad, const Vec3& bd, const Vec3& cd) {
   CGAL::Protect_FPU_rounding<true> guard;  // round upward for the interval operations below
   const V p = vec(pd), a = vec(ad), b = vec(bd), c = vec(cd);
-  const Interval e0 = segment(p, a, b), e1 = segment(p, b, c), e2 = segment(p, c, a);
-  const double edges_lo = std::min({e0.lo, e1.lo, e2.lo});
-  const double edges_hi = std::min({e0.hi, e1.hi, e2.hi});
   const V n = cross(sub(b, a), sub(c, a));
   const I nn = norm2(n);
-  if (!(nn.inf() > 0.0)) return {edges_lo, edges_hi};  // degenerate: the triangle is its edges
+  const auto edges = [&](bool e0, bool e1, bool e2, double* lo, double* hi) {
+    *lo = *hi = std::numeric_limits<double>::infinity();
+    const auto take = [&](const Interval& e) {
+      *lo = std::min(*lo, e.lo);
+      *hi = std::min(*hi, e.hi);
+    };
+    if (e0) take(segment(p, a, b));
+    if (e1) take(segment(p, b, c));
+    if (e2) take(segment(p, c, a));
+  };
+  double edges_lo, edges_hi;
+  if (!(nn.inf() > 0.0)) {  // degenerate: the triangle is its edges
+    edges(true, true, true, &edges_lo, &edges_hi);
+    return {edges_lo, edges_hi};
+  }
   const I plane = CGAL::square(dot(n, sub(p, a))) / nn;
   // Signs of the projection against each edge's inner side (all >= 0: projection inside).
   const I s0 = dot(n, cross(sub(b, a), sub(p, a)));
   const I s1 = dot(n, cross(sub(c, b), sub(p, b)));
   const I s2 = dot(n, cross(sub(a, c), sub(p, c)));
-  if (s0.inf() >= 0.0 && s1.inf() >= 0.0 && s2.inf() >= 0.0) return {plane.inf(), std::min(plane.sup(), edges_hi)};
-  if (s0.sup() < 0.0 || s1.sup() < 0.0 || s2.sup() < 0.0) return {std::max(edges_lo, plane.inf()), edges_hi};
+  // Projection inside: the distance is the plane's.
+  if (s0.inf() >= 0.0 && s1.inf() >= 0.0 && s2.inf() >= 0.0) return {plane.inf(), plane.sup()};
+  if (s0.sup() < 0.0 || s1.sup() < 0.0 || s2.sup() < 0.0) {
+    // Projection outside: the nearest point lies on an edge whose outer side holds the projection
+    // (the in-plane vector from the nearest point to the projection is an outward normal there),
+    // so only edges with a possibly negative sign are needed.
+    edges(s0.inf() < 0.0, s1.inf() < 0.0, s2.inf() < 0.0, &edges_lo, &edges_hi);
+    return {std::max(edges_lo, plane.inf()), edges_hi};
+  }
   // Projection within rounding of the boundary: the plane distance is a lower bound, edges an upper.
+  edges(true, true, true, &edges_lo, &edges_hi);
   return {plane.inf(), edges_hi};
 }
 
