@@ -3,7 +3,9 @@
 //  - our exact first contact of the mover with the fixed surface (sphere trees, exact sweeps);
 //  - fcl::detail::conservativeAdvancementMeshOriented (OBBRSS, TranslationMotion) on the same
 //    approach, from the same far start to the mirrored far end;
-//  - how far FCL's contact is from the exact one, and the certified pose rate of the pose set.
+//  - how far FCL's contact is from the exact one, and the certified pose rate of the pose set;
+//  - per level, the certified polished pose on the same approaches (the pose set's own start and
+//    tolerance), timed in the same run, and its ratio to FCL's conservative advancement.
 // Usage: bench_poses POSESET_DIR [--approaches M]
 #include <fcl/fcl.h>
 #include <fcl/narrowphase/detail/conservative_advancement_func_matrix.h>
@@ -14,6 +16,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -70,6 +73,26 @@ int main(int argc, char** argv) {
   auto fcl_fixed = fcl_model<fcl::OBBRSS<double>>(fixed_mesh);
   auto fcl_mover = fcl_model<fcl::OBBRSS<double>>(mover);
   const double far = setup.fixed_radius + setup.mover_radius + 1e-3 * diag;
+  // The pose set's levels as `cdbench poses` placed them.
+  const std::size_t L = ps["levels"].size();
+  std::vector<double> level_target(L), level_seconds(L, 0.0);
+  std::vector<std::size_t> level_certified(L, 0), level_steps(L, 0);
+  std::vector<PoseStart> level_start(L);
+  std::vector<std::unique_ptr<SweepMesh>> level_offset(L);
+  PoseOptions po;
+  po.tolerance = ps["certification"]["tolerance"].get<double>();
+  po.polish = ps["polishing"]["enabled"].get<bool>();
+  po.max_steps = ps["polishing"]["max_steps"].get<int>();
+  for (std::size_t l = 0; l < L; ++l) {
+    const auto& e = ps["levels"][l];
+    level_target[l] = e["target"].get<double>();
+    const std::string start = e.value("start", std::string("offset"));
+    level_start[l] = start == "surface" ? PoseStart::Surface : start == "far" ? PoseStart::Far : PoseStart::Offset;
+    if (level_start[l] == PoseStart::Offset && e["swept_offset"].is_object() && e["swept_offset"]["file"].is_string()) {
+      const TriangleMesh m = load(dir + "/" + e["swept_offset"]["file"].get<std::string>());
+      level_offset[l] = std::make_unique<SweepMesh>(make_sweep_mesh(m.vertices, m.faces));
+    }
+  }
   double t_exact = 0.0, t_fcl = 0.0, max_over = 0.0, max_under = 0.0;
   std::size_t differ = 0, overshoot = 0, both = 0, fcl_miss = 0;
   // Where the two disagree, the certified clearance decides: at the exact contact it must enclose 0
@@ -112,6 +135,17 @@ int main(int argc, char** argv) {
                                                                        fcl::detail::MeshConservativeAdvancementTraversalNodeOBBRSS<double>>(
         *fcl_fixed, &m1, *fcl_mover, &m2, request, result, toc);
     t_fcl += seconds_since(t0);
+    for (std::size_t l = 0; l < L; ++l) {
+      const SweepMesh* swept = level_start[l] == PoseStart::Surface ? &level0 : level_offset[l].get();
+      if (level_start[l] == PoseStart::Offset && !swept) continue;  // the level had no offset
+      PoseOptions lpo = po;
+      lpo.start = level_start[l];
+      t0 = Clock::now();
+      const PoseOutcome p = place_pose(setup, *frame, swept, d, level_target[l], lpo);
+      level_seconds[l] += seconds_since(t0);
+      level_certified[l] += p.contact && p.certified && p.on_target;
+      level_steps[l] += static_cast<std::size_t>(p.steps);
+    }
     if (!c.hit) continue;
     const double lambda_fcl = hit ? far - toc * 2 * far : NAN;
     const double err = lambda_fcl - lambda_exact;  // < 0: FCL moved past the exact first contact
@@ -142,8 +176,20 @@ int main(int argc, char** argv) {
   std::printf("%-52s %12.3f\n", "cdbench exact first contact (sphere trees)", 1e3 * t_exact / M);
   std::printf("%-52s %12.3f\n", "FCL conservativeAdvancementMeshOriented (OBBRSS)", 1e3 * t_fcl / M);
   std::printf("ratio FCL CA / exact first contact: %.2f\n", t_fcl / t_exact);
-  std::printf("ratio certified pose (all levels, polished) / FCL CA, per pose: %.2f\n",
+  std::printf("ratio certified pose (all levels, polished; cdbench poses' own run, all threads) / FCL CA, per pose: %.2f\n",
               (1.0 / pps) / (t_fcl / M));
+  std::printf("\ncertified polished pose per approach, same %zu approaches, same run, one thread:\n", M);
+  std::printf("%-12s %-8s %12s %12s %14s %14s %14s\n", "level", "start", "ms/pose", "poses/s", "certified", "mean steps",
+              "pose / FCL CA");
+  double all = 0.0;
+  for (std::size_t l = 0; l < L; ++l) {
+    all += level_seconds[l];
+    std::printf("%-12s %-8s %12.3f %12.1f %9zu/%-4zu %14.2f %14.2f\n", ps["levels"][l]["spec"].get<std::string>().c_str(),
+                to_string(level_start[l]), 1e3 * level_seconds[l] / M, M / level_seconds[l], level_certified[l], M,
+                static_cast<double>(level_steps[l]) / M, (level_seconds[l] / M) / (t_fcl / M));
+  }
+  std::printf("%-12s %-8s %12.3f %12.1f %14s %14s %14.2f\n", "all", "", 1e3 * all / (M * L), M * L / all, "", "",
+              (all / (M * L)) / (t_fcl / M));
   std::printf("approaches %zu, contact found by both %zu, FCL found none %zu\n", M, both, fcl_miss);
   std::printf("FCL contact differs from the exact one by > 1e-6 diag: %zu (%.1f%%), past it: %zu; max past %.3g, "
               "max short %.3g (x diag: %.3g, %.3g)\n",

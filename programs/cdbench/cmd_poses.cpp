@@ -298,6 +298,7 @@ int run_poses(const PosesCliOptions& opt) {
   std::vector<LazyFrame> frames(K);
   for (std::uint64_t a : pending) ++frames[a / N].left;
   Progress progress("poses", pending.size() * L);
+  std::vector<std::atomic<std::uint64_t>> level_ns(L);  // thread time per level
   Timer t_poses;
   std::mutex journal_mutex;
   std::uint64_t approaches_written = 0;
@@ -335,7 +336,9 @@ int run_poses(const PosesCliOptions& opt) {
       } else {
         PoseOptions level_po = po;
         level_po.start = start[l];
+        Timer t_pose;
         const PoseOutcome p = place_pose(setup, frame, swept_against, dir, targets[l], level_po);
+        level_ns[l] += static_cast<std::uint64_t>(t_pose.seconds() * 1e9);
         if (!p.contact) {
           unplaced(p.reason);  // "no-contact"
         } else {
@@ -436,7 +439,16 @@ int run_poses(const PosesCliOptions& opt) {
                      {"approach", "mover from +dir moving along -dir"}};
   ps["generator"] = {{"name", "cdbench"}, {"version", CDBENCH_VERSION}, {"command_line", opt.command_line}};
   ps["run_key"] = run_key;
+  nlohmann::json level_timings = nlohmann::json::array();
+  for (std::size_t l = 0; l < L; ++l) {
+    const double sec = 1e-9 * static_cast<double>(level_ns[l].load());
+    const double n = static_cast<double>(pending.size());
+    level_timings.push_back({{"spec", specs[l].text},
+                             {"thread_seconds", sec},
+                             {"poses_per_thread_second", sec > 0 ? n / sec : 0.0}});
+  }
   ps["timings"] = {{"max_penetration", seconds_mp},
+                   {"levels", level_timings},
                    {"offsets", seconds_offsets},
                    {"poses", seconds_poses},
                    {"poses_computed", computed},

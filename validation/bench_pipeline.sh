@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The certified pose pipeline on a panel of meshes: for each, `cdbench poses` on one thread and on
+# all cores (speedup; poses.csv must be byte-identical), then validation/bench_poses on the same
+# pose set: certified polished poses per level against FCL's conservative advancement (OBBRSS,
+# conservativeAdvancementMeshOriented) on the same approaches, in the same run, one thread.
+# Usage: validation/bench_pipeline.sh [MESH ...]
+#   default panel: armadillo, bunny00, fandisk_large, knot1 (CGAL's data) and armadillo Loop-
+#   subdivided once (x4, 208K faces) and twice (x16, 832K faces), made by `cdbench subdivide`.
+# Environment: LEVELS (default -25%,-10%,0,10%,25%), DIRECTIONS (40), ORIENTATIONS (2),
+#   APPROACHES for bench_poses (40), OUT (build/bench-pipeline), SKIP_ONE_THREAD=1 to skip the
+#   one-thread run (no speedup figure).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+bin="$root/build/cdbench"
+levels=${LEVELS:--25%,-10%,0,10%,25%}
+directions=${DIRECTIONS:-40}
+orientations=${ORIENTATIONS:-2}
+approaches=${APPROACHES:-40}
+out=${OUT:-$root/build/bench-pipeline}
+cores=$(nproc)
+mkdir -p "$out"
+data="$root/data/cgal/meshes"
+meshes=("$@")
+if [ ${#meshes[@]} -eq 0 ]; then
+  [ -f "$data/armadillo.off" ] || bash "$root/scripts/fetch-cgal-data.sh"
+  for k in 1 2; do
+    f="$out/armadillo_x$((4 ** k)).off"
+    [ -f "$f" ] || "$bin" subdivide "$data/armadillo.off" "$f" --steps $k > /dev/null
+  done
+  meshes=("$data/armadillo.off" "$data/bunny00.off" "$data/fandisk_large.off" "$data/knot1.off"
+          "$out/armadillo_x4.off" "$out/armadillo_x16.off")
+fi
+seconds() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['timings'][sys.argv[2]])" "$1" "$2"; }
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'); levels $levels;" \
+     "$directions directions x $orientations orientations"
+summary=()
+for mesh in "${meshes[@]}"; do
+  name=$(basename "$mesh" .off)
+  dn="$out/$name-all"
+  rm -rf "$dn"
+  "$bin" poses "$mesh" --levels="$levels" --directions "$directions" --orientations "$orientations" \
+    --threads "$cores" -o "$dn" > "$out/$name-all.log" 2>&1
+  tn=$(seconds "$dn/poseset.json" total)
+  speedup="-"
+  if [ "${SKIP_ONE_THREAD:-0}" != 1 ]; then
+    d1="$out/$name-one"
+    rm -rf "$d1"
+    "$bin" poses "$mesh" --levels="$levels" --directions "$directions" --orientations "$orientations" \
+      --threads 1 -o "$d1" > "$out/$name-one.log" 2>&1
+    cmp -s "$d1/poses.csv" "$dn/poses.csv" || { echo "$name: poses.csv differs between 1 and $cores threads"; exit 1; }
+    speedup=$(python3 -c "print('%.2f' % ($(seconds "$d1/poseset.json" poses) / $(seconds "$dn/poseset.json" poses)))")
+  fi
+  echo
+  echo "== $name"
+  grep -E "^(fixed|level|time)|^-?[0-9.]+%|^0 " "$out/$name-all.log" || true
+  "$root/build/validation/bench_poses" "$dn" --approaches "$approaches" | tee "$out/$name-bench.txt"
+  faces=$(python3 -c "import json; print(json.load(open('$dn/poseset.json'))['fixed']['faces'])")
+  certified=$(awk -F, 'NR > 1 { n++; if ($21 == "certified") c++ } END { printf "%d/%d", c, n }' "$dn/poses.csv")
+  ratio=$(awk '$1 == "all" { print $NF }' "$out/$name-bench.txt")
+  summary+=("$(printf '%-20s %9s %10.1f %12s %9s %16s' "$name" "$faces" "$tn" "$certified" "$speedup" "$ratio")")
+done
+echo
+printf '%-20s %9s %10s %12s %9s %16s\n' mesh faces "total s" certified "speedup" "pose / FCL CA"
+printf '%s\n' "${summary[@]}"
+echo "(total s: the whole 'cdbench poses' on $cores threads, offsets included when any; speedup: poses stage, 1 vs $cores threads)"
