@@ -91,6 +91,7 @@ struct Cell {
   std::uint32_t id;   // node index or face index
   int level;
   std::array<std::array<double, 2>, 3> bary;  // (beta, gamma) of the corners; exact dyadics
+  bool stale = false;  // a warm-start cell: its bound is shifted, not evaluated at this pose
 };
 struct CellOrder {
   bool operator()(const Cell& a, const Cell& b) const {
@@ -104,19 +105,31 @@ class BranchAndBound {
                  double tol)
       : fixed_(fixed), o_(o), P_(P), t_(t), tol_(tol) {}
 
-  void run(std::uint64_t max_cells, std::int64_t hint_face, double hint_beta, double hint_gamma, ClearanceResult& r) {
+  void run(std::uint64_t max_cells, std::int64_t hint_face, double hint_beta, double hint_gamma,
+           const ClearanceFrontier* warm, ClearanceResult& r) {
     if (hint_face >= 0 && static_cast<std::size_t>(hint_face) < o_.faces->size()) {
       Cell h{0, 0, false, static_cast<std::uint32_t>(hint_face), 1,
              {{{hint_beta, hint_gamma}, {hint_beta, hint_gamma}, {hint_beta, hint_gamma}}}};
       evaluate_face(h);  // sets the upper bound only (a point cell, not pushed)
     }
-    push(evaluate_node(0));
+    if (warm) {
+      // Each placed vertex moved by the translation difference plus the roundings of both poses.
+      const double shift = up(up((t_ - warm->t).norm() * (1.0 + 1e-12)) + up(warm->transform_error + o_.transform_error(t_)));
+      for (const ClearanceFrontier::Cell& w : warm->cells)
+        push(Cell{down(w.lower - shift), 0, w.is_node, w.id, w.level, w.bary, true});
+    } else {
+      push(evaluate_node(0));
+    }
     while (!queue_.empty()) {
       const Cell c = queue_.top();
       if (c.lower >= upper_ - tol_) break;
       if (r.cells >= max_cells) break;
       queue_.pop();
       ++r.cells;
+      if (c.stale) {  // evaluate it at this pose before splitting it
+        push(c.is_node ? evaluate_node(c.id) : evaluate_face(Cell{0, 0, false, c.id, c.level, c.bary}));
+        continue;
+      }
       if (c.is_node) {
         const auto& node = o_.boxes.nodes[c.id];
         if (node.count == 0) {
@@ -149,11 +162,26 @@ class BranchAndBound {
     r.argmin_gamma = argmin_bary_[1];
   }
 
+  // The leaves of this search: the cells left in the queue and the discarded ones.
+  void export_frontier(ClearanceFrontier& f) {
+    f.cells.clear();
+    const auto keep = [&](const Cell& c) { f.cells.push_back({c.lower, c.is_node, c.id, c.level, c.bary}); };
+    for (const Cell& c : discarded_) keep(c);
+    while (!queue_.empty()) {
+      keep(queue_.top());
+      queue_.pop();
+    }
+    f.t = t_;
+    f.transform_error = o_.transform_error(t_);
+    f.valid = true;
+  }
+
  private:
   void push(Cell c) {
     c.seq = seq_++;
     if (c.lower >= upper_ - tol_) {
       min_discarded_ = std::min(min_discarded_, c.lower);
+      if (keep_discarded_) discarded_.push_back(c);
       return;
     }
     queue_.push(c);
@@ -263,6 +291,8 @@ class BranchAndBound {
   std::int64_t argmin_face_ = -1;
   std::array<double, 2> argmin_bary_{0.0, 0.0};
   double min_discarded_ = kInf;
+  bool keep_discarded_ = true;
+  std::vector<Cell> discarded_;
   std::uint64_t seq_ = 0, queries_ = 0;
   std::vector<std::uint32_t> ids_;
   std::priority_queue<Cell, std::vector<Cell>, CellOrder> queue_;
@@ -311,9 +341,12 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   if (all_outside) {
     r.separated = true;
     r.clearance = sqrt_interval({dist.min_lo_sq, dist.best_hi_sq});
+    if (options.frontier) options.frontier->valid = false;
   } else {
     BranchAndBound bb(fixed, orientation, P, t, options.tolerance);
-    bb.run(options.max_cells, options.hint_face, options.hint_beta, options.hint_gamma, r);
+    const ClearanceFrontier* warm = options.frontier && options.frontier->valid ? options.frontier : nullptr;
+    bb.run(options.max_cells, options.hint_face, options.hint_beta, options.hint_gamma, warm, r);
+    if (options.frontier) bb.export_frontier(*options.frontier);
   }
   r.transform_error = orientation.transform_error(t);
   r.clearance.lo = down(r.clearance.lo - 2 * r.transform_error);

@@ -10,6 +10,7 @@
 //    subdivisions, with the Lipschitz bound, the convexity (depth) bound and a certified
 //    cell-to-F distance for cells proved disjoint, down to the requested tolerance;
 //  * then widened by twice the transform's rounding bound (ours vs exact, exact vs any other).
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -19,6 +20,24 @@
 
 namespace cdbench {
 
+// The leaves of a branch and bound's search (cells of the mover's surface in its own coordinates,
+// with their lower bounds) at the pose t: a warm start for a nearby pose. Every point of a cell
+// moves by at most |t' - t| plus the two poses' rounding bounds, and s is 1-Lipschitz, so the old
+// lower bounds shifted by that are valid at t'; cells are re-evaluated only when they matter.
+struct ClearanceFrontier {
+  struct Cell {
+    double lower;
+    bool is_node;
+    std::uint32_t id;
+    int level;
+    std::array<std::array<double, 2>, 3> bary;
+  };
+  bool valid = false;
+  Vec3 t = Vec3::Zero();
+  double transform_error = 0.0;
+  std::vector<Cell> cells;
+};
+
 struct ClearanceOptions {
   double tolerance = 0.0;             // absolute; target width for the branch-and-bound case
   std::uint64_t max_cells = 400000;   // safety stop (the result then reports a wider interval)
@@ -26,6 +45,9 @@ struct ClearanceOptions {
   // pose's: it only speeds up the branch and bound (an early upper bound prunes more).
   std::int64_t hint_face = -1;
   double hint_beta = 1.0 / 3, hint_gamma = 1.0 / 3;
+  // In/out: when valid, the branch and bound starts from it; replaced by this run's frontier
+  // (invalidated when the distance path decides).
+  ClearanceFrontier* frontier = nullptr;
 };
 
 struct ClearanceResult {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
 namespace cdbench {
@@ -96,6 +97,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   ClearanceOptions copt;
   copt.tolerance = 0.5 * options.tolerance;  // leaves room for the target band below
   copt.max_cells = options.max_cells;
+  ClearanceFrontier frontier;  // the previous certificate's search, a warm start for the next pose
+  copt.frontier = &frontier;
   const auto certify = [&](double lambda, double tolerance) {
     copt.tolerance = tolerance;
     const Vec3 t = pose_translation(frame, dir, lambda);
