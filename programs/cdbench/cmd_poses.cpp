@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <atomic>
 #include <csignal>
 #include <cstdlib>
 #include <cmath>
@@ -13,7 +14,6 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <atomic>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -166,9 +166,9 @@ int run_poses(const PosesCliOptions& opt) {
   const bool polish = !opt.no_polish;
   const double tol = opt.tolerance * diag;
 
-  // Levels: targets and starts. Level 0 starts at the exact first contact with the surface itself;
-  // others at the first contact with a certified offset at d + 2 band (polishing; its band and
-  // completeness put it before the first crossing of d, doc/poses.md) or at d (no polishing).
+  // Levels: targets and where their poses start (doc/poses.md): the exact first contact with the
+  // surface itself (level 0; d < 0 by default), far away (d > 0 by default), or the first contact
+  // with a certified offset at d + 2 band (--start offset) or at d (no polishing).
   const std::size_t L = specs.size();
   std::vector<double> targets(L), swept(L);
   std::vector<PoseStart> start(L);
