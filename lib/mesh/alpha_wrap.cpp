@@ -5,6 +5,7 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/alpha_wrap_3.h>
 
+#include "mesh/cgal_surface_mesh.h"
 #include "util/error.h"
 #include "util/timer.h"
 
@@ -31,21 +32,7 @@ AlphaWrapResult alpha_wrap(const PolygonSoup& soup, const AlphaWrapOptions& opti
   CGAL::Surface_mesh<Point> wrap;
   CGAL::alpha_wrap_3(points, faces, result.alpha, result.offset, wrap);
   result.seconds = timer.seconds();
-  std::vector<std::uint32_t> index(wrap.number_of_vertices() + wrap.number_of_removed_vertices(), 0);
-  for (auto v : wrap.vertices()) {
-    index[v] = static_cast<std::uint32_t>(result.mesh.vertices.size());
-    const Point& p = wrap.point(v);
-    result.mesh.vertices.emplace_back(p.x(), p.y(), p.z());
-  }
-  for (auto f : wrap.faces()) {
-    Face tri{};
-    int k = 0;
-    for (auto v : CGAL::vertices_around_face(wrap.halfedge(f), wrap)) {
-      if (k < 3) tri[k] = index[v];
-      ++k;
-    }
-    if (k == 3) result.mesh.faces.push_back(tri);
-  }
+  result.mesh = triangle_mesh_from(wrap);
   return result;
 }
 

@@ -5,6 +5,7 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/subdivision_method_3.h>
 
+#include "mesh/cgal_surface_mesh.h"
 #include "util/error.h"
 
 namespace cdbench {
@@ -22,22 +23,7 @@ TriangleMesh loop_subdivide(const TriangleMesh& mesh, int steps) {
       throw InputError("subdivide: the mesh is not a 2-manifold (a face could not be added)");
   if (!CGAL::is_closed(sm)) throw InputError("subdivide: the mesh is not closed");
   CGAL::Subdivision_method_3::Loop_subdivision(sm, CGAL::parameters::number_of_iterations(steps));
-  TriangleMesh out;
-  std::vector<std::uint32_t> index(sm.number_of_vertices() + sm.number_of_removed_vertices(), 0);
-  out.vertices.reserve(sm.number_of_vertices());
-  for (auto v : sm.vertices()) {
-    index[v] = static_cast<std::uint32_t>(out.vertices.size());
-    const Point& p = sm.point(v);
-    out.vertices.emplace_back(p.x(), p.y(), p.z());
-  }
-  out.faces.reserve(sm.number_of_faces());
-  for (auto f : sm.faces()) {
-    Face tri{};
-    int k = 0;
-    for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) tri[k++] = index[v];
-    out.faces.push_back(tri);
-  }
-  return out;
+  return triangle_mesh_from(sm);
 }
 
 }  // namespace cdbench

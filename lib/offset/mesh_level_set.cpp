@@ -84,6 +84,8 @@ class ArenaScope {
 #include <cmath>
 #include <unordered_map>
 
+#include "mesh/cgal_surface_mesh.h"
+
 namespace cdbench {
 namespace {
 
@@ -155,21 +157,7 @@ TriangleMesh mesh_level_set(const std::function<double(const Vec3&)>& f, const V
   CGAL::make_surface_mesh(c2t3, surface, criteria, CGAL::Manifold_tag(), 0);
   CGAL::Surface_mesh<Point> sm;
   if (c2t3.number_of_facets() > 0) CGAL::facets_in_complex_2_to_triangle_mesh(c2t3, sm);
-  TriangleMesh out;
-  std::vector<std::uint32_t> index(sm.number_of_vertices(), 0);
-  for (auto v : sm.vertices()) {
-    index[v] = static_cast<std::uint32_t>(out.vertices.size());
-    const Point& p = sm.point(v);
-    out.vertices.emplace_back(p.x(), p.y(), p.z());
-  }
-  for (auto fc : sm.faces()) {
-    Face t{};
-    int k = 0;
-    for (auto v : CGAL::vertices_around_face(sm.halfedge(fc), sm))
-      if (k < 3) t[k++] = index[v];
-    out.faces.push_back(t);
-  }
-  return out;
+  return triangle_mesh_from(sm);
 }
 
 }  // namespace cdbench
