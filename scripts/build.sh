@@ -3,6 +3,8 @@
 # Usage: scripts/build.sh [extra cmake arguments]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
+# ccache: hash paths relative to the checkout, so that another clone (CI) reuses the cache.
+export CCACHE_BASEDIR="$root" CCACHE_NOHASHDIR=1
 gen=()
 command -v ninja >/dev/null && gen=(-G Ninja)
 cmake -S "$root" -B "$root/build" "${gen[@]}" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null

@@ -3,6 +3,8 @@
 # AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/). Exits non-zero on any failure.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
+# ccache: hash paths relative to the checkout, so that another clone (CI) reuses the cache.
+export CCACHE_BASEDIR="$root" CCACHE_NOHASHDIR=1
 bash "$root/scripts/install-deps.sh"
 bash "$root/scripts/fetch-cgal-data.sh" || echo "test: CGAL data unavailable; tests that use it are skipped"
 start=$(date +%s)
