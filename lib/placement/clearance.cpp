@@ -101,9 +101,10 @@ struct CellOrder {
 
 class BranchAndBound {
  public:
+  // keep_frontier: remember discarded cells too, for export_frontier().
   BranchAndBound(const SignedDistance& fixed, const MoverOrientation& o, const std::vector<Vec3>& P, const Vec3& t,
-                 double tol)
-      : fixed_(fixed), o_(o), P_(P), t_(t), tol_(tol) {}
+                 double tol, bool keep_frontier)
+      : fixed_(fixed), o_(o), P_(P), t_(t), tol_(tol), keep_discarded_(keep_frontier) {}
 
   void run(std::uint64_t max_cells, std::int64_t hint_face, double hint_beta, double hint_gamma,
            const ClearanceFrontier* warm, ClearanceResult& r) {
@@ -290,8 +291,8 @@ class BranchAndBound {
   double upper_ = kInf;
   std::int64_t argmin_face_ = -1;
   std::array<double, 2> argmin_bary_{0.0, 0.0};
+  bool keep_discarded_;
   double min_discarded_ = kInf;
-  bool keep_discarded_ = true;
   std::vector<Cell> discarded_;
   std::uint64_t seq_ = 0, queries_ = 0;
   std::vector<std::uint32_t> ids_;
@@ -343,7 +344,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     r.clearance = sqrt_interval({dist.min_lo_sq, dist.best_hi_sq});
     if (options.frontier) options.frontier->valid = false;
   } else {
-    BranchAndBound bb(fixed, orientation, P, t, options.tolerance);
+    BranchAndBound bb(fixed, orientation, P, t, options.tolerance, options.frontier != nullptr);
     const ClearanceFrontier* warm = options.frontier && options.frontier->valid ? options.frontier : nullptr;
     bb.run(options.max_cells, options.hint_face, options.hint_beta, options.hint_gamma, warm, r);
     if (options.frontier) bb.export_frontier(*options.frontier);

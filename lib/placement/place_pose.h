@@ -41,12 +41,12 @@ Vec3 pose_translation(const OrientationFrame& frame, const Vec3& dir, double lam
 // before the first crossing of the target (coming from far along +d), so the advance cannot pass
 // it (doc/poses.md):
 //  * Offset: the exact first contact with a certified offset at target + 2 band (its band and
-//    completeness keep every earlier pose above the target); the usual start.
+//    completeness keep every earlier pose above the target); `cdbench poses --start offset`.
 //  * Surface: the exact first contact with the fixed surface itself. Before it the mover is
 //    outside F, so c > 0 >= target: valid for every target <= 0 and exact for target 0. Needs no
-//    offset mesh.
+//    offset mesh; the default for targets <= 0.
 //  * Far: no sweep; the mover's bounding sphere apart from F's by more than |target|. Valid for
-//    any target (the fallback when a level's offset could not be certified).
+//    any target; the default for targets > 0.
 enum class PoseStart { Offset, Surface, Far };
 const char* to_string(PoseStart s);
 
