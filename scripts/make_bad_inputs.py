@@ -37,6 +37,80 @@ def shifted(faces, k):
     return [tuple(i + k for i in f) for f in faces]
 
 
+# Files as exporters write them (issue 14): seams split vertices, OBJ carries non-geometry lines,
+# encodings other than ASCII. Each closed solid after exact welding must be accepted.
+CUBE_QUADS = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+
+
+def textured_cube_ply():
+    """Each quad has its own 4 corners with texture coordinates, as a textured export writes them."""
+    verts, faces = [], []
+    for q in CUBE_QUADS:
+        ids = []
+        for k, i in enumerate(q):
+            ids.append(len(verts))
+            verts.append(CUBE_V[i] + ((k & 1) * 1.0, (k >> 1) * 1.0))
+        faces.append(ids)
+    s = ("ply\nformat ascii 1.0\ncomment exported with texture coordinates\nelement vertex %d\n"
+         "property float x\nproperty float y\nproperty float z\nproperty float s\nproperty float t\n"
+         "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % (len(verts), len(faces)))
+    s += "".join("%r %r %r %r %r\n" % v for v in verts)
+    s += "".join("4 " + " ".join(str(i) for i in f) + "\n" for f in faces)
+    return s
+
+
+def textured_cube_obj(counts_line=False):
+    s = "%d %d\n" % (8, 12) if counts_line else ""
+    s += "# exported cube\nmtllib cube.mtl\no Cube\n"
+    s += "".join("v %r %r %r\n" % v for v in CUBE_V)
+    s += "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n"
+    s += "g side\nusemtl paint\ns off\n"
+    for n, q in enumerate(CUBE_QUADS):
+        s += "f " + " ".join("%d/%d/%d" % (i + 1, k + 1, n + 1) for k, i in enumerate(q)) + "\n"
+    s += "l 1 2\np 3\n"
+    return s
+
+
+def stl_ascii(triangles, name="cube"):
+    s = "solid %s\n" % name
+    for t in triangles:
+        s += "  facet normal 0 0 0\n    outer loop\n"
+        s += "".join("      vertex %r %r %r\n" % v for v in t)
+        s += "    endloop\n  endfacet\n"
+    return s + "endsolid %s\n" % name
+
+
+def real_world_files(write):
+    tris = [tuple(CUBE_V[i] for i in f) for f in CUBE_F]
+    write("textured_cube.ply", textured_cube_ply(), 0, "welded 16 vertices with exactly equal coordinates")
+    write("textured_cube.obj", textured_cube_obj(), 0, "'vt' x4")
+    write("fcl_counts_line.obj", textured_cube_obj(counts_line=True), 0, "'8' x1 (first at line 1)")
+    soup = [v for t in tris for v in t]
+    write("soup_cube.off", off(soup, [(3 * k, 3 * k + 1, 3 * k + 2) for k in range(12)]), 0,
+          "welded 28 vertices with exactly equal coordinates")
+    write("cube_ascii.stl", stl_ascii(tris), 0, "welded 28 vertices")
+    body = b"".join(struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *v) for v in t) + b"\0\0"
+                    for t in tris)
+    write("cube_solid_header.stl", b"solid exported by a CAD program".ljust(80, b" ") + struct.pack("<I", 12) + body,
+          0, "welded 28 vertices")
+    crlf = "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nv 0 0 1\r\nf -4 -2 -3\r\nf -4 -3 -1\r\nf -4 -1 -2\r\nf -3 -2 \\\r\n -1\r\n"
+    write("crlf_relative.obj", crlf, 0, "valid closed solid")
+    write("utf8_bom.off", "\ufeff" + off(TET_V, TET_F), 0, "valid closed solid")
+    write("utf16.obj", textured_cube_obj().encode("utf-16"), 2, "UTF-16 little-endian (byte-order mark FF FE)")
+    write("utf16_no_bom.obj", textured_cube_obj().encode("utf-16-be"), 2, "looks encoded as UTF-16 big-endian")
+    write("latin1.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1,5\xb0\nf 1 3 2\n".encode("latin-1"), 2,
+          "line 4: a vertex ('v') needs three finite coordinates")
+    write("short_vertex.obj", "# a cube\nv 0 0 0\nv 1 0\nf 1 2 1\n", 2, "line 3: a vertex ('v') needs three")
+    write("bad_corner.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 x/2 3\n", 2, "line 4: face corner 'x/2'")
+    write("far_relative.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\n", 2, "refers 3 vertices back")
+    write("lines_only.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n", 2, "no 'f' lines; skipped 1 line")
+    bad_stl = stl_ascii(tris[:2]).replace("vertex", "vertx", 4)
+    write("bad_keyword.stl", bad_stl, 2, "line 4: expected 'vertex' or 'endloop', found 'vertx'")
+    write("truncated_ascii.stl", stl_ascii(tris)[:300], 2, "truncated after line")
+    write("bad_number.ply", textured_cube_ply().replace("1.0 1.0 0.0", "1.0 abc 0.0", 1), 2,
+          "line 15: vertex 2: 'abc' is not a finite number")
+
+
 def main():
     os.makedirs(OUT, exist_ok=True)
     rnd = random.Random(20261121)
@@ -52,7 +126,7 @@ def main():
     write("huge_face.off", off(TET_V, TET_F[:3]) .replace("OFF\n4 3 0", "OFF\n4 4 0") +
           "4000000000 0 1 2\n", 2, "announces '4000000000' corners")
     write("points_only.off", off(TET_V, []), 2, "no faces")
-    write("garbage.off", bytes(rnd.getrandbits(8) for _ in range(4096)), 2, "not an OFF file")
+    write("garbage.off", bytes(rnd.getrandbits(8) for _ in range(4096)), 2, "this is not a text file")
     write("garbage.ply", bytes(rnd.getrandbits(8) for _ in range(4096)), 2, "not a PLY file")
     write("garbage.stl", bytes(rnd.getrandbits(8) for _ in range(4096)), 2, "binary STL announces")
     write("unknown_format.xyz", "0 0 0\n1 0 0\n", 2, "unknown mesh format '.xyz'")
@@ -76,8 +150,8 @@ def main():
     write("huge_header.ply", "ply\nformat ascii 1.0\nelement vertex 1000000000000\nproperty float x\n"
           "property float y\nproperty float z\nelement face 0\nproperty list uchar int vertex_indices\n"
           "end_header\n0 0 0\n", 2, "more than the")
-    write("bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", 2, "refers to vertex 8")
-    write("zero_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 2, "refers to vertex 3")
+    write("bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", 2, "line 4: a face refers to vertex 9")
+    write("zero_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 2, "OBJ vertex indices count from 1")
     # Closed and manifold, but one face has zero area (vertex 4 lies on edge 0-1).
     zv = TET_V + [(0.5, 0.0, 0.0)]
     zf = [(0, 2, 4), (4, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3), (0, 4, 1)]
@@ -102,6 +176,7 @@ def main():
     write("inward_cube.off", off(CUBE_V, [(f[0], f[2], f[1]) for f in CUBE_F]), 0, "inward-oriented")
     # Inconsistent orientation (one face flipped): fixed with a notice.
     write("one_face_flipped.off", off(CUBE_V, [(0, 1, 2)] + CUBE_F[1:]), 0, "flipped to make the orientation consistent")
+    real_world_files(write)
     os.makedirs(os.path.join(OUT, "directory.off"), exist_ok=True)
     with open(os.path.join(OUT, "directory.off", ".keep"), "w") as f:
         f.write("a directory named like a mesh\n")

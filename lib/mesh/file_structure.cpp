@@ -1,5 +1,6 @@
 #include "mesh/file_structure.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -62,6 +63,28 @@ class LineReader {
   const std::string& bytes_;
   std::size_t pos_ = 0;
   std::size_t line_no_ = 0;
+};
+
+// Whitespace-separated tokens from `start` on, counting lines as the file does (from 1).
+class BodyTokens {
+ public:
+  BodyTokens(const std::string& bytes, std::size_t start) : s_(bytes), pos_(start) {
+    for (std::size_t i = 0; i < start; ++i) line_ += bytes[i] == '\n';
+  }
+  bool next(std::string& tok) {
+    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) line_ += s_[pos_++] == '\n';
+    if (pos_ >= s_.size()) return false;
+    const std::size_t start = pos_;
+    while (pos_ < s_.size() && !std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+    tok.assign(s_, start, pos_ - start);
+    return true;
+  }
+  std::size_t line() const { return line_; }
+
+ private:
+  const std::string& s_;
+  std::size_t pos_;
+  std::size_t line_ = 1;
 };
 
 void check_off(const std::string& bytes, const std::string& name) {
@@ -203,23 +226,26 @@ void check_ply(const std::string& bytes, const std::string& name) {
     }
   }
   if (ascii) {
-    std::istringstream data(bytes.substr(body));
+    BodyTokens data(bytes, body);
     std::string tok;
     for (const PlyElement& e : elements) {
       for (long long i = 0; i < e.count; ++i) {
         for (const PlyProperty& p : e.properties) {
-          if (!(data >> tok))
-            fail(name, "truncated: element " + e.name + " " + std::to_string(i) + " of " + std::to_string(e.count) +
-                           " is incomplete");
+          if (!data.next(tok))
+            fail(name, "truncated after line " + std::to_string(data.line()) + ": element " + e.name + " " +
+                           std::to_string(i) + " of " + std::to_string(e.count) + " is incomplete");
           if (p.list) {
             long long k = 0;
             if (!parse_count(tok, k) || k > avail)
-              fail(name, e.name + " " + std::to_string(i) + ": bad list length '" + tok.substr(0, 20) + "'");
+              fail(name, "line " + std::to_string(data.line()) + ": " + e.name + " " + std::to_string(i) +
+                             ": bad list length '" + tok.substr(0, 20) + "'");
             for (long long j = 0; j < k; ++j)
-              if (!(data >> tok) || !parse_number(tok))
-                fail(name, e.name + " " + std::to_string(i) + ": list shorter than its length " + std::to_string(k));
+              if (!data.next(tok) || !parse_number(tok))
+                fail(name, "line " + std::to_string(data.line()) + ": " + e.name + " " + std::to_string(i) +
+                               ": list shorter than its length " + std::to_string(k));
           } else if (!parse_number(tok)) {
-            fail(name, e.name + " " + std::to_string(i) + ": '" + tok.substr(0, 20) + "' is not a finite number");
+            fail(name, "line " + std::to_string(data.line()) + ": " + e.name + " " + std::to_string(i) + ": '" +
+                           tok.substr(0, 20) + "' is not a finite number");
           }
         }
       }
@@ -234,18 +260,21 @@ void check_ply(const std::string& bytes, const std::string& name) {
         std::uint64_t n = 1;
         if (p.list) {
           if (pos + p.count_size > bytes.size())
-            fail(name, "truncated: " + e.name + " " + std::to_string(i) + " of " + std::to_string(e.count));
+            fail(name, "truncated at byte " + std::to_string(pos) + ": " + e.name + " " + std::to_string(i) + " of " +
+                           std::to_string(e.count));
           bool negative = false;
           const bool is_signed = p.count_type == "char" || p.count_type == "short" || p.count_type == "int" ||
                                  p.count_type == "int8" || p.count_type == "int16" || p.count_type == "int32";
           n = read_uint(base + pos, p.count_size, big, is_signed, negative);
           pos += p.count_size;
           if (negative || n > (bytes.size() - pos) / static_cast<std::uint64_t>(p.size))
-            fail(name, e.name + " " + std::to_string(i) + ": list length " + (negative ? "negative" : std::to_string(n)) +
+            fail(name, "byte " + std::to_string(pos - p.count_size) + ": " + e.name + " " + std::to_string(i) +
+                           ": list length " + (negative ? "negative" : std::to_string(n)) +
                            " runs past the end of the file");
         }
         if (pos + n * p.size > bytes.size())
-          fail(name, "truncated: " + e.name + " " + std::to_string(i) + " of " + std::to_string(e.count));
+          fail(name, "truncated at byte " + std::to_string(pos) + ": " + e.name + " " + std::to_string(i) + " of " +
+                         std::to_string(e.count));
         if (p.is_float && !p.list) {
           bool finite = true;
           if (p.size == 4) {
@@ -261,32 +290,12 @@ void check_ply(const std::string& bytes, const std::string& name) {
             std::memcpy(&d, b, 8);
             finite = std::isfinite(d);
           }
-          if (!finite) fail(name, e.name + " " + std::to_string(i) + ": a coordinate is NaN or infinite");
+          if (!finite)
+            fail(name, "byte " + std::to_string(pos) + ": " + e.name + " " + std::to_string(i) +
+                           ": a coordinate is NaN or infinite");
         }
         pos += n * p.size;
       }
-    }
-  }
-}
-
-void check_stl(const std::string& bytes, const std::string& name) {
-  const std::size_t size = bytes.size();
-  std::uint32_t n = 0;
-  if (size >= 84) std::memcpy(&n, bytes.data() + 80, 4);  // STL is little-endian; so are our targets
-  const bool binary_size_fits = size >= 84 && size == 84 + 50ull * n;
-  const bool starts_solid = bytes.compare(0, 5, "solid") == 0;
-  if (!binary_size_fits) {
-    if (starts_solid) return;  // ASCII STL: CGAL parses it token by token, nothing is pre-sized
-    if (size < 84) fail(name, "not an STL file: too short for a binary STL (" + std::to_string(size) +
-                                  " bytes) and it does not start with 'solid'");
-    fail(name, "binary STL announces " + std::to_string(n) + " triangles (" + std::to_string(84 + 50ull * n) +
-                   " bytes) but the file has " + std::to_string(size) + " bytes");
-  }
-  for (std::uint32_t i = 0; i < n; ++i) {
-    for (int k = 3; k < 12; ++k) {  // skip the 3 normal floats, check the 9 vertex floats
-      float f;
-      std::memcpy(&f, bytes.data() + 84 + 50ull * i + 4 * k, 4);
-      if (!std::isfinite(f)) fail(name, "triangle " + std::to_string(i) + ": a coordinate is NaN or infinite");
     }
   }
 }
@@ -297,8 +306,8 @@ void check_mesh_file_structure(const std::string& bytes, MeshFormat format, cons
   switch (format) {
     case MeshFormat::Off: return check_off(bytes, name);
     case MeshFormat::Ply: return check_ply(bytes, name);
-    case MeshFormat::Stl: return check_stl(bytes, name);
-    case MeshFormat::Obj: return;  // CGAL's OBJ reader grows its vectors line by line: nothing to pre-check
+    case MeshFormat::Stl:
+    case MeshFormat::Obj: return;  // read by our own readers (text_readers.cpp), which check as they go
   }
 }
 

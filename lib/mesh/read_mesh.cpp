@@ -2,10 +2,8 @@
 #include "mesh/read_mesh.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/IO/OBJ.h>
 #include <CGAL/IO/OFF.h>
 #include <CGAL/IO/PLY.h>
-#include <CGAL/IO/STL.h>
 
 #include <algorithm>
 #include <cctype>
@@ -16,6 +14,7 @@
 #include <sstream>
 
 #include "mesh/file_structure.h"
+#include "mesh/text_readers.h"
 #include "util/error.h"
 
 namespace cdbench {
@@ -51,58 +50,83 @@ MeshFormat mesh_format_from_path(const std::string& path) {
                    "'; supported: .off, .obj, .ply, .stl");
 }
 
-PolygonSoup read_polygon_soup_from_bytes(const std::string& bytes, const std::string& name) {
-  const MeshFormat format = mesh_format_from_path(name);
-  if (bytes.empty()) throw InputError(name + ": the file is empty");
-  check_mesh_file_structure(bytes, format, name);
+namespace {
 
+// OFF and PLY through CGAL, after the structural pre-check.
+PolygonSoup read_with_cgal(const std::string& bytes, MeshFormat format, const std::string& name) {
+  check_mesh_file_structure(bytes, format, name);
   std::vector<Kernel::Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
   bool ok = false;
   try {
     std::istringstream is(bytes, std::ios::in | std::ios::binary);
     // CGAL's readers print diagnostics on std::cerr when verbose; keep them quiet and report ourselves.
-    switch (format) {
-      case MeshFormat::Off: ok = CGAL::IO::read_OFF(is, points, polygons, CGAL::parameters::verbose(false)); break;
-      case MeshFormat::Obj: ok = CGAL::IO::read_OBJ(is, points, polygons, CGAL::parameters::verbose(false)); break;
-      case MeshFormat::Ply: ok = CGAL::IO::read_PLY(is, points, polygons, CGAL::parameters::verbose(false)); break;
-      case MeshFormat::Stl: ok = CGAL::IO::read_STL(is, points, polygons, CGAL::parameters::verbose(false)); break;
-    }
+    if (format == MeshFormat::Off)
+      ok = CGAL::IO::read_OFF(is, points, polygons, CGAL::parameters::verbose(false));
+    else
+      ok = CGAL::IO::read_PLY(is, points, polygons, CGAL::parameters::verbose(false));
   } catch (const std::bad_alloc&) {
     throw InputError(name + ": out of memory while parsing (the file announces more data than fits)");
   } catch (const std::exception& e) {
     throw InputError(name + ": cannot parse: " + e.what());
   }
-  // Diagnose what was parsed even when CGAL gave up: its OBJ reader, for one, rejects an index out
-  // of range without saying so, and our message names the face.
+  if (!ok && points.empty() && polygons.empty())
+    throw InputError(name + ": cannot parse as " + lower(name.substr(name.find_last_of('.') + 1)) +
+                     " (malformed content or no faces)");
+  if (!ok)
+    throw InputError(name + ": cannot parse: malformed content after " + std::to_string(points.size()) +
+                     " vertices and " + std::to_string(polygons.size()) + " faces");
   PolygonSoup soup;
   soup.points.reserve(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec3 p(points[i].x(), points[i].y(), points[i].z());
-    if (!p.allFinite())
-      throw InputError(name + ": vertex " + std::to_string(i) + " has a non-finite coordinate " + describe_point(p));
-    soup.points.push_back(p);
+  for (const auto& p : points) soup.points.emplace_back(p.x(), p.y(), p.z());
+  soup.polygons = std::move(polygons);
+  return soup;
+}
+
+}  // namespace
+
+PolygonSoup read_polygon_soup_from_bytes(const std::string& bytes, const std::string& name) {
+  const MeshFormat format = mesh_format_from_path(name);
+  if (bytes.empty()) throw InputError(name + ": the file is empty");
+  PolygonSoup soup;
+  switch (format) {
+    case MeshFormat::Obj: soup = read_obj(bytes, name); break;
+    case MeshFormat::Stl: soup = read_stl(bytes, name); break;
+    case MeshFormat::Off: {
+      const std::size_t bom = check_text_encoding(bytes, name);
+      soup = read_with_cgal(bom ? bytes.substr(bom) : bytes, format, name);
+      break;
+    }
+    case MeshFormat::Ply: {
+      // The header is text, the body may be binary: only the header's encoding is checked.
+      const std::size_t header = std::min(bytes.find("end_header"), bytes.size());
+      std::size_t bom = 0;
+      const bool utf16_pattern = bytes.size() >= 2 && (bytes[0] == '\0' || bytes[1] == '\0');
+      const unsigned char first = static_cast<unsigned char>(bytes[0]);
+      if (bytes.compare(0, 3, "ply") != 0 && (utf16_pattern || first == 0xEF || first == 0xFE || first == 0xFF))
+        bom = check_text_encoding(bytes.substr(0, std::min<std::size_t>(header, 4096)), name);
+      soup = read_with_cgal(bom ? bytes.substr(bom) : bytes, format, name);
+      break;
+    }
   }
-  for (std::size_t f = 0; f < polygons.size(); ++f) {
-    if (polygons[f].size() < 3)
-      throw InputError(name + ": face " + std::to_string(f) + " has " + std::to_string(polygons[f].size()) +
+  // Diagnose what was parsed, whatever the reader: the message names the vertex or face.
+  for (std::size_t i = 0; i < soup.points.size(); ++i)
+    if (!soup.points[i].allFinite())
+      throw InputError(name + ": vertex " + std::to_string(i) + " has a non-finite coordinate " +
+                       describe_point(soup.points[i]));
+  for (std::size_t f = 0; f < soup.polygons.size(); ++f) {
+    if (soup.polygons[f].size() < 3)
+      throw InputError(name + ": face " + std::to_string(f) + " has " + std::to_string(soup.polygons[f].size()) +
                        " corners; a face needs at least 3");
-    for (std::size_t id : polygons[f])
+    for (std::size_t id : soup.polygons[f])
       if (id >= soup.points.size())
         throw InputError(name + ": face " + std::to_string(f) + " refers to vertex " + std::to_string(id) +
                          " (counting from 0), but the file has only " + std::to_string(soup.points.size()) +
                          " vertices");
   }
-  if (!ok) {
-    if (points.empty() && polygons.empty())
-      throw InputError(name + ": cannot parse as " + lower(name.substr(name.find_last_of('.') + 1)) +
-                       " (malformed content or no faces)");
-    throw InputError(name + ": cannot parse: malformed content after " + std::to_string(points.size()) +
-                     " vertices and " + std::to_string(polygons.size()) + " faces");
-  }
   if (soup.points.empty()) throw InputError(name + ": empty mesh (no vertices)");
-  if (polygons.empty()) throw InputError(name + ": empty mesh (" + std::to_string(points.size()) + " vertices, no faces)");
-  soup.polygons = std::move(polygons);
+  if (soup.polygons.empty())
+    throw InputError(name + ": empty mesh (" + std::to_string(soup.points.size()) + " vertices, no faces)");
   return soup;
 }
 

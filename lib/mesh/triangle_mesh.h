@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>  // cross products
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "bvh/aabb.h"
@@ -28,6 +29,7 @@ struct TriangleMesh {
 struct PolygonSoup {
   std::vector<Vec3> points;
   std::vector<std::vector<std::size_t>> polygons;
+  std::vector<std::string> notices;  // what the reader skipped or fixed (validate_mesh reports them)
 };
 
 }  // namespace cdbench

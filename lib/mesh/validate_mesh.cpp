@@ -13,7 +13,9 @@
 #include <numeric>
 #include <sstream>
 
+#include "mesh/weld.h"
 #include "util/timer.h"
+#include "util/union_find.h"
 
 namespace cdbench {
 namespace {
@@ -31,23 +33,6 @@ std::string pt(const Vec3& p) {
 }
 
 Point to_point(const Vec3& v) { return Point(v.x(), v.y(), v.z()); }
-
-class UnionFind {
- public:
-  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::size_t{0}); }
-  std::size_t find(std::size_t x) {
-    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-    return x;
-  }
-  void unite(std::size_t a, std::size_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);  // smallest index as root: deterministic
-  }
-
- private:
-  std::vector<std::size_t> parent_;
-};
 
 // Triangulates one polygon; CGAL's hole triangulation handles non-convex planar and non-planar polygons.
 bool triangulate_polygon(const PolygonSoup& soup, const std::vector<std::size_t>& poly, std::vector<Face>& out) {
@@ -94,11 +79,30 @@ ValidatedMesh validate_mesh(const TriangleMesh& mesh, const ValidateOptions& opt
   return validate_mesh(soup, options);
 }
 
-ValidatedMesh validate_mesh(const PolygonSoup& soup, const ValidateOptions& options) {
+ValidatedMesh validate_mesh(const PolygonSoup& input, const ValidateOptions& options) {
   ValidatedMesh out;
   MeshReport& report = out.report;
-  report.input_vertices = soup.points.size();
-  report.input_polygons = soup.polygons.size();
+  report.input_vertices = input.points.size();
+  report.input_polygons = input.polygons.size();
+  report.notices = input.notices;
+
+  // 0. Weld vertices at equal positions (seams of textured exports, soups); nothing moves by default.
+  PolygonSoup soup = input;
+  if (options.weld) {
+    const WeldResult w = weld_vertices(soup, options.weld_tolerance);
+    if (w.merged() > 0 && options.weld_tolerance == 0.0) {
+      report.notices.push_back("welded " + std::to_string(w.merged()) + " vertices with exactly equal coordinates (" +
+                               std::to_string(w.vertices_before) + " -> " + std::to_string(w.vertices_after) +
+                               " vertices)");
+    } else if (options.weld_tolerance > 0.0) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "welded " << w.merged() << " vertices within tolerance " << options.weld_tolerance << " ("
+         << w.vertices_before << " -> " << w.vertices_after << " vertices; the farthest moved by "
+         << w.max_displacement << "; " << w.polygons_dropped << " polygons collapsed and were dropped)";
+      report.notices.push_back(os.str());
+    }
+  }
 
   // 1. Triangulate.
   std::vector<Face> faces;

@@ -40,9 +40,11 @@ struct ValidatedMesh {
 struct ValidateOptions {
   bool check_self_intersections = true;
   bool fix_orientation = true;
+  bool weld = true;             // merge vertices with exactly equal coordinates first (mesh/weld.h)
+  double weld_tolerance = 0.0;  // > 0: also merge vertices closer than this (moves them; reported)
 };
 
-// Triangulates polygons, drops unreferenced vertices, and checks: degenerate faces (exact),
+// Welds vertices at equal positions (a notice with the count), triangulates polygons, drops unreferenced vertices, and checks: degenerate faces (exact),
 // boundary edges, non-manifold edges and vertices, orientability, self-intersections (exact, CGAL),
 // and outward orientation (reversed automatically when closed and valid, with a notice).
 ValidatedMesh validate_mesh(const PolygonSoup& soup, const ValidateOptions& options = {});

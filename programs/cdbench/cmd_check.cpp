@@ -21,6 +21,7 @@ struct CheckOptions {
   bool json = false;
   bool skip_max_penetration = false;
   double tolerance = 1e-6;
+  double weld_tolerance = 0.0;
   int threads = 0;
 };
 
@@ -38,7 +39,9 @@ int run_check(const CheckOptions& opt) {
   std::unique_ptr<tbb::global_control> threads;
   if (opt.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, opt.threads);
-  const LoadedMesh loaded = load_mesh(opt.mesh);
+  ValidateOptions vo;
+  vo.weld_tolerance = opt.weld_tolerance;
+  const LoadedMesh loaded = load_mesh(opt.mesh, vo);
   const MeshReport& r = loaded.validated.report;
   const TriangleMesh& mesh = loaded.validated.mesh;
   const Aabb box = mesh.bbox();
@@ -141,6 +144,10 @@ void register_check(CLI::App& app, int& exit_code) {
                   "width of the max-penetration interval relative to the bbox diagonal")
       ->capture_default_str()
       ->check(CLI::Range(1e-12, 1.0));
+  cmd->add_option("--weld-tolerance", opt->weld_tolerance,
+                  "also merge vertices closer than this (moves them; reported). Vertices with exactly equal "
+                  "coordinates are always merged. 'cdbench repair --weld-tolerance' writes the welded mesh")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--no-max-penetration", opt->skip_max_penetration, "skip the max-penetration computation");
   cmd->add_option("--threads", opt->threads, "worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 1024));
   cmd->callback([opt, &exit_code]() { exit_code = run_check(*opt); });
