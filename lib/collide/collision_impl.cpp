@@ -27,7 +27,10 @@ std::vector<std::string> collision_impl_names(bool include_slow) {
   return names;
 }
 
+std::unique_ptr<CollisionImpl> make_plugin_impl(const std::string& path);
+
 std::unique_ptr<CollisionImpl> make_collision_impl(const std::string& name) {
+  if (name.rfind("plugin:", 0) == 0) return make_plugin_impl(name.substr(7));
   if (name == "obb") return make_own_tree(OwnBv::Obb);
   if (name == "aabb") return make_own_tree(OwnBv::Aabb);
   if (name == "sphere") return make_own_tree(OwnBv::Sphere);

@@ -33,7 +33,8 @@ class CollisionImpl {
 
 // Implementations by name: "obb", "aabb", "sphere" (ours); "fcl-..." when built with FCL;
 // "bullet-gimpact" with Bullet; "cgal-exact" (slow: one tree query per mover triangle, so it is
-// listed only with include_slow). Returns nullptr for an unknown name.
+// listed only with include_slow); "plugin:PATH" loads a shared library behind the C ABI of
+// include/cdbench/plugin.h (InputError when it cannot be loaded). Returns nullptr for an unknown name.
 std::unique_ptr<CollisionImpl> make_collision_impl(const std::string& name);
 std::vector<std::string> collision_impl_names(bool include_slow = false);
 

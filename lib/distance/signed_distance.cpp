@@ -99,9 +99,10 @@ SignedDistance::SignedDistance(TriangleMesh mesh) : mesh_(std::move(mesh)), bbox
   tree_ = build_triangle_bvh<Aabb>(mesh_.vertices, mesh_.faces, [](int n, const auto& p) { return bounding_box(n, p); });
 }
 
-Interval SignedDistance::unsigned_distance(const Vec3& p) const {
+Interval SignedDistance::unsigned_distance(const Vec3& p, std::uint32_t* nearest) const {
   NearestPolicy q{mesh_, p};
   traverse_nearest_first(tree_, q);
+  if (nearest) *nearest = q.best_face;
   return sqrt_interval({q.min_lo_sq, q.best_hi_sq});
 }
 

@@ -24,8 +24,8 @@ class SignedDistance {
   const Aabb& bbox() const { return bbox_; }
   const Bvh<Aabb>& tree() const { return tree_; }
 
-  // [lo, hi] containing dist(p, F) >= 0.
-  Interval unsigned_distance(const Vec3& p) const;
+  // [lo, hi] containing dist(p, F) >= 0; `nearest` (if given) receives a triangle at the upper end.
+  Interval unsigned_distance(const Vec3& p, std::uint32_t* nearest = nullptr) const;
 
   // True when dist(p, F) <= bound is proven; may stop at the first triangle that proves it.
   // False means the full query ran; then `*full` (if given) receives the enclosure of dist(p, F).

@@ -37,6 +37,11 @@ struct ValidatedMesh {
   MeshReport report;
 };
 
+// The supported scale (see validate_mesh.cpp): larger coordinates or a smaller extent are an
+// error of kind "coordinate-range". Scaling by a power of two is exact.
+constexpr double kMaxCoordinate = 1e40;
+constexpr double kMinDiagonal = 1e-40;
+
 struct ValidateOptions {
   bool check_self_intersections = true;
   bool fix_orientation = true;

@@ -355,4 +355,11 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   return r;
 }
 
+ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover, const Eigen::Matrix3d& R,
+                                  const Vec3& t, double tolerance) {
+  ClearanceOptions options;
+  options.tolerance = tolerance;
+  return certify_clearance(fixed, mover, component_representatives(mover), make_mover_orientation(mover, R), t, options);
+}
+
 }  // namespace cdbench

@@ -66,4 +66,9 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
                                   const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
                                   const Vec3& t, const ClearanceOptions& options);
 
+// The one-call form (builds the mover's orientation tree each time: for many poses of one rotation,
+// make_mover_orientation once and call the function above).
+ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover, const Eigen::Matrix3d& R,
+                                  const Vec3& t, double tolerance);
+
 }  // namespace cdbench

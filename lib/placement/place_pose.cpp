@@ -74,7 +74,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // Where the bounding spheres are apart by more than |target| and separating further: every
   // farther pose has c > target, so the advance may start there.
   const double lambda_far =
-      setup.fixed_radius + setup.mover_radius + std::abs(target) + 1e-3 * (setup.fixed_radius + 1.0);
+      setup.fixed_radius + setup.mover_radius + std::abs(target) + 1e-3 * (setup.fixed_radius + setup.mover_radius);
   const bool far_start = options.start == PoseStart::Far;
   if (far_start && !options.polish) throw std::invalid_argument("place_pose: a far start needs polishing");
   if (!far_start) {

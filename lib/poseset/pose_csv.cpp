@@ -26,6 +26,33 @@ void put(std::string& s, double x) {
 
 }  // namespace
 
+namespace {
+constexpr PoseStatus kStatuses[] = {PoseStatus::Certified,     PoseStatus::NoContact,
+                                    PoseStatus::OffsetEmpty,   PoseStatus::OffsetFailed,
+                                    PoseStatus::ToleranceNotReached, PoseStatus::PolishStalled};
+}  // namespace
+
+const char* to_string(PoseStatus s) {
+  switch (s) {
+    case PoseStatus::Certified: return "certified";
+    case PoseStatus::NoContact: return "uncertified:no-contact";
+    case PoseStatus::OffsetEmpty: return "uncertified:offset-empty";
+    case PoseStatus::OffsetFailed: return "uncertified:offset-failed";
+    case PoseStatus::ToleranceNotReached: return "uncertified:tolerance-not-reached";
+    case PoseStatus::PolishStalled: return "uncertified:polish-stalled";
+  }
+  return "?";
+}
+
+PoseStatus parse_pose_status(const std::string& text, const std::string& where) {
+  std::string known;
+  for (PoseStatus s : kStatuses) {
+    if (text == to_string(s)) return s;
+    known += (known.empty() ? "" : ", ") + std::string(to_string(s));
+  }
+  throw InputError(where + ": unknown status '" + text + "' (expected one of: " + known + ")");
+}
+
 std::string format_pose_row(const PoseRow& r) {
   std::string s = std::to_string(r.pose) + "," + std::to_string(r.level) + ",";
   put(s, r.target);
@@ -35,7 +62,7 @@ std::string format_pose_row(const PoseRow& r) {
   for (int i = 0; i < 3; ++i) put(s, r.dir[i]);
   put(s, r.clearance_lo);
   put(s, r.clearance_hi);
-  s += r.status + "," + std::to_string(r.orientation) + "," + std::to_string(r.direction) + ",";
+  s += std::string(to_string(r.status)) + "," + std::to_string(r.orientation) + "," + std::to_string(r.direction) + ",";
   put(s, r.raw_clearance_lo);
   put(s, r.raw_clearance_hi);
   s += std::to_string(r.polish_steps) + ",";
@@ -84,9 +111,7 @@ PoseRow parse_pose_row(const std::string& line, const std::string& where) {
   for (int i = 0; i < 3; ++i) r.dir[i] = num(15 + i);
   r.clearance_lo = num(18);
   r.clearance_hi = num(19);
-  r.status = f[20];
-  if (r.status != "certified" && r.status.rfind("uncertified:", 0) != 0)
-    throw InputError(where + ": status must be 'certified' or 'uncertified:<reason>', found '" + r.status + "'");
+  r.status = parse_pose_status(f[20], where);
   r.orientation = integer(21);
   r.direction = integer(22);
   r.raw_clearance_lo = num(23);

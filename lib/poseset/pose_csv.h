@@ -13,6 +13,20 @@ namespace cdbench {
 extern const char* const kPoseCsvHeader;
 constexpr int kPoseCsvColumns = 27;
 
+// The status column: "certified", or "uncertified:<reason>" with the reasons of
+// doc/pose-set-format.md.
+enum class PoseStatus {
+  Certified,
+  NoContact,            // the approach never reaches the target (no pose)
+  OffsetEmpty,          // the level lies deeper than the max penetration (no pose)
+  OffsetFailed,         // the level's offset could not be certified (no pose; without polishing)
+  ToleranceNotReached,  // the branch and bound hit its cell limit (rigorous, wider interval)
+  PolishStalled,        // not within the tolerance of the target after the step limit
+};
+const char* to_string(PoseStatus s);
+// InputError naming `where` for any other text.
+PoseStatus parse_pose_status(const std::string& text, const std::string& where);
+
 struct PoseRow {
   std::uint64_t pose = 0;       // global index: (orientation * directions + direction) * levels + level
   int level = 0;                // index into poseset.json "levels"
@@ -21,7 +35,7 @@ struct PoseRow {
   Eigen::Vector3d t = Eigen::Vector3d::Zero();    // x_world = R x + t; NaN when there is no pose
   Eigen::Vector3d dir = Eigen::Vector3d::Zero();  // unit approach direction
   double clearance_lo = 0.0, clearance_hi = 0.0;  // NaN when there is no pose
-  std::string status;           // "certified" or "uncertified:<reason>"
+  PoseStatus status = PoseStatus::Certified;
   // Extras.
   std::uint64_t orientation = 0, direction = 0;
   double raw_clearance_lo = 0.0, raw_clearance_hi = 0.0;  // before polishing

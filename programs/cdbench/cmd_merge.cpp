@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "json_file.h"
 #include "poseset/pose_csv.h"
+#include "poseset/poseset_manifest.h"
 #include "poseset_summary.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
@@ -29,9 +30,11 @@ nlohmann::json read_json(const std::string& path) { return read_json_file(path, 
 int run_merge(const MergeCliOptions& opt) {
   std::vector<nlohmann::json> sets;
   for (const std::string& dir : opt.inputs) {
-    nlohmann::json ps = read_json(dir + "/poseset.json");
-    if (ps.value("format", "") != "cdbench-poseset" || ps.value("format_version", 0) != 1)
-      throw InputError(dir + "/poseset.json: not a cdbench-poseset version 1");
+    nlohmann::json ps = read_poseset_manifest(dir).json;  // checks the format and the core keys
+    const nlohmann::json& shard = ps.value("shard", nlohmann::json());
+    if (!ps.contains("run_key") || !shard.is_object() || !shard.value("count", nlohmann::json()).is_number_unsigned() ||
+        !shard.value("index", nlohmann::json()).is_number_unsigned())
+      throw InputError(dir + "/poseset.json: not a shard of cdbench poses (no run_key or shard index and count)");
     sets.push_back(std::move(ps));
   }
   // Same run, shards covering it once each.

@@ -15,7 +15,7 @@
 
 #include "commands.h"
 #include "number_text.h"
-#include "offset_set.h"
+#include "offset/offset_set.h"
 #include "distance/max_penetration.h"
 #include "mesh/write_mesh.h"
 #include "mesh_loading.h"
@@ -56,7 +56,7 @@ int run_offset(const OffsetCliOptions& opt) {
   double seconds_mp = 0.0;
   const MaxPenetrationResult mp = timed_max_penetration(sdf, opt.max_penetration_tolerance, &seconds_mp);
 
-  OffsetSetRequest req = make_offset_request(loaded, sdf, mp, opt.max_penetration_tolerance, seconds_mp, input_sha,
+  OffsetSetRequest req = make_offset_request(mesh_source(loaded), sdf, mp, opt.max_penetration_tolerance, seconds_mp, input_sha,
                                             opt.out);
   for (const LevelSpec& l : specs) {
     req.names.push_back(l.text);

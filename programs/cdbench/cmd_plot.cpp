@@ -1,5 +1,6 @@
 // cdbench plot DIR: gnuplot figures of a benchmark's summary.json (PNG and SVG) and an error table.
 #include <cstdio>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +23,9 @@ struct PlotCliOptions {
   std::string dir;
 };
 
+// A number of the summary; null (not measured, no target) is NaN, which gnuplot skips.
+double num(const nlohmann::json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
+
 int run_plot(const PlotCliOptions& opt) {
   const std::string path = opt.dir + "/summary.json";
   const nlohmann::json s = read_json_file(path, "run 'cdbench bench' first");
@@ -36,21 +40,23 @@ int run_plot(const PlotCliOptions& opt) {
          << "ambiguous" << "max distance error (relative)\n";
   std::vector<std::string> names;
   std::vector<bool> counted;  // whether the implementation reports its own BV tests
+  bool timed = false;         // some level has a time
   for (const auto& impl : s["implementations"]) {
     names.push_back(impl["name"].get<std::string>());
     counted.push_back(impl.value("counts_tests", true));
     data << "# " << names.back() << "\n";
     for (const auto& l : impl["levels"]) {
-      data << std::setprecision(10) << l["percent_of_max_penetration"].get<double>() << " " << l["mean_us"].get<double>()
-           << " " << l["median_us"].get<double>() << " " << l["p95_us"].get<double>() << " "
-           << l["mean_bv_tests"].get<double>() << "\n";
+      timed = timed || std::isfinite(num(l["mean_us"]));
+      data << std::setprecision(10) << num(l["percent_of_max_penetration"]) << " " << num(l["mean_us"])
+           << " " << num(l["median_us"]) << " " << num(l["p95_us"]) << " "
+           << num(l["mean_bv_tests"]) << "\n";
       errors << std::left << std::setw(21) << names.back() << std::setw(10) << l["level"].get<std::string>() << std::setw(9)
-             << std::setprecision(4) << l["percent_of_max_penetration"].get<double>() << std::setw(7)
+             << std::setprecision(4) << num(l["percent_of_max_penetration"]) << std::setw(7)
              << l["poses"].get<std::size_t>() << std::setw(7) << l["false_positives"].get<std::size_t>() << std::setw(7)
              << l["false_negatives"].get<std::size_t>() << std::setw(10) << l["missed_or_contained"].get<std::size_t>()
              << std::setw(11) << l["ambiguous"].get<std::size_t>()
-             << (l["distance_answers"].get<std::size_t>() > 0 ? number_text(l["max_distance_error"].get<double>(), 3) + " (" +
-                                                                 number_text(l["max_relative_distance_error"].get<double>(), 3) + ")"
+             << (l["distance_answers"].get<std::size_t>() > 0 ? number_text(num(l["max_distance_error"]), 3) + " (" +
+                                                                 number_text(num(l["max_relative_distance_error"]), 3) + ")"
                                                            : std::string("-"))
              << "\n";
     }
@@ -78,9 +84,13 @@ int run_plot(const PlotCliOptions& opt) {
     gp << "set grid\nset key outside right\nset xlabel 'level (% of the maximum penetration; < 0: penetrating)'\n";
     gp << "set logscale y\n";
     gp << "set output 'time_vs_level." << ext << "'\nset ylabel 'mean query time (us)'\n";
-    gp << "set title 'Static collision query time vs distance'\nplot " << series(2) << "\n";
+    gp << "set title 'Static collision query time vs distance'\n";
+    if (timed) gp << "plot " << series(2) << "\n";
+    else gp << "set label 1 'no times given' at graph 0.5, 0.5 center\nunset logscale y\nplot [0:1] [0:1] NaN notitle\nunset label 1\nset logscale y\n";
     gp << "set output 'bv_tests_vs_level." << ext << "'\nset ylabel 'mean bounding-volume tests'\n";
-    gp << "set title 'Bounding-volume tests vs distance'\nplot " << series(5) << "\n";
+    gp << "set title 'Bounding-volume tests vs distance'\n";
+    if (series(5).empty()) gp << "set label 1 'no bounding-volume tests given' at graph 0.5, 0.5 center\nunset logscale y\nplot [0:1] [0:1] NaN notitle\nunset label 1\n";
+    else gp << "plot " << series(5) << "\n";
     gp << "unset logscale y\n";
   };
   plots("pngcairo size 1000,600 noenhanced", "png");

@@ -12,10 +12,13 @@ constexpr int kExitInternal = 3;
 // Each registers its subcommand; the callback stores the exit code in `exit_code`.
 void register_check(CLI::App& app, int& exit_code);
 void register_wrap(CLI::App& app, int& exit_code);
+void register_repair(CLI::App& app, int& exit_code);
 void register_offset(CLI::App& app, int& exit_code);
 void register_poses(CLI::App& app, int& exit_code, const std::string& command_line);
 void register_merge(CLI::App& app, int& exit_code);
 void register_bench(CLI::App& app, int& exit_code);
+void register_certify(CLI::App& app, int& exit_code, const std::string& command_line);
+void register_score(CLI::App& app, int& exit_code);
 void register_plot(CLI::App& app, int& exit_code);
 void register_subdivide(CLI::App& app, int& exit_code);
 

@@ -17,12 +17,15 @@ int main(int argc, char** argv) {
   int exit_code = kExitOk;
   register_check(app, exit_code);
   register_wrap(app, exit_code);
+  register_repair(app, exit_code);
   register_offset(app, exit_code);
   std::string command_line;
   for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
   register_poses(app, exit_code, command_line);
   register_merge(app, exit_code);
+  register_certify(app, exit_code, command_line);
   register_bench(app, exit_code);
+  register_score(app, exit_code);
   register_plot(app, exit_code);
   register_subdivide(app, exit_code);
   try {

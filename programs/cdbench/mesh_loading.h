@@ -3,6 +3,7 @@
 #include <string>
 
 #include "mesh/validate_mesh.h"
+#include "offset/offset_set.h"
 
 namespace cdbench::cli {
 
@@ -11,6 +12,11 @@ struct LoadedMesh {
   ValidatedMesh validated;
   double seconds_read = 0.0, seconds_validate = 0.0;
 };
+
+// The mesh as the library's offset sets record it.
+inline MeshSource mesh_source(const LoadedMesh& loaded) {
+  return {loaded.path, &loaded.validated.mesh, loaded.seconds_read, loaded.seconds_validate};
+}
 
 // Throws InputError when the file cannot be read as a mesh (not when it is an invalid solid).
 LoadedMesh load_mesh(const std::string& path, const ValidateOptions& options = {});

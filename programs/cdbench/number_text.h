@@ -1,16 +1,8 @@
 #pragma once
-// Numbers as text for the commands' outputs.
-#include <iomanip>
-#include <sstream>
-#include <string>
+// Numbers as text for the commands' outputs (the library's formatter).
+#include "util/number_format.h"
 
 namespace cdbench::cli {
-
-// With `digits` significant digits; 17 reads back as the same double.
-inline std::string number_text(double x, int digits = 17) {
-  std::ostringstream os;
-  os << std::setprecision(digits) << x;
-  return os.str();
-}
-
+using cdbench::number_text;
+using cdbench::shortest_number_text;
 }  // namespace cdbench::cli

@@ -1,30 +1,5 @@
 #include "poseset_summary.h"
 
-#include <algorithm>
-#include <cmath>
-
-namespace cdbench::cli {
-
-std::vector<LevelSummary> summarize_levels(const std::vector<PoseRow>& rows, std::size_t levels, double tol) {
-  std::vector<LevelSummary> s(levels);
-  for (const PoseRow& r : rows) {
-    if (r.level < 0 || static_cast<std::size_t>(r.level) >= levels) continue;
-    LevelSummary& x = s[static_cast<std::size_t>(r.level)];
-    ++x.poses;
-    if (r.status == "certified") ++x.certified;
-    if (r.status == "uncertified:no-contact") ++x.no_contact;
-    if (!std::isnan(r.clearance_lo) && r.clearance_lo >= r.target - tol && r.clearance_hi <= r.target + tol) ++x.on_target;
-    if (!std::isnan(r.raw_clearance_lo)) {
-      const double e = std::max(std::abs(r.raw_clearance_lo - r.target), std::abs(r.raw_clearance_hi - r.target));
-      x.raw_error_max = std::max(x.raw_error_max, e);
-      x.raw_error_sum += e;
-      x.steps_sum += r.polish_steps;
-    }
-  }
-  return s;
-}
-
-}  // namespace cdbench::cli
 
 #include <iomanip>
 

@@ -1,22 +1,11 @@
 #pragma once
-// Per-level counts of a pose set (for poseset.json and the printed table), from its rows.
+// The per-level table of a pose set on stdout (counts: poseset/level_summary.h).
 #include <cstddef>
 #include <vector>
 
-#include "poseset/pose_csv.h"
+#include "poseset/level_summary.h"
 
-namespace cdbench::cli {
 
-struct LevelSummary {
-  std::size_t poses = 0, certified = 0, on_target = 0, no_contact = 0;
-  double raw_error_max = 0.0, raw_error_sum = 0.0, steps_sum = 0.0;
-  std::size_t placed() const { return poses - no_contact; }
-};
-
-// tol: the absolute tolerance of "on target" (|c - target| <= tol by the certificate).
-std::vector<LevelSummary> summarize_levels(const std::vector<PoseRow>& rows, std::size_t levels, double tol);
-
-}  // namespace cdbench::cli
 
 #include <nlohmann/json.hpp>
 #include <ostream>

@@ -38,7 +38,7 @@ cmp -s "$dir/a/poses.csv" "$dir/m/poses.csv" || fail "merged shards differ from 
 [ $? -eq 2 ] && grep -q "missing shard(s) 1 of 2" "$dir/m2.log" || fail "merge with a missing shard must fail"
 
 # Hard interruption after 5 approaches are journaled (others in flight are lost), then --resume.
-CDBENCH_TEST_KILL_AFTER_APPROACHES=5 "$bin" poses "$mesh" "${args[@]}" -o "$dir/r" > /dev/null 2>&1
+CDBENCH_TEST_KILL_AFTER_APPENDS=5 "$bin" poses "$mesh" "${args[@]}" -o "$dir/r" > /dev/null 2>&1
 [ -s "$dir/r/poses.journal" ] || fail "no journal after the interruption"
 [ ! -e "$dir/r/poses.csv" ] || fail "a poses.csv after the interruption"
 "$bin" poses "$mesh" "${args[@]}" -o "$dir/r" > "$dir/r.log" 2>&1

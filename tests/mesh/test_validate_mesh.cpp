@@ -84,3 +84,28 @@ TEST(AlphaWrap, OpenSurfaceBecomesAValidSolid) {
 
 }  // namespace
 }  // namespace cdbench
+
+namespace cdbench {
+namespace {
+
+TEST(Validate, CoordinatesOutsideTheSupportedScaleAreNamed) {
+  const auto scaled = [](double s) {
+    TriangleMesh box = make_box(Vec3(0, 0, 0), Vec3(1, 1, 1));
+    for (Vec3& v : box.vertices) v *= s;
+    return validate_mesh(box);
+  };
+  for (double s : {1e150, 1e200, 1e-150, 1e-45}) {
+    const ValidatedMesh v = scaled(s);
+    ASSERT_TRUE(v.report.has("coordinate-range")) << s;
+    EXPECT_NE(v.report.errors[0].message.find(s > 1 ? "scale the mesh down" : "scale the mesh up"), std::string::npos);
+  }
+  for (double s : {1e39, 1e-39, 1.0}) {
+    const ValidatedMesh v = scaled(s);
+    EXPECT_TRUE(v.report.valid()) << s;
+    EXPECT_LE(v.report.volume_lo, s * s * s);
+    EXPECT_GE(v.report.volume_hi, s * s * s);
+  }
+}
+
+}  // namespace
+}  // namespace cdbench

@@ -1,6 +1,4 @@
-#include "offset_set.h"
-
-#include "number_text.h"
+#include "offset/offset_set.h"
 
 #include <tbb/parallel_for.h>
 
@@ -15,11 +13,16 @@
 #include "mesh/write_mesh.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/number_format.h"
 #include "util/progress.h"
 #include "util/sha256.h"
 #include "util/timer.h"
 
-namespace cdbench::cli {
+#ifndef CDBENCH_VERSION
+#define CDBENCH_VERSION "unknown"
+#endif
+
+namespace cdbench {
 namespace {
 
 std::string file_name(std::size_t index, const std::string& text) {
@@ -41,17 +44,17 @@ MaxPenetrationResult timed_max_penetration(const SignedDistance& sdf, double rel
   return mp;
 }
 
-OffsetSetRequest make_offset_request(const LoadedMesh& loaded, const SignedDistance& sdf,
+OffsetSetRequest make_offset_request(const MeshSource& source, const SignedDistance& sdf,
                                      const MaxPenetrationResult& max_penetration, double max_penetration_tolerance,
                                      double seconds_max_penetration, const std::string& input_sha,
                                      const std::string& out_dir) {
   OffsetSetRequest req;
-  req.loaded = &loaded;
+  req.source = source;
   req.sdf = &sdf;
   req.max_penetration = &max_penetration;
   req.max_penetration_tolerance = max_penetration_tolerance;
   req.seconds_max_penetration = seconds_max_penetration;
-  req.mesh_path = loaded.path;
+  req.mesh_path = source.path;
   req.input_sha = input_sha;
   req.out_dir = out_dir;
   return req;
@@ -160,8 +163,8 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
   manifest["generator"] = std::string("cdbench ") + CDBENCH_VERSION;
   manifest["input"] = {{"path", r.mesh_path},
                        {"sha256", r.input_sha},
-                       {"vertices", r.loaded->validated.mesh.vertices.size()},
-                       {"faces", r.loaded->validated.mesh.faces.size()},
+                       {"vertices", r.source.mesh->vertices.size()},
+                       {"faces", r.source.mesh->faces.size()},
                        {"diagonal", diag}};
   manifest["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
                                  {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
@@ -174,8 +177,8 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
                          {"seeds", oo.seeds}};
   nlohmann::json timings;
   timings["max_penetration"] = r.seconds_max_penetration;
-  timings["read"] = r.loaded->seconds_read;
-  timings["validate"] = r.loaded->seconds_validate;
+  timings["read"] = r.source.seconds_read;
+  timings["validate"] = r.source.seconds_validate;
   manifest["levels"] = nlohmann::json::array();
   for (std::size_t i = 0; i < n; ++i) {
     nlohmann::json e = entries[i];
@@ -198,4 +201,4 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
   return result;
 }
 
-}  // namespace cdbench::cli
+}  // namespace cdbench

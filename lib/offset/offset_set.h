@@ -7,13 +7,20 @@
 #include <vector>
 
 #include "distance/max_penetration.h"
-#include "mesh_loading.h"
+#include "mesh/triangle_mesh.h"
 #include "offset/offset_level.h"
 
-namespace cdbench::cli {
+namespace cdbench {
+
+// The input mesh of an offset set as read by a command (for the manifest and its timings).
+struct MeshSource {
+  std::string path;
+  const TriangleMesh* mesh = nullptr;  // the validated closed solid
+  double seconds_read = 0.0, seconds_validate = 0.0;
+};
 
 struct OffsetSetRequest {
-  const LoadedMesh* loaded = nullptr;
+  MeshSource source;
   const SignedDistance* sdf = nullptr;
   const MaxPenetrationResult* max_penetration = nullptr;
   double max_penetration_tolerance = 1e-6;
@@ -38,11 +45,12 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& request);
 // The certified maximum penetration (what every offset set needs first), with its duration.
 MaxPenetrationResult timed_max_penetration(const SignedDistance& sdf, double relative_tolerance, double* seconds);
 
-// A request for the offsets of `loaded` (whose signed distance and max penetration are given),
+// A request for the offsets of `source` (whose signed distance and max penetration are given),
 // with the levels still to be filled in.
-OffsetSetRequest make_offset_request(const LoadedMesh& loaded, const SignedDistance& sdf,
+// (`source` is copied; its mesh must outlive the request.)
+OffsetSetRequest make_offset_request(const MeshSource& source, const SignedDistance& sdf,
                                      const MaxPenetrationResult& max_penetration, double max_penetration_tolerance,
                                      double seconds_max_penetration, const std::string& input_sha,
                                      const std::string& out_dir);
 
-}  // namespace cdbench::cli
+}  // namespace cdbench

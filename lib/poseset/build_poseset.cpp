@@ -1,0 +1,415 @@
+#include "poseset/build_poseset.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <sstream>
+
+#include "distance/max_penetration.h"
+#include "mesh/read_mesh.h"
+#include "offset/level_list.h"
+#include "placement/place_pose.h"
+#include "poseset/journal.h"
+#include "poseset/level_summary.h"
+#include "poseset/pose_csv.h"
+#include "sampling/sampling.h"
+#include "sweep/mesh_sweep.h"
+#include "util/atomic_file.h"
+#include "util/dynamic_parallel.h"
+#include "util/error.h"
+#include "util/number_format.h"
+#include "util/progress.h"
+#include "util/sha256.h"
+#include "util/timer.h"
+
+#ifndef CDBENCH_VERSION
+#define CDBENCH_VERSION "unknown"
+#endif
+
+namespace cdbench {
+namespace {
+struct Shard {
+  std::uint64_t index = 0, count = 1;
+};
+
+Shard parse_shard(const std::string& s) {
+  const auto slash = s.find('/');
+  Shard r;
+  try {
+    if (slash == std::string::npos) throw std::invalid_argument("");
+    std::size_t a = 0, b = 0;
+    r.index = std::stoull(s.substr(0, slash), &a);
+    r.count = std::stoull(s.substr(slash + 1), &b);
+    if (a != slash || b != s.size() - slash - 1) throw std::invalid_argument("");
+  } catch (const std::exception&) {
+    throw InputError("--shard: expected I/N with 0 <= I < N, found '" + s + "'");
+  }
+  if (r.count == 0 || r.index >= r.count) throw InputError("--shard: expected I/N with 0 <= I < N, found '" + s + "'");
+  return r;
+}
+
+TriangleMesh read_certified_offset(const std::string& path) {
+  const PolygonSoup soup = read_polygon_soup(path);
+  TriangleMesh m;
+  m.vertices = soup.points;
+  for (const auto& p : soup.polygons) {
+    if (p.size() != 3) throw InputError(path + ": offset mesh has a non-triangular face");
+    m.faces.push_back({static_cast<std::uint32_t>(p[0]), static_cast<std::uint32_t>(p[1]), static_cast<std::uint32_t>(p[2])});
+  }
+  return m;
+}
+
+nlohmann::json mesh_json(const std::string& path, const std::string& sha, const TriangleMesh& m, const Vec3& ref) {
+  return {{"path", path},
+          {"sha256", sha},
+          {"vertices", m.vertices.size()},
+          {"faces", m.faces.size()},
+          {"diagonal", m.bbox().diagonal()},
+          {"reference_point", {ref.x(), ref.y(), ref.z()}}};
+}
+
+// Rows of an earlier run's journal, whole approaches only (an approach's rows are written
+// together; a cut approach is computed again).
+std::map<std::uint64_t, std::string> whole_approaches(std::map<std::uint64_t, std::string> rows, std::size_t levels) {
+  std::map<std::uint64_t, std::size_t> per_approach;
+  for (const auto& [pose, line] : rows) ++per_approach[pose / levels];
+  for (auto it = rows.begin(); it != rows.end();)
+    it = per_approach[it->first / levels] == levels ? std::next(it) : rows.erase(it);
+  return rows;
+}
+struct CheckedOptions {
+  std::vector<LevelSpec> specs;
+  Shard shard;
+};
+
+CheckedOptions check_options(const PoseSetRequest& opt) {
+  CheckedOptions c;
+  c.specs = parse_level_list(opt.levels);
+  c.shard = parse_shard(opt.shard);
+  if (opt.direction_sampling != "fibonacci" && opt.direction_sampling != "grid")
+    throw InputError("--direction-sampling: expected 'fibonacci' or 'grid', found '" + opt.direction_sampling + "'");
+  if (opt.orientation_sampling != "super-fibonacci" && opt.orientation_sampling != "random")
+    throw InputError("--orientation-sampling: expected 'super-fibonacci' or 'random', found '" + opt.orientation_sampling + "'");
+  std::set<std::string> seen;
+  for (const LevelSpec& l : c.specs)
+    if (!seen.insert(l.text).second) throw InputError("--levels: level '" + l.text + "' is listed twice");
+  return c;
+}
+
+}  // namespace
+
+void check_poseset_request(const PoseSetRequest& request) { check_options(request); }
+
+PoseSetResult build_poseset(const PoseSetRequest& opt) {
+  const CheckedOptions checked = check_options(opt);
+  const std::vector<LevelSpec>& specs = checked.specs;
+  const Shard shard = checked.shard;
+  Timer total;
+  const TriangleMesh& fixed_mesh = *opt.fixed.mesh;
+  const bool mover_is_fixed = opt.mover.path.empty();
+  const std::string mover_path = mover_is_fixed ? opt.fixed.path : opt.mover.path;
+  const TriangleMesh& mover = mover_is_fixed ? fixed_mesh : *opt.mover.mesh;
+  const std::string fixed_sha = sha256_file(opt.fixed.path);
+  const std::string mover_sha = mover_is_fixed ? fixed_sha : sha256_file(opt.mover.path);
+
+  std::error_code ec;
+  std::filesystem::create_directories(opt.out, ec);
+  if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");
+
+  const SignedDistance sdf(fixed_mesh);
+  const double diag = sdf.bbox().diagonal();
+  double seconds_mp = 0.0;
+  const MaxPenetrationResult mp = timed_max_penetration(sdf, opt.max_penetration_tolerance, &seconds_mp);
+  const bool polish = !opt.no_polish;
+  const double tol = opt.tolerance * diag;
+
+  // Levels: targets and where their poses start (doc/poses.md): the exact first contact with the
+  // surface itself (level 0; d < 0 by default), far away (d > 0 by default), or the first contact
+  // with a certified offset at d + 2 band (--start offset) or at d (no polishing).
+  const std::size_t L = specs.size();
+  std::vector<double> targets(L), swept(L);
+  std::vector<PoseStart> start(L);
+  for (std::size_t l = 0; l < L; ++l) {
+    targets[l] = level_distance(specs[l], mp.depth.lo);
+    start[l] = planned_start(targets[l], polish, opt.start == "offset" ? StartPolicy::Offsets : StartPolicy::NoOffsets);
+    swept[l] = start[l] == PoseStart::Offset && polish ? targets[l] + 2.0 * opt.band_tolerance * diag : targets[l];
+  }
+
+  // Run identity: a resumed run must be the same run.
+  nlohmann::json run_key = {{"fixed_sha256", fixed_sha},
+                            {"mover_sha256", mover_sha},
+                            {"levels", opt.levels},
+                            {"directions", opt.directions},
+                            {"orientations", opt.orientations},
+                            {"direction_sampling", opt.direction_sampling},
+                            {"orientation_sampling", opt.orientation_sampling},
+                            {"seed", opt.seed},
+                            {"tolerance", opt.tolerance},
+                            {"band_tolerance", opt.band_tolerance},
+                            {"polish", polish},
+                            {"start", opt.start},
+                            {"max_steps", opt.max_steps},
+                            {"shard", opt.shard},
+                            {"generator", std::string("cdbench ") + CDBENCH_VERSION}};
+  PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
+  std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
+
+  // Offsets of the levels that start from one (reused across runs by their own manifest).
+  OffsetSetRequest req = make_offset_request(opt.fixed, sdf, mp, opt.max_penetration_tolerance, seconds_mp, fixed_sha,
+                                            opt.out + "/offsets");
+  std::vector<std::ptrdiff_t> offset_of(L, -1);  // index in the offset set
+  for (std::size_t l = 0; l < L; ++l) {
+    if (start[l] != PoseStart::Offset) continue;
+    offset_of[l] = static_cast<std::ptrdiff_t>(req.distances.size());
+    req.names.push_back(polish ? specs[l].text + "+2band" : specs[l].text);
+    req.distances.push_back(swept[l]);
+  }
+  req.options.tolerance_relative = opt.band_tolerance;
+  req.log_prefix = "cdbench poses: ";
+  std::cerr << "cdbench poses: max penetration [" << number_text(mp.depth.lo) << ", " << number_text(mp.depth.hi)
+            << "]; " << (req.distances.empty() ? std::string("no offset meshes needed (--start ") + opt.start + ")"
+                                                : "offsets for " + std::to_string(req.distances.size()) + " of " +
+                                                      std::to_string(L) + " level(s) in " + req.out_dir)
+            << std::endl;
+  Timer t_offsets;
+  const OffsetSetResult offsets = write_offset_set(req);
+  const double seconds_offsets = t_offsets.seconds();
+  std::vector<std::unique_ptr<SweepMesh>> level_mesh(L);
+  std::vector<std::string> level_state(L), level_note(L);
+  for (std::size_t l = 0; l < L; ++l) {
+    if (offset_of[l] < 0) continue;
+    const std::size_t i = static_cast<std::size_t>(offset_of[l]);
+    const std::string status = offsets.manifest["levels"][i]["status"].get<std::string>();
+    level_state[l] = status;
+    if (status == "certified") {
+      const TriangleMesh m = read_certified_offset(req.out_dir + "/" + offsets.files[i]);
+      level_mesh[l] = std::make_unique<SweepMesh>(make_sweep_mesh(m.vertices, m.faces));
+    } else if (status == "failed") {
+      // The level's poses must not depend on an offset that could not be certified.
+      if (fallback_start(targets[l], polish, &start[l])) {
+        level_note[l] = std::string("offset failed; conservative advance from the ") +
+                        (start[l] == PoseStart::Surface ? "first contact with the surface" : "far start");
+        std::cerr << "cdbench poses: note: level " << specs[l].text << ": " << level_note[l] << std::endl;
+      }
+    }
+    // "empty": no point that deep (or far) exists on this side; its rows say so.
+  }
+  std::unique_ptr<SweepMesh> surface;
+  if (std::count(start.begin(), start.end(), PoseStart::Surface) > 0)
+    surface = std::make_unique<SweepMesh>(
+        make_sweep_mesh(fixed_mesh.vertices, fixed_mesh.faces));
+  // The surface a level's poses are swept against (none for a far start).
+  const auto swept_surface = [&](std::size_t l) -> const SweepMesh* {
+    return start[l] == PoseStart::Surface ? surface.get() : level_mesh[l].get();
+  };
+
+  // Sampling.
+  const std::vector<Vec3> dirs =
+      opt.direction_sampling == "grid" ? sphere_grid(opt.directions) : sphere_fibonacci(opt.directions);
+  const std::vector<Eigen::Quaterniond> rots = opt.orientation_sampling == "random"
+                                                   ? rotations_random(opt.orientations, opt.seed)
+                                                   : rotations_super_fibonacci(opt.orientations);
+  const std::uint64_t N = dirs.size(), K = rots.size();
+  const std::uint64_t approaches = N * K;
+  const std::uint64_t first = approaches * shard.index / shard.count;
+  const std::uint64_t last = approaches * (shard.index + 1) / shard.count;
+
+  const ApproachSetup setup = make_approach_setup(sdf, mover);
+  PoseOptions po;
+  po.tolerance = tol;
+  po.polish = polish;
+  po.max_steps = opt.max_steps;
+
+
+  // Pending approaches in order; an orientation's frame is built by the first thread that needs it
+  // and freed after its last approach.
+  std::vector<std::uint64_t> pending;
+  for (std::uint64_t a = first; a < last; ++a)
+    if (!done_rows.count(a * L)) pending.push_back(a);
+  if (!done_rows.empty())
+    std::cerr << "cdbench poses: resuming: " << (last - first - pending.size()) << " of " << (last - first)
+              << " approaches already certified" << std::endl;
+  struct LazyFrame {
+    std::once_flag once;
+    std::unique_ptr<OrientationFrame> frame;
+    std::atomic<std::uint64_t> left{0};
+  };
+  std::vector<LazyFrame> frames(K);
+  for (std::uint64_t a : pending) ++frames[a / N].left;
+  Progress progress("poses", pending.size() * L);
+  std::vector<std::atomic<std::uint64_t>> level_ns(L);  // thread time per level
+  Timer t_poses;
+  std::mutex journal_mutex;
+  parallel_for_dynamic(pending.size(), [&](std::size_t i) {
+    const std::uint64_t a = pending[i], o = a / N;
+    LazyFrame& lazy = frames[o];
+    std::call_once(lazy.once, [&] {
+      lazy.frame = std::make_unique<OrientationFrame>(make_orientation_frame(setup, rots[o].toRotationMatrix()));
+    });
+    const OrientationFrame& frame = *lazy.frame;
+    const Vec3& dir = dirs[a % N];
+    std::vector<std::string> lines(L);
+    for (std::size_t l = 0; l < L; ++l) {
+      PoseRow row;
+      row.pose = a * L + l;
+      row.level = static_cast<int>(l);
+      row.target = targets[l];
+      row.R = frame.orientation.R;
+      row.dir = dir;
+      row.orientation = o;
+      row.direction = a % N;
+      // A row without a pose: its values are NaN, its status says why.
+      const auto unplaced = [&row](PoseStatus why) {
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        row.t = Vec3::Constant(nan);
+        row.clearance_lo = row.clearance_hi = row.raw_clearance_lo = row.raw_clearance_hi = row.lambda = nan;
+        row.status = why;
+      };
+      const SweepMesh* swept_against = swept_surface(l);
+      if (!swept_against && start[l] != PoseStart::Far) {
+        unplaced(level_state[l] == "empty" ? PoseStatus::OffsetEmpty : PoseStatus::OffsetFailed);
+      } else {
+        PoseOptions level_po = po;
+        level_po.start = start[l];
+        Timer t_pose;
+        const PoseOutcome p = place_pose(setup, frame, swept_against, dir, targets[l], level_po);
+        level_ns[l] += static_cast<std::uint64_t>(t_pose.seconds() * 1e9);
+        if (!p.contact) {
+          unplaced(PoseStatus::NoContact);
+        } else {
+          row.t = p.t;
+          row.lambda = p.lambda;
+          row.clearance_lo = p.clearance.lo;
+          row.clearance_hi = p.clearance.hi;
+          row.raw_clearance_lo = p.raw_clearance.lo;
+          row.raw_clearance_hi = p.raw_clearance.hi;
+          row.polish_steps = p.steps;
+          row.status = p.reason.empty() ? PoseStatus::Certified
+                                        : parse_pose_status("uncertified:" + p.reason, "internal: place_pose's reason");
+        }
+      }
+      lines[l] = format_pose_row(row);
+      progress.advance();
+    }
+    if (--lazy.left == 0) lazy.frame.reset();
+    // One write and flush per approach: an interruption loses at most the approaches in flight.
+    journal.append(lines);
+    std::lock_guard<std::mutex> lock(journal_mutex);
+    for (std::size_t l = 0; l < L; ++l) done_rows[a * L + l] = std::move(lines[l]);
+  });
+  const std::uint64_t computed = pending.size() * L;
+  progress.finish();
+  const double seconds_poses = t_poses.seconds();
+
+  // poses.csv: every row of this shard, in pose order.
+  std::uint64_t expected = (last - first) * L, rows_written = 0;
+  std::vector<PoseRow> shard_rows;
+  write_file_atomically(opt.out + "/poses.csv", [&](std::ostream& out) {
+    out << kPoseCsvHeader << "\n";
+    for (const auto& [pose, line] : done_rows) {
+      if (pose < first * L || pose >= last * L) continue;
+      out << line;
+      ++rows_written;
+      shard_rows.push_back(parse_pose_row(line, journal.path()));
+    }
+  });
+  if (rows_written != expected)
+    throw InputError("internal: " + std::to_string(rows_written) + " rows for " + std::to_string(expected) + " poses");
+
+  const std::vector<LevelSummary> summary = summarize_levels(shard_rows, L, tol);
+  nlohmann::json ps;
+  ps["format"] = "cdbench-poseset";
+  ps["format_version"] = 1;
+  ps["fixed"] = mesh_json(opt.fixed.path, fixed_sha, fixed_mesh, setup.fixed_ref);
+  ps["mover"] = mesh_json(mover_path, mover_sha, mover, setup.mover_ref);
+  ps["mover_is_fixed"] = mover_is_fixed;
+  ps["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
+                           {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
+                           {"relative_tolerance", opt.max_penetration_tolerance}};
+  ps["levels"] = nlohmann::json::array();
+  for (std::size_t l = 0; l < L; ++l) {
+    const LevelSummary& x = summary[l];
+    nlohmann::json swept_offset;  // null: the level's poses use no offset
+    if (offset_of[l] >= 0) {
+      const std::size_t i = static_cast<std::size_t>(offset_of[l]);
+      const nlohmann::json& e = offsets.manifest["levels"][i];
+      swept_offset = {{"d", swept[l]},
+                      {"status", level_state[l]},
+                      {"file", offsets.files[i].empty() ? nlohmann::json() : nlohmann::json("offsets/" + offsets.files[i])},
+                      {"epsilon", e["epsilon"]},
+                      {"faces", e["faces"]}};
+    }
+    ps["levels"].push_back({{"index", l},
+                            {"spec", specs[l].text},
+                            {"target", targets[l]},
+                            {"fraction_of_max_penetration", targets[l] / mp.depth.lo},
+                            {"target_over_diagonal", targets[l] / diag},
+                            {"start", to_string(start[l])},
+                            {"start_note", level_note[l]},
+                            {"swept_offset", swept_offset},
+                            {"poses", x.poses},
+                            {"certified", x.certified},
+                            {"on_target", x.on_target},
+                            {"no_contact", x.no_contact},
+                            {"raw_placement_error",
+                             {{"max", x.raw_error_max}, {"mean", x.placed() ? x.raw_error_sum / x.placed() : 0.0}}},
+                            {"mean_polish_steps", x.placed() ? x.steps_sum / x.placed() : 0.0}});
+  }
+  ps["sampling"] = {{"directions", {{"kind", opt.direction_sampling}, {"count", N}}},
+                    {"orientations", {{"kind", opt.orientation_sampling}, {"count", K}, {"seed", opt.seed}}},
+                    {"pose_index", "(orientation * directions + direction) * levels + level"}};
+  ps["shard"] = {{"index", shard.index}, {"count", shard.count}, {"first_approach", first}, {"end_approach", last}};
+  ps["certification"] = {{"tolerance_relative", opt.tolerance}, {"tolerance", tol}, {"diagonal", diag}};
+  ps["polishing"] = {{"enabled", polish},
+                     {"max_steps", opt.max_steps},
+                     {"band_tolerance_relative", opt.band_tolerance},
+                     {"swept_offset_shift", polish ? 2.0 * opt.band_tolerance * diag : 0.0}};
+  ps["placement"] = {{"reference_point", "bounding-box centre"},
+                     {"transform", "x_world = R x + t, R row-major"},
+                     {"approach", "mover from +dir moving along -dir"}};
+  ps["generator"] = {{"name", "cdbench"}, {"version", CDBENCH_VERSION}, {"command_line", opt.command_line}};
+  ps["run_key"] = run_key;
+  nlohmann::json level_timings = nlohmann::json::array();
+  for (std::size_t l = 0; l < L; ++l) {
+    const double sec = 1e-9 * static_cast<double>(level_ns[l].load());
+    const double n = static_cast<double>(pending.size());
+    level_timings.push_back({{"spec", specs[l].text},
+                             {"thread_seconds", sec},
+                             {"poses_per_thread_second", sec > 0 ? n / sec : 0.0}});
+  }
+  ps["timings"] = {{"max_penetration", seconds_mp},
+                   {"levels", level_timings},
+                   {"offsets", seconds_offsets},
+                   {"poses", seconds_poses},
+                   {"poses_computed", computed},
+                   {"poses_per_second", seconds_poses > 0 ? computed / seconds_poses : 0.0},
+                   {"total", total.seconds()}};
+  write_file_atomically(opt.out + "/poseset.json", [&](std::ostream& out) { out << std::setw(2) << ps << "\n"; });
+  journal.remove();
+
+  PoseSetResult result;
+  result.poseset = ps;
+  result.directions = N;
+  result.orientations = K;
+  result.levels = L;
+  result.computed = computed;
+  result.sharded = shard.count > 1;
+  result.tolerance = tol;
+  result.diagonal = diag;
+  result.max_penetration = mp.depth;
+  result.seconds_offsets = seconds_offsets;
+  result.seconds_poses = seconds_poses;
+  result.seconds_total = total.seconds();
+  return result;
+}
+
+}  // namespace cdbench

@@ -1,0 +1,46 @@
+#pragma once
+// The pose-set builder of `cdbench poses` (doc/poses.md, format: doc/pose-set-format.md): levels
+// from a level list and the certified max penetration, offsets where a level starts from one
+// (reused across runs), sampled orientations x directions, the approach loop (parallel, no
+// barrier), the journal (resume) and shards; writes out/poses.csv and out/poseset.json.
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "offset/offset_set.h"
+#include "util/interval.h"
+
+namespace cdbench {
+
+struct PoseSetRequest {
+  MeshSource fixed;  // a valid closed solid
+  MeshSource mover;  // empty path: the fixed mesh is the mover
+  std::string levels, out;
+  std::size_t directions = 100, orientations = 10;
+  std::string direction_sampling = "fibonacci", orientation_sampling = "super-fibonacci";
+  std::uint64_t seed = 1;
+  std::string shard = "0/1";
+  bool resume = false, no_polish = false;
+  std::string start = "auto";
+  double tolerance = 1e-6;       // certification tolerance, relative to the fixed mesh's diagonal
+  double band_tolerance = 1e-3;  // offsets' band tolerance, relative
+  double max_penetration_tolerance = 1e-6;
+  int max_steps = 400;
+  std::string command_line;
+};
+
+struct PoseSetResult {
+  nlohmann::json poseset;  // as written to out/poseset.json
+  std::uint64_t directions = 0, orientations = 0, levels = 0, computed = 0;
+  bool sharded = false;
+  double tolerance = 0.0, diagonal = 0.0;
+  Interval max_penetration;
+  double seconds_offsets = 0.0, seconds_poses = 0.0, seconds_total = 0.0;
+};
+
+// InputError naming the option (levels, shard, sampling names): call before loading meshes.
+void check_poseset_request(const PoseSetRequest& request);
+// InputError for bad options (before any work) and unusable inputs.
+PoseSetResult build_poseset(const PoseSetRequest& request);
+
+}  // namespace cdbench

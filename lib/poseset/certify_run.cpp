@@ -1,0 +1,264 @@
+#include "poseset/certify_run.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+
+#include "distance/max_penetration.h"
+#include "distance/signed_distance.h"
+#include "placement/clearance.h"
+#include "placement/mover.h"
+#include "poseset/journal.h"
+#include "poseset/pose_csv.h"
+#include "poseset/poseset_manifest.h"
+#include "util/atomic_file.h"
+#include "util/dynamic_parallel.h"
+#include "util/error.h"
+#include "util/number_format.h"
+#include "util/progress.h"
+#include "util/sha256.h"
+#include "util/timer.h"
+
+#ifndef CDBENCH_VERSION
+#define CDBENCH_VERSION "unknown"
+#endif
+
+namespace cdbench {
+namespace {
+
+// Levels of the bundle: the file's `level` column, else its distinct targets, else one level.
+// Returns each pose's level index.
+std::vector<int> assign_levels(const UserPoseFile& file, std::vector<LevelRecord>* levels) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<int> of(file.poses.size(), 0);
+  if (file.has_level) {
+    std::int64_t top = 0;
+    for (const UserPose& p : file.poses) top = std::max(top, p.level);
+    levels->assign(static_cast<std::size_t>(top) + 1, LevelRecord{});
+    std::vector<bool> first(levels->size(), true);
+    for (std::size_t i = 0; i < file.poses.size(); ++i) {
+      const UserPose& p = file.poses[i];
+      LevelRecord& l = (*levels)[static_cast<std::size_t>(p.level)];
+      of[i] = static_cast<int>(p.level);
+      // The level's target: the poses' common one, else none.
+      if (first[static_cast<std::size_t>(p.level)]) l.target = p.target;
+      else if (!(l.target == p.target)) l.target = nan;
+      first[static_cast<std::size_t>(p.level)] = false;
+    }
+    for (std::size_t l = 0; l < levels->size(); ++l)
+      (*levels)[l].spec = "level " + std::to_string(l) + (std::isnan((*levels)[l].target) ? "" : " (target " + shortest_number_text((*levels)[l].target) + ")");
+  } else if (file.has_target) {
+    std::vector<double> targets;
+    bool untargeted = false;
+    for (const UserPose& p : file.poses) std::isnan(p.target) ? void(untargeted = true) : targets.push_back(p.target);
+    std::sort(targets.begin(), targets.end());
+    targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
+    for (double t : targets) levels->push_back({shortest_number_text(t), t});
+    if (untargeted) levels->push_back({"no target", nan});
+    for (std::size_t i = 0; i < file.poses.size(); ++i) {
+      const double t = file.poses[i].target;
+      of[i] = std::isnan(t) ? static_cast<int>(targets.size())
+                            : static_cast<int>(std::lower_bound(targets.begin(), targets.end(), t) - targets.begin());
+    }
+  } else {
+    levels->push_back({"all", nan});
+  }
+  return of;
+}
+
+}  // namespace
+
+CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_dir) {
+  Timer total;
+  CertifyRunResult result;
+  const UserPoseFile& file = *rq.poses;
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (!std::filesystem::is_directory(out_dir)) throw InputError(out_dir + ": cannot create the output directory");
+
+  const std::string fixed_sha = sha256_file(rq.fixed_path);
+  const std::string mover_sha = rq.mover_is_fixed ? fixed_sha : sha256_file(rq.mover_path);
+  const nlohmann::json run_key = {{"fixed_sha256", fixed_sha},
+                                  {"mover_sha256", mover_sha},
+                                  {"poses_sha256", sha256_file(rq.poses_path)},
+                                  {"tolerance", rq.tolerance_relative},
+                                  {"max_cells", rq.max_cells},
+                                  {"generator", std::string("cdbench ") + CDBENCH_VERSION}};
+  PoseJournal journal(out_dir, "certify", run_key, rq.resume, "certify");
+
+  const SignedDistance sdf(*rq.fixed);
+  result.diagonal = sdf.bbox().diagonal();
+  result.tolerance = rq.tolerance_relative * result.diagonal;
+  Timer t_mp;
+  MaxPenetrationOptions mpo;
+  mpo.relative_tolerance = rq.max_penetration_tolerance;
+  const MaxPenetrationResult mp = certified_max_penetration(sdf, mpo);
+  result.seconds_max_penetration = t_mp.seconds();
+  result.max_penetration = mp.depth;
+
+  std::vector<LevelRecord> levels;
+  const std::vector<int> level_of = assign_levels(file, &levels);
+
+  // Poses sharing a rotation (bit for bit) share its mover tree: built by the first thread that
+  // needs it, freed after its last pose.
+  struct LazyOrientation {
+    std::once_flag once;
+    std::unique_ptr<MoverOrientation> orientation;
+    std::atomic<std::size_t> left{0};
+  };
+  std::map<std::vector<double>, std::size_t> group_of_R;
+  std::vector<std::size_t> group(file.poses.size());
+  for (std::size_t i = 0; i < file.poses.size(); ++i) {
+    const Eigen::Matrix3d& R = file.poses[i].R;
+    group[i] = group_of_R.emplace(std::vector<double>(R.data(), R.data() + 9), group_of_R.size()).first->second;
+  }
+  std::vector<LazyOrientation> orientations(group_of_R.size());
+  // Pending poses in file order, grouped by rotation so that a tree is alive only briefly.
+  std::vector<std::size_t> pending;
+  for (std::size_t i = 0; i < file.poses.size(); ++i)
+    if (!journal.done().count(file.poses[i].pose)) pending.push_back(i);
+  std::stable_sort(pending.begin(), pending.end(), [&](std::size_t a, std::size_t b) { return group[a] < group[b]; });
+  for (std::size_t i : pending) ++orientations[group[i]].left;
+  result.resumed = file.poses.size() - pending.size();
+
+  const std::vector<std::uint32_t> components = component_representatives(*rq.mover);
+  ClearanceOptions co;
+  co.tolerance = result.tolerance;
+  co.max_cells = rq.max_cells;
+  Progress progress("certify", pending.size());
+  Timer t_poses;
+  parallel_for_dynamic(pending.size(), [&](std::size_t k) {
+    const std::size_t i = pending[k];
+    const UserPose& p = file.poses[i];
+    LazyOrientation& lazy = orientations[group[i]];
+    std::call_once(lazy.once, [&] { lazy.orientation = std::make_unique<MoverOrientation>(make_mover_orientation(*rq.mover, p.R)); });
+    const ClearanceResult c = certify_clearance(sdf, *rq.mover, components, *lazy.orientation, p.t, co);
+    if (--lazy.left == 0) lazy.orientation.reset();
+    PoseRow row;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    row.pose = p.pose;
+    row.level = level_of[i];
+    row.target = p.target;
+    row.R = p.R;
+    row.t = p.t;
+    row.dir = Eigen::Vector3d::Constant(nan);
+    row.clearance_lo = row.raw_clearance_lo = c.clearance.lo;
+    row.clearance_hi = row.raw_clearance_hi = c.clearance.hi;
+    row.status = c.tolerance_reached ? PoseStatus::Certified : PoseStatus::ToleranceNotReached;
+    row.orientation = group[i];
+    row.direction = 0;
+    row.polish_steps = 0;
+    row.lambda = nan;
+    journal.append({format_pose_row(row)});
+    progress.advance();
+  });
+  progress.finish();
+  result.seconds_poses = t_poses.seconds();
+
+  // The journal now holds every pose (earlier runs' rows and this run's, re-read so that both are
+  // treated alike); poses.csv lists them by pose id.
+  const std::map<std::uint64_t, std::string> rows_by_id = read_journal_rows(journal.path());
+  if (rows_by_id.size() != file.poses.size())
+    throw InputError("internal: the journal holds " + std::to_string(rows_by_id.size()) + " poses of " +
+                     std::to_string(file.poses.size()));
+  result.levels.resize(levels.size());
+  for (std::size_t l = 0; l < levels.size(); ++l) {
+    result.levels[l].spec = levels[l].spec;
+    result.levels[l].target = levels[l].target;
+    result.levels[l].clearance_min = HUGE_VAL;
+    result.levels[l].clearance_max = -HUGE_VAL;
+  }
+  write_file_atomically(out_dir + "/poses.csv", [&](std::ostream& out) {
+    out << kPoseCsvHeader << "\n";
+    for (const auto& [id, line] : rows_by_id) {
+      out << line;
+      const PoseRow r = parse_pose_row(line, journal.path());
+      CertifyLevelCounts& lc = result.levels[static_cast<std::size_t>(r.level)];
+      ++lc.poses;
+      const bool certified = r.status == PoseStatus::Certified;
+      lc.certified += certified;
+      result.certified += certified;
+      lc.separated += r.clearance_lo > 0.0;
+      lc.penetrating += r.clearance_hi < 0.0;
+      lc.straddling += !(r.clearance_lo > 0.0) && !(r.clearance_hi < 0.0);
+      lc.clearance_min = std::min(lc.clearance_min, r.clearance_lo);
+      lc.clearance_max = std::max(lc.clearance_max, r.clearance_hi);
+    }
+  });
+  result.poses = rows_by_id.size();
+
+  nlohmann::json ps;
+  ps["format"] = "cdbench-poseset";
+  ps["format_version"] = 1;
+  const auto record = [&](const std::string& path, const std::string& sha, const TriangleMesh& m) {
+    MeshRecord r;
+    r.path = path;
+    r.sha256 = sha;
+    r.vertices = m.vertices.size();
+    r.faces = m.faces.size();
+    r.diagonal = m.bbox().diagonal();
+    r.reference_point = m.bbox().center();
+    return to_json(r);
+  };
+  ps["fixed"] = record(rq.fixed_path, fixed_sha, *rq.fixed);
+  ps["mover"] = record(rq.mover_path, mover_sha, *rq.mover);
+  ps["mover_is_fixed"] = rq.mover_is_fixed;
+  ps["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
+                           {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
+                           {"relative_tolerance", rq.max_penetration_tolerance}};
+  ps["levels"] = nlohmann::json::array();
+  for (std::size_t l = 0; l < levels.size(); ++l) {
+    const CertifyLevelCounts& lc = result.levels[l];
+    const double t = levels[l].target;
+    const auto maybe = [](double x) { return std::isnan(x) ? nlohmann::json() : nlohmann::json(x); };
+    ps["levels"].push_back({{"index", l},
+                            {"spec", levels[l].spec},
+                            {"target", maybe(t)},
+                            {"fraction_of_max_penetration", maybe(t / mp.depth.lo)},
+                            {"target_over_diagonal", maybe(t / result.diagonal)},
+                            {"start", "user"},
+                            {"start_note", "poses given by the user (cdbench certify)"},
+                            {"swept_offset", nullptr},
+                            {"poses", lc.poses},
+                            {"certified", lc.certified},
+                            {"on_target", nullptr},
+                            {"no_contact", 0},
+                            {"separated", lc.separated},
+                            {"penetrating", lc.penetrating},
+                            {"straddling_zero", lc.straddling}});
+  }
+  ps["source"] = {{"kind", "certify"},
+                  {"poses_file", rq.poses_path},
+                  {"poses_sha256", run_key["poses_sha256"]},
+                  {"rotation_form", file.form == RotationForm::Matrix ? "matrix" : "quaternion"},
+                  {"ignored_columns", file.ignored_columns}};
+  ps["shard"] = {{"index", 0}, {"count", 1}};
+  ps["certification"] = {{"tolerance_relative", rq.tolerance_relative},
+                         {"tolerance", result.tolerance},
+                         {"diagonal", result.diagonal},
+                         {"max_cells", rq.max_cells}};
+  ps["polishing"] = {{"enabled", false}};
+  ps["placement"] = {{"transform", "x_world = R x + t, R row-major; R as stored (certified as the affine map it is)"},
+                     {"approach", "none (dir_x, dir_y, dir_z are nan)"}};
+  ps["generator"] = {{"name", "cdbench"}, {"version", CDBENCH_VERSION}, {"command_line", rq.command_line}};
+  ps["run_key"] = run_key;
+  result.seconds_total = total.seconds();
+  const double computed = static_cast<double>(pending.size());
+  ps["timings"] = {{"max_penetration", result.seconds_max_penetration},
+                   {"poses", result.seconds_poses},
+                   {"poses_computed", pending.size()},
+                   {"poses_per_second", result.seconds_poses > 0 ? computed / result.seconds_poses : 0.0},
+                   {"total", result.seconds_total}};
+  write_file_atomically(out_dir + "/poseset.json", [&](std::ostream& out) { out << std::setw(2) << ps << "\n"; });
+  journal.remove();
+  return result;
+}
+
+}  // namespace cdbench

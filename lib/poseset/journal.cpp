@@ -1,0 +1,76 @@
+#include "poseset/journal.h"
+
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <iomanip>
+#include <iterator>
+
+#include "poseset/pose_csv.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
+
+namespace cdbench {
+
+std::map<std::uint64_t, std::string> read_journal_rows(const std::string& path) {
+  std::map<std::uint64_t, std::string> rows;
+  std::ifstream in(path, std::ios::binary);
+  const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t start = 0, line_no = 0;
+  while (start < content.size()) {
+    const std::size_t end = content.find('\n', start);
+    if (end == std::string::npos) break;  // cut short
+    const std::string line = content.substr(start, end - start + 1);
+    start = end + 1;
+    ++line_no;
+    try {
+      rows[parse_pose_row(line, path + ":" + std::to_string(line_no)).pose] = line;
+    } catch (const InputError&) {
+      // A damaged line: its pose is computed again.
+    }
+  }
+  return rows;
+}
+
+PoseJournal::PoseJournal(const std::string& dir, const std::string& stem, const nlohmann::json& run_key, bool resume,
+                         const std::string& command)
+    : path_(dir + "/" + stem + ".journal"), key_path_(dir + "/" + stem + ".journal.json") {
+  if (std::filesystem::exists(path_)) {
+    if (!resume)
+      throw InputError(dir + " holds an interrupted run (" + stem + ".journal): pass --resume to continue it, or remove " +
+                       "the journal to start over");
+    std::ifstream kin(key_path_);
+    nlohmann::json old;
+    try {
+      old = nlohmann::json::parse(kin);
+    } catch (const std::exception&) {
+      throw InputError(key_path_ + ": unreadable; cannot tell which run the journal belongs to");
+    }
+    if (old != run_key)
+      throw InputError("--resume: the journal in " + dir + " belongs to a run with other inputs or options (cdbench " +
+                       command + "; " + key_path_ + ")");
+    done_ = read_journal_rows(path_);
+  }
+  write_file_atomically(key_path_, [&](std::ostream& out) { out << std::setw(2) << run_key << "\n"; });
+  out_.open(path_, std::ios::app | std::ios::binary);
+  if (!out_) throw InputError(path_ + ": cannot open for writing");
+  // For the resume tests only: die (as from a kill or power loss) after this many appends.
+  if (const char* k = std::getenv("CDBENCH_TEST_KILL_AFTER_APPENDS")) kill_after_ = std::strtoull(k, nullptr, 10);
+}
+
+void PoseJournal::append(const std::vector<std::string>& lines) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const std::string& l : lines) out_ << l;
+  out_.flush();
+  if (!out_) throw InputError(path_ + ": write failed (disk full?)");
+  if (kill_after_ > 0 && ++appends_ >= kill_after_) std::raise(SIGKILL);
+}
+
+void PoseJournal::remove() {
+  out_.close();
+  std::error_code ec;
+  std::filesystem::remove(path_, ec);
+  std::filesystem::remove(key_path_, ec);
+}
+
+}  // namespace cdbench

@@ -1,0 +1,48 @@
+#pragma once
+// poseset.json of a pose-set bundle, typed (format: doc/pose-set-format.md). Readers of a bundle
+// (bench, score, validate) go through read_poseset_manifest, which checks the format and the keys
+// they need and names the file and key of any problem.
+#include <Eigen/Core>
+#include <cstddef>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "poseset/pose_csv.h"
+
+namespace cdbench {
+
+struct MeshRecord {
+  std::string path, sha256;
+  std::size_t vertices = 0, faces = 0;
+  double diagonal = 0.0;
+  Eigen::Vector3d reference_point = Eigen::Vector3d::Zero();
+};
+nlohmann::json to_json(const MeshRecord& m);
+
+struct LevelRecord {
+  std::string spec;
+  double target = std::numeric_limits<double>::quiet_NaN();  // NaN (JSON null): no common target
+};
+
+struct PoseSetManifest {
+  std::string dir;
+  MeshRecord fixed, mover;
+  bool mover_is_fixed = false;
+  double max_penetration_lo = 0.0, max_penetration_hi = 0.0;
+  std::vector<LevelRecord> levels;
+  double tolerance = 0.0, diagonal = 0.0;  // certification tolerance (absolute), fixed bbox diagonal
+  nlohmann::json json;                     // the whole document
+};
+
+// DIR/poseset.json; InputError naming the file and key when it is not a version-1 pose set.
+PoseSetManifest read_poseset_manifest(const std::string& dir);
+
+// DIR/poses.csv, checked against the manifest (level indices in range).
+std::vector<PoseRow> read_poseset_rows(const PoseSetManifest& manifest);
+
+// Checks that a mesh file still has the content the pose set was made from (SHA-256).
+void check_mesh_unchanged(const MeshRecord& mesh, const std::string& what);
+
+}  // namespace cdbench

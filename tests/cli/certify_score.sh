@@ -1,0 +1,151 @@
+#!/usr/bin/env bash
+# cdbench certify and score end to end: poses written "by another tool" (random, near-contact,
+# deeply penetrating; both header forms), bad rows named by line, an interrupted run resumed to a
+# byte-identical poses.csv, the bundle accepted by bench and score, and deliberately wrong answers
+# scored as exactly those false positives and negatives. With validation/check_poses (third
+# argument), sampled certificates are confirmed independently.
+set -eu
+cdbench=$1
+meshes=$2
+check_poses=${3:-}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+# Fixed: the sphere (radius 1 about the origin); mover: the box. Random rotations; translations
+# from deep inside to well apart.
+python3 - "$work" <<'PY'
+import math, random, sys
+random.seed(5)
+w = sys.argv[1]
+def quat():
+    q = [random.gauss(0, 1) for _ in range(4)]
+    s = math.sqrt(sum(x * x for x in q))
+    return [x / s for x in q]
+def mat(q):
+    a, b, c, d = q
+    return [1 - 2 * (c * c + d * d), 2 * (b * c - a * d), 2 * (b * d + a * c),
+            2 * (b * c + a * d), 1 - 2 * (b * b + d * d), 2 * (c * d - a * b),
+            2 * (b * d - a * c), 2 * (c * d + a * b), 1 - 2 * (b * b + c * c)]
+with open(w + "/matrix.csv", "w") as m, open(w + "/quat.csv", "w") as q:
+    m.write("pose,r00,r01,r02,r10,r11,r12,r20,r21,r22,tx,ty,tz,source\n")
+    q.write("qw,qx,qy,qz,tx,ty,tz,pose,target\n")
+    for i in range(24):
+        u = quat()
+        r = [0.0, 0.3, 1.2, 1.45, 1.5, 2.5][i % 6]  # deep, penetrating, near contact, apart
+        d = [random.gauss(0, 1) for _ in range(3)]
+        n = math.sqrt(sum(x * x for x in d))
+        t = [r * x / n for x in d]
+        m.write("%d,%s,%s,gen\n" % (100 + 2 * i, ",".join(repr(v) for v in mat(u)), ",".join(repr(v) for v in t)))
+        q.write("%s,%s,%d,%s\n" % (",".join(repr(v) for v in u), ",".join(repr(v) for v in t), i, ["-0.5", "0.1"][i % 2]))
+PY
+
+"$cdbench" certify "$meshes/sphere.off" "$work/matrix.csv" --mover "$meshes/box.off" --tolerance 1e-4 -o "$work/m" > "$work/m.txt" \
+  || { cat "$work/m.txt"; fail "certify (matrix form) exit $?"; }
+grep -q "24 poses, rotation matrices" "$work/m.txt" || fail "matrix form summary"
+grep -q "ignored columns: source" "$work/m.txt" || fail "ignored column not named"
+"$cdbench" certify "$meshes/sphere.off" "$work/quat.csv" --mover "$meshes/box.off" --tolerance 1e-4 -o "$work/q" > "$work/q.txt" \
+  || fail "certify (quaternion form) exit $?"
+python3 - "$work" <<'PY' || fail "bundle contents"
+import csv, json, sys
+w = sys.argv[1]
+m = list(csv.DictReader(open(w + "/m/poses.csv")))
+q = list(csv.DictReader(open(w + "/q/poses.csv")))
+assert [int(r["pose"]) for r in m] == [100 + 2 * i for i in range(24)], "poses sorted by id"
+assert all(r["status"] == "certified" for r in m + q)
+lo = [float(r["clearance_lo"]) for r in m]
+hi = [float(r["clearance_hi"]) for r in m]
+assert all(a <= b for a, b in zip(lo, hi))
+assert sum(h < 0 for h in hi) >= 8 and sum(l > 0 for l in lo) >= 4, (lo, hi)
+# The same rotations and translations in both files: the intervals agree (the matrices differ by
+# the quaternion conversion's rounding only, far below the interval widths' scale).
+for a, b in zip(m, q):
+    assert abs(float(a["clearance_lo"]) - float(b["clearance_lo"])) < 1e-9, (a, b)
+meta = json.load(open(w + "/q/poseset.json"))
+assert [l["spec"] for l in meta["levels"]] == ["-0.5", "0.1"], meta["levels"]
+assert {r["target"] for r in q} == {"-0.5", "0.10000000000000001"}
+PY
+
+# Bad rows: the error names the file and line; nothing is written.
+printf 'pose,qw,qx,qy,qz,tx,ty,tz\n0,1,0,0,0,0,0,0\n1,1,0,0,0,0,inf,0\n' > "$work/bad.csv"
+set +e
+"$cdbench" certify "$meshes/sphere.off" "$work/bad.csv" -o "$work/bad" > "$work/bad.txt" 2>&1
+rc=$?
+set -e
+[ "$rc" -eq 2 ] || fail "bad row: exit $rc"
+grep -q "bad.csv:3: column ty is not finite" "$work/bad.txt" || { cat "$work/bad.txt"; fail "bad row message"; }
+[ ! -e "$work/bad/poses.csv" ] || fail "bad input wrote poses.csv"
+
+# Interrupted after 5 journal appends (as by a kill), then resumed: byte-identical poses.csv.
+set +e
+CDBENCH_TEST_KILL_AFTER_APPENDS=5 "$cdbench" certify "$meshes/sphere.off" "$work/matrix.csv" --mover "$meshes/box.off" --tolerance 1e-4 \
+  --threads 1 -o "$work/r" > /dev/null 2>&1
+set -e
+[ -s "$work/r/certify.journal" ] || fail "no journal after the interruption"
+[ ! -e "$work/r/poses.csv" ] || fail "an interrupted run left poses.csv"
+set +e
+"$cdbench" certify "$meshes/sphere.off" "$work/matrix.csv" --mover "$meshes/box.off" --tolerance 1e-4 -o "$work/r" > /dev/null 2>&1
+rc=$?
+set -e
+[ "$rc" -eq 2 ] || fail "a journal without --resume: exit $rc"
+"$cdbench" certify "$meshes/sphere.off" "$work/matrix.csv" --mover "$meshes/box.off" --tolerance 1e-4 -o "$work/r" --resume > "$work/r.txt"
+grep -q "resumed:         5 poses" "$work/r.txt" || { cat "$work/r.txt"; fail "resume count"; }
+cmp "$work/m/poses.csv" "$work/r/poses.csv" || fail "resumed poses.csv differs"
+[ ! -e "$work/r/certify.journal" ] || fail "journal left after completion"
+
+# bench accepts the bundle; score of its own answers agrees; deliberately wrong answers are
+# scored exactly.
+"$cdbench" bench "$work/m" --impl obb --repeat 1 -o "$work/b" > /dev/null || fail "bench on a certify bundle"
+python3 - "$work" <<'PY'
+import csv, sys
+w = sys.argv[1]
+rows = list(csv.DictReader(open(w + "/b/results.csv")))
+fp = fn = 0
+with open(w + "/answers.csv", "w") as out:
+    out.write("pose,collides,time_ns\n")
+    for k, r in enumerate(rows):
+        c = int(r["collides"])
+        if k % 4 == 0:
+            c = 1 - c
+            lo, hi = float(r["clearance_lo"]), float(r["clearance_hi"])
+            fp += lo > 0 and c == 1
+            fn += hi < 0 and c == 0
+        if k == 3:
+            continue  # a missing answer
+        out.write("%s,%d,%s\n" % (r["pose"], c, r["time_ns"]))
+    out.write("5,1,10\n")  # not a pose of the set
+open(w + "/expected.txt", "w").write("%d %d\n" % (fp, fn))
+PY
+"$cdbench" score "$work/m" "$work/answers.csv" -o "$work/s" > "$work/s.txt" || fail "score exit $?"
+python3 - "$work" <<'PY' || { cat "$work/s.txt"; fail "score verdicts"; }
+import json, sys
+w = sys.argv[1]
+fp, fn = map(int, open(w + "/expected.txt").read().split())
+s = json.load(open(w + "/s/summary.json"))
+lv = s["implementations"][0]["levels"]
+assert sum(l["false_positives"] for l in lv) == fp, (fp, lv)
+assert sum(l["false_negatives"] for l in lv) == fn, (fn, lv)
+assert s["unknown_poses"] == [5] and len(s["missing_poses"]) == 1, s
+PY
+grep -q "unknown:  1 answers" "$work/s.txt" || fail "unknown poses not reported"
+grep -q "missing:  1 placed poses" "$work/s.txt" || fail "missing poses not reported"
+set +e
+"$cdbench" score "$work/m" "$work/answers.csv" -o "$work/s2" --strict > /dev/null 2>&1
+rc=$?
+set -e
+[ "$rc" -eq 1 ] || fail "--strict with wrong answers: exit $rc"
+
+# The numpy example of doc/validate-your-library.md (bounding boxes never miss a collision).
+example="$(dirname "$0")/../../scripts/score_bounding_boxes.py"
+for py in python3 /usr/bin/python3; do
+  if "$py" -c "import numpy" > /dev/null 2>&1; then
+    "$py" "$example" "$work/m" "$work/py" "$cdbench" > "$work/py.txt" || { cat "$work/py.txt"; fail "numpy example"; }
+    grep -q "numpy-aabb: 24 poses, [0-9]* false positives, 0 missed collisions" "$work/py.txt" || fail "numpy example output"
+    break
+  fi
+done
+
+if [ -n "$check_poses" ] && [ -x "$check_poses" ]; then
+  "$check_poses" "$work/m" --poses 8 --grid 8 || fail "independent check of the certify bundle"
+fi
+echo "certify and score: all checks passed"

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# cdbench from outside: install it into a fresh prefix; build examples/consumer (the C++ library
+# through find_package(cdbench)) and run it; build examples/fcl_plugin against the same prefix, time
+# it with `cdbench bench --impl plugin:...` on a certified pose set, and check that its verdicts and
+# BV-test counts equal the built-in fcl-obbrss ones; a file that is not a plugin is refused.
+set -eu
+build=$1
+src=$2
+meshes=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+cmake --install "$build" --prefix "$work/prefix" > /dev/null || fail "cmake --install"
+cdbench="$work/prefix/bin/cdbench"
+[ -f "$work/prefix/include/cdbench/plugin.h" ] || fail "plugin.h not installed"
+# The library: no compile flags of ours leak into the consumer (only link options).
+cmake -S "$src/examples/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_EXPORT_COMPILE_COMMANDS=ON > "$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure the consumer"; }
+cmake --build "$work/consumer" > "$work/build.log" 2>&1 || { cat "$work/build.log"; fail "build the consumer"; }
+! grep -q -- "-frounding-math" "$work/consumer/compile_commands.json" || fail "our flags leak into consumers"
+"$work/consumer/consumer" "$meshes/torus.off" "$meshes/sphere.off" > "$work/consumer.txt" || fail "run the consumer"
+grep -q "t = (0, 0, 0): clearance in \[0.498198940110.*answer collides: false-positive" "$work/consumer.txt" \
+  || { cat "$work/consumer.txt"; fail "consumer output"; }
+grep -q "t = (5, 0, 0): .*answer free: ok" "$work/consumer.txt" || fail "consumer output (separated)"
+
+cmake -S "$src/examples/fcl_plugin" -B "$work/plugin" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release \
+  > "$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure the example plugin"; }
+cmake --build "$work/plugin" > "$work/build.log" 2>&1 || { cat "$work/build.log"; fail "build the example plugin"; }
+plugin="$work/plugin/libcdbench_fcl_obbrss.so"
+[ -f "$plugin" ] || fail "no plugin library"
+
+# A small certified pose set: the box at random poses around the sphere.
+python3 - "$work/poses.csv" <<'PY'
+import math, random, sys
+random.seed(11)
+with open(sys.argv[1], "w") as f:
+    f.write("pose,qw,qx,qy,qz,tx,ty,tz\n")
+    for i in range(30):
+        q = [random.gauss(0, 1) for _ in range(4)]
+        d = [random.gauss(0, 1) for _ in range(3)]
+        n = math.sqrt(sum(x * x for x in d))
+        r = [0.5, 1.3, 1.5, 2.2][i % 4]
+        f.write("%d,%s,%s\n" % (i, ",".join(repr(x) for x in q), ",".join(repr(r * x / n) for x in d)))
+PY
+"$cdbench" certify "$meshes/sphere.off" "$work/poses.csv" --mover "$meshes/box.off" --tolerance 1e-4 -o "$work/set" \
+  > /dev/null || fail "certify"
+"$cdbench" bench "$work/set" --impl "fcl-obbrss,plugin:$plugin" --repeat 1 -o "$work/bench" > "$work/bench.txt" \
+  || { cat "$work/bench.txt"; fail "bench with the plugin"; }
+grep -q "fcl-obbrss-plugin" "$work/bench.txt" || fail "plugin not in the table"
+python3 - "$work/bench/results.csv" <<'PY' || fail "plugin verdicts differ from the built-in fcl-obbrss"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+a = {r["pose"]: (r["collides"], r["verdict"], r["bv_tests"]) for r in rows if r["impl"] == "fcl-obbrss"}
+b = {r["pose"]: (r["collides"], r["verdict"], r["bv_tests"]) for r in rows if r["impl"] == "fcl-obbrss-plugin"}
+assert len(a) == 30 and a == b, (a, b)
+PY
+set +e
+"$cdbench" bench "$work/set" --impl "plugin:$work/prefix/include/cdbench/plugin.h" -o "$work/x" > "$work/x.txt" 2>&1
+rc=$?
+set -e
+[ "$rc" -eq 2 ] && grep -q "cannot be loaded" "$work/x.txt" || { cat "$work/x.txt"; fail "a non-library must be refused"; }
+echo "install, consumer and plugin: all checks passed"

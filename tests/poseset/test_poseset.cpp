@@ -1,0 +1,177 @@
+// The pose-set module: poses.csv rows, user pose files (both header forms, every error names its
+// line), the journal (a cut tail is dropped; a resumed run must be the same run), poseset.json.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "poseset/journal.h"
+#include "poseset/pose_csv.h"
+#include "poseset/poseset_manifest.h"
+#include "poseset/user_poses.h"
+#include "util/error.h"
+
+namespace cdbench {
+namespace {
+
+UserPoseFile parse(const std::string& text) {
+  std::istringstream in(text);
+  return read_user_poses(in, "p.csv");
+}
+
+// The message of the InputError thrown by f ("" if none).
+template <class F>
+std::string error_of(F f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(UserPoses, MatrixFormWithExtraColumnsAndBlankLines) {
+  const UserPoseFile f = parse(
+      "pose,r00,r01,r02,r10,r11,r12,r20,r21,r22,tx,ty,tz,comment\n"
+      "7,1,0,0,0,1,0,0,0,1,0.5,-1,2,first\n"
+      "\n"
+      "3, 0,-1,0, 1,0,0, 0,0,1, 1e-3,0,0 ,x\r\n");
+  ASSERT_EQ(f.poses.size(), 2u);
+  EXPECT_EQ(f.form, RotationForm::Matrix);
+  EXPECT_EQ(f.poses[0].pose, 7u);
+  EXPECT_EQ(f.poses[1].pose, 3u);
+  EXPECT_EQ(f.poses[1].line, 4u);
+  EXPECT_EQ(f.poses[1].R(0, 1), -1.0);
+  EXPECT_EQ(f.poses[1].t.x(), 1e-3);
+  EXPECT_TRUE(std::isnan(f.poses[0].target));
+  ASSERT_EQ(f.ignored_columns.size(), 1u);
+  EXPECT_EQ(f.ignored_columns[0], "comment");
+}
+
+TEST(UserPoses, QuaternionFormInAnyColumnOrderWithTargets) {
+  const UserPoseFile f = parse("tz,ty,tx,qz,qy,qx,qw,target,pose\n0,0,1,0,0,0,2,-0.5,0\n3,2,1,0.3,0.2,0.1,0.9,,1\n");
+  ASSERT_EQ(f.poses.size(), 2u);
+  EXPECT_EQ(f.form, RotationForm::Quaternion);
+  EXPECT_TRUE(f.has_target);
+  EXPECT_EQ(f.poses[0].target, -0.5);
+  EXPECT_TRUE(std::isnan(f.poses[1].target));                 // an empty target
+  EXPECT_TRUE(f.poses[0].R.isApprox(Eigen::Matrix3d::Identity()));  // (2, 0, 0, 0) normalized
+  EXPECT_EQ(f.poses[1].t, Eigen::Vector3d(1, 2, 3));
+  const Eigen::Matrix3d& R = f.poses[1].R;
+  EXPECT_LT((R * R.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-15);
+  EXPECT_NEAR(R.determinant(), 1.0, 1e-15);
+}
+
+TEST(UserPoses, EveryErrorNamesItsLine) {
+  const std::string m = "pose,r00,r01,r02,r10,r11,r12,r20,r21,r22,tx,ty,tz\n";
+  const std::string ok = "0,1,0,0,0,1,0,0,0,1,0,0,0\n";
+  struct Case {
+    std::string text, expected;
+  };
+  const std::vector<Case> cases = {
+      {"", "empty file"},
+      {"pose,qw,qx,qy,tx,ty,tz\n", "p.csv:1: quaternion columns missing: qz"},
+      {"pose,tx,ty,tz\n", "p.csv:1: no rotation columns"},
+      {"r00,r01,r02,r10,r11,r12,r20,r21,r22,tx,ty,tz\n", "p.csv:1: no 'pose' column"},
+      {"pose,pose,qw,qx,qy,qz,tx,ty,tz\n", "names column 'pose' twice"},
+      {m, "p.csv: no poses after the header"},
+      {m + ok + "1,1,0,0,0,1,0,0,0,1,0,0\n", "p.csv:3: expected 13 columns (as the header), found 12"},
+      {m + ok + "1,1,0,0,0,1,0,0,0,1,0,nan,0\n", "p.csv:3: column ty is not finite"},
+      {m + ok + "1,1,0,0,0,1,0,0,0,1,0,1e999,0\n", "p.csv:3: column ty is not finite"},
+      {m + ok + "1,1,0,0,0,1,0,0,0,1,0,x,0\n", "p.csv:3: column ty is not a number: 'x'"},
+      {m + ok + "0,1,0,0,0,1,0,0,0,1,0,0,0\n", "p.csv:3: pose 0 again (first at line 2)"},
+      {m + ok + "-1,1,0,0,0,1,0,0,0,1,0,0,0\n", "p.csv:3: column pose is not a non-negative integer"},
+      {m + ok + "1,1,0,0,2,0,0,0,0,1,0,0,0\n", "p.csv:3: the rotation matrix is singular"},
+      {"pose,qw,qx,qy,qz,tx,ty,tz\n0,0,0,0,0,1,2,3\n", "p.csv:2: the quaternion (qw,qx,qy,qz) is zero"},
+  };
+  for (const Case& c : cases) {
+    const std::string e = error_of([&] { parse(c.text); });
+    EXPECT_NE(e.find(c.expected), std::string::npos) << "input:\n" << c.text << "message: " << e;
+  }
+}
+
+TEST(UserPoses, NonOrthonormalButInvertibleMatricesAreKeptAsStored) {
+  const UserPoseFile f = parse("pose,r00,r01,r02,r10,r11,r12,r20,r21,r22,tx,ty,tz\n0,2,0.1,0,0,1,0,0,0,0.5,0,0,0\n");
+  EXPECT_EQ(f.poses[0].R(0, 0), 2.0);
+  EXPECT_EQ(f.poses[0].R(0, 1), 0.1);
+}
+
+PoseRow row(std::uint64_t id) {
+  PoseRow r;
+  r.pose = id;
+  r.status = PoseStatus::Certified;
+  r.clearance_lo = 0.25;
+  r.clearance_hi = 0.5;
+  return r;
+}
+
+TEST(Journal, KeepsCompleteRowsDropsACutTailAndRefusesAnotherRun) {
+  const std::string dir = testing::TempDir() + "/journal_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const nlohmann::json key = {{"run", 1}};
+  {
+    PoseJournal j(dir, "x", key, false, "test");
+    EXPECT_TRUE(j.done().empty());
+    j.append({format_pose_row(row(4)), format_pose_row(row(2))});
+  }
+  {  // An interruption cut the last line.
+    std::ofstream out(dir + "/x.journal", std::ios::app);
+    const std::string cut = format_pose_row(row(9));
+    out << cut.substr(0, cut.size() / 2);
+  }
+  EXPECT_NE(error_of([&] { PoseJournal j(dir, "x", key, false, "test"); }).find("pass --resume"), std::string::npos);
+  EXPECT_NE(error_of([&] { PoseJournal j(dir, "x", nlohmann::json{{"run", 2}}, true, "test"); }).find("other inputs"),
+            std::string::npos);
+  PoseJournal j(dir, "x", key, true, "test");
+  ASSERT_EQ(j.done().size(), 2u);
+  EXPECT_EQ(j.done().begin()->first, 2u);
+  EXPECT_EQ(read_journal_rows(j.path()).count(9), 0u);
+  j.remove();
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.journal"));
+}
+
+TEST(PoseCsv, StatusesRoundTripAndUnknownOnesAreNamed) {
+  for (PoseStatus s : {PoseStatus::Certified, PoseStatus::NoContact, PoseStatus::OffsetEmpty, PoseStatus::OffsetFailed,
+                       PoseStatus::ToleranceNotReached, PoseStatus::PolishStalled}) {
+    PoseRow r = row(3);
+    r.status = s;
+    EXPECT_EQ(parse_pose_row(format_pose_row(r), "x").status, s);
+  }
+  EXPECT_NE(error_of([] { parse_pose_status("uncertified:tired", "f:4"); }).find("f:4: unknown status 'uncertified:tired'"),
+            std::string::npos);
+}
+
+TEST(PoseSetManifest, NamesTheMissingKey) {
+  const std::string dir = testing::TempDir() + "/manifest_test";
+  std::filesystem::create_directories(dir);
+  const auto write = [&](const std::string& text) { std::ofstream(dir + "/poseset.json") << text; };
+  write("{\"format\": \"cdbench-poseset\", \"format_version\": 1}");
+  EXPECT_NE(error_of([&] { read_poseset_manifest(dir); }).find("missing key 'fixed'"), std::string::npos);
+  write("[1, 2");
+  EXPECT_NE(error_of([&] { read_poseset_manifest(dir); }).find("not valid JSON"), std::string::npos);
+  write("{\"format\": \"other\"}");
+  EXPECT_NE(error_of([&] { read_poseset_manifest(dir); }).find("not a cdbench pose set"), std::string::npos);
+  MeshRecord m{"a.off", "00", 4, 4, 1.0, Eigen::Vector3d::Zero()};
+  nlohmann::json j = {{"format", "cdbench-poseset"},
+                      {"format_version", 1},
+                      {"fixed", to_json(m)},
+                      {"mover", to_json(m)},
+                      {"mover_is_fixed", true},
+                      {"max_penetration", {{"interval", {0.5, 0.5}}}},
+                      {"levels", {{{"spec", "all"}, {"target", nullptr}}}},
+                      {"certification", {{"tolerance", 1e-6}, {"diagonal", 2.0}}}};
+  write(j.dump());
+  const PoseSetManifest p = read_poseset_manifest(dir);
+  EXPECT_EQ(p.levels.size(), 1u);
+  EXPECT_TRUE(std::isnan(p.levels[0].target));
+  EXPECT_EQ(p.fixed.path, "a.off");
+  j["levels"][0].erase("spec");
+  write(j.dump());
+  EXPECT_NE(error_of([&] { read_poseset_manifest(dir); }).find("missing key 'levels[0].spec'"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cdbench
