@@ -10,6 +10,13 @@ meshes=$3
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
+# A failed build prints its log, then its error lines again last (CI keeps only the tail).
+build_failed() {
+  cat "$1"
+  echo "--- error lines of $1:"
+  grep -n -E "error|Error|undefined reference|No space" "$1" | head -n 30 || true
+  fail "$2"
+}
 
 cmake --install "$build" --prefix "$work/prefix" > /dev/null || fail "cmake --install"
 cdbench="$work/prefix/bin/cdbench"
@@ -17,7 +24,7 @@ cdbench="$work/prefix/bin/cdbench"
 # The library: no compile flags of ours leak into the consumer (only link options).
 cmake -S "$src/examples/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON > "$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure the consumer"; }
-cmake --build "$work/consumer" > "$work/build.log" 2>&1 || { cat "$work/build.log"; fail "build the consumer"; }
+cmake --build "$work/consumer" > "$work/build.log" 2>&1 || build_failed "$work/build.log" "build the consumer"
 ! grep -q -- "-frounding-math" "$work/consumer/compile_commands.json" || fail "our flags leak into consumers"
 "$work/consumer/consumer" "$meshes/torus.off" "$meshes/sphere.off" > "$work/consumer.txt" || fail "run the consumer"
 grep -q "t = (0, 0, 0): clearance in \[0.498198940110.*answer collides: false-positive" "$work/consumer.txt" \
@@ -26,7 +33,7 @@ grep -q "t = (5, 0, 0): .*answer free: ok" "$work/consumer.txt" || fail "consume
 
 cmake -S "$src/examples/fcl_plugin" -B "$work/plugin" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release \
   > "$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure the example plugin"; }
-cmake --build "$work/plugin" > "$work/build.log" 2>&1 || { cat "$work/build.log"; fail "build the example plugin"; }
+cmake --build "$work/plugin" > "$work/build.log" 2>&1 || build_failed "$work/build.log" "build the example plugin"
 plugin="$work/plugin/libcdbench_fcl_obbrss.so"
 [ -f "$plugin" ] || fail "no plugin library"
 
