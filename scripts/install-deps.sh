@@ -8,6 +8,7 @@ PACKAGES=(
   libcgal-dev libcgal-demo libeigen3-dev libgmp-dev libmpfr-dev libboost-dev libtbb-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev libssl-dev
   python3 python3-numpy libfcl-dev libbullet-dev gnuplot-nox
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()

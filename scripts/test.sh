@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs, builds and runs the whole test suite, then every test again under
-# AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/). Exits non-zero on any failure.
+# AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/), then the fuzz targets (clang,
+# build-fuzz/): the committed corpus replayed and 60 s of fuzzing per target. Exits non-zero on
+# any failure.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 # ccache: hash paths relative to the checkout, so that another clone (CI) reuses the cache.
@@ -21,3 +23,6 @@ cmake -S "$root" -B "$root/build-asan" "${gen[@]}" -DCMAKE_BUILD_TYPE=RelWithDeb
 cmake --build "$root/build-asan" -j "$(nproc)"  # everything (validation/ is off): no test binary left unbuilt
 echo "test: sanitizer build done in $(( $(date +%s) - start )) s"
 (cd "$root/build-asan" && ctest --output-on-failure -j 2)
+
+# Fuzzing: every committed input (seeds and past findings) replayed, then 60 s per target.
+bash "$root/scripts/fuzz.sh" --seconds "${CDBENCH_FUZZ_SECONDS:-60}"

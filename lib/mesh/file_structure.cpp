@@ -1,5 +1,6 @@
 #include "mesh/file_structure.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -176,10 +177,22 @@ std::uint64_t read_uint(const unsigned char* p, int size, bool big_endian, bool 
 void check_ply(const std::string& bytes, const std::string& name) {
   if (bytes.compare(0, 3, "ply") != 0 || (bytes.size() > 3 && bytes[3] != '\n' && bytes[3] != '\r'))
     fail(name, "not a PLY file: it does not start with the line 'ply'");
-  const std::size_t header_end = bytes.find("end_header");
+  // The header ends at the first line whose first word is end_header, as CGAL's reader reads it
+  // (not at the first occurrence of the text, which may sit inside another word or a comment).
+  std::size_t header_end = std::string::npos, body = bytes.size();
+  for (std::size_t at = 0; at < bytes.size();) {
+    std::size_t eol = bytes.find('\n', at);
+    if (eol == std::string::npos) eol = bytes.size();
+    std::istringstream ls(bytes.substr(at, eol - at));
+    std::string first;
+    if ((ls >> first) && first == "end_header") {
+      header_end = at;
+      body = std::min(bytes.size(), eol + 1);
+      break;
+    }
+    at = eol + 1;
+  }
   if (header_end == std::string::npos) fail(name, "PLY header has no 'end_header' line");
-  std::size_t body = bytes.find('\n', header_end);
-  body = (body == std::string::npos) ? bytes.size() : body + 1;
   std::istringstream header(bytes.substr(0, header_end));
   std::string line, format;
   std::vector<PlyElement> elements;

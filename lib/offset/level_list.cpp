@@ -43,6 +43,7 @@ std::vector<LevelSpec> parse_level_list(const std::string& list) {
         throw InputError("--levels: '" + item + "' is not a number or a percentage (e.g. -0.5 or -80%)");
       l.text = item;
       out.push_back(l);
+      if (out.size() > 10000) throw InputError("--levels: more than 10000 levels in all");
       continue;
     }
     const std::size_t c2 = item.find(':', c1 + 1);
@@ -67,6 +68,7 @@ std::vector<LevelSpec> parse_level_list(const std::string& list) {
       l.text = format_item(l.value, pf);
       out.push_back(l);
     }
+    if (out.size() > 10000) throw InputError("--levels: more than 10000 levels in all");
   }
   if (out.empty()) throw InputError("--levels: no level given");
   return out;

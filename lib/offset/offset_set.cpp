@@ -1,4 +1,5 @@
 #include "offset/offset_set.h"
+#include "offset/offset_manifest.h"
 
 #include <tbb/parallel_for.h>
 
@@ -82,42 +83,69 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
 
   // Reuse: levels of an earlier run with the same input, level and options, whose file is intact.
   const std::string manifest_path = r.out_dir + "/manifest.json";
-  std::map<std::string, nlohmann::json> previous;
-  {
-    std::ifstream in(manifest_path);
-    if (in) {
-      try {
-        const nlohmann::json old = nlohmann::json::parse(in);
-        for (const auto& l : old.at("levels")) previous[l.at("key").get<std::string>()] = l;
-      } catch (const std::exception&) {
-        std::cerr << "cdbench: note: ignoring unreadable " << manifest_path << "\n";
-      }
-    }
-  }
+  const PreviousOffsets previous = read_offset_manifest(manifest_path);
+  if (!previous.ignored_because.empty())
+    std::cerr << "cdbench: note: not reusing any level of " << manifest_path << ": " << previous.ignored_because << "\n";
 
+  nlohmann::json head;
+  head["format"] = "cdbench-offsets";
+  head["format_version"] = 1;
+  head["generator"] = std::string("cdbench ") + CDBENCH_VERSION;
+  head["input"] = {{"path", r.mesh_path},
+                       {"sha256", r.input_sha},
+                       {"vertices", r.source.mesh->vertices.size()},
+                       {"faces", r.source.mesh->faces.size()},
+                       {"diagonal", diag}};
+  head["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
+                                 {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
+                                 {"relative_tolerance", r.max_penetration_tolerance}};
+  head["options"] = {{"tolerance_relative", oo.tolerance_relative},
+                         {"tolerance", oo.tolerance_relative * diag},
+                         {"mesher_radius_relative", oo.radius_relative},
+                         {"mesher_distance_over_tolerance", oo.distance_over_tolerance},
+                         {"max_attempts", oo.max_attempts},
+                         {"seeds", oo.seeds}};
+  // The manifest is rewritten after each computed level (levels done so far, "finished": false), so
+  // that an interrupted run's levels are reused by the next one; the last write has them all.
+  std::mutex manifest_mutex;
+  const auto manifest_of = [&](const std::vector<nlohmann::json>& done, bool finished) {
+    nlohmann::json m = head;
+    m["finished"] = finished;
+    m["levels"] = nlohmann::json::array();
+    for (nlohmann::json e : done) {
+      if (e.is_null()) continue;
+      e.erase("seconds");  // timings vary between runs: kept out of the manifest
+      m["levels"].push_back(e);
+    }
+    return m;
+  };
   const std::size_t n = r.distances.size();
   std::vector<nlohmann::json> entries(n);
   std::vector<double> seconds(n, 0.0);
   std::vector<char> failed(n, 0), reused(n, 0);
+  const auto key_of = [&](std::size_t i) { return r.input_sha + "|" + number_text(r.distances[i]) + "|" + option_key.str(); };
+  // Reused levels first (sequentially: hashing files), so that every partial manifest lists them.
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto old = previous.by_key.find(key_of(i));
+    if (old == previous.by_key.end()) continue;
+    const OffsetManifestEntry& e = old->second;
+    const std::string file = e.file ? r.out_dir + "/" + *e.file : std::string();
+    if (!e.file || (std::filesystem::is_regular_file(file) && sha256_file(file) == *e.sha256)) {
+      entries[i] = e.json;
+      entries[i]["level"] = r.names[i];
+      reused[i] = 1;
+    }
+  }
   Progress progress("offset levels", n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    if (reused[i]) {
+      progress.advance();
+      return;
+    }
     Timer t_level;
     const double d = r.distances[i];
-    const std::string key = r.input_sha + "|" + number_text(d) + "|" + option_key.str();
+    const std::string key = key_of(i);
     const std::string name = file_name(i, r.names[i]);
-    const auto old = previous.find(key);
-    if (old != previous.end()) {
-      const nlohmann::json& e = old->second;
-      const bool has_file = !e.at("file").is_null();
-      if (!has_file || (std::filesystem::exists(r.out_dir + "/" + e.at("file").get<std::string>()) &&
-                        sha256_file(r.out_dir + "/" + e.at("file").get<std::string>()) == e.at("sha256").get<std::string>())) {
-        entries[i] = e;
-        entries[i]["level"] = r.names[i];
-        reused[i] = 1;
-        progress.advance();
-        return;
-      }
-    }
     const OffsetLevel level = compute_offset_level(sdf, mp, d, oo);
     nlohmann::json e;
     e["level"] = r.names[i];
@@ -151,42 +179,25 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
     if (level.status == OffsetStatus::Failed) failed[i] = 1;
     e["seconds"] = {{"mesh", level.seconds_mesh}, {"band", level.seconds_band},
                     {"completeness", level.seconds_completeness}};
-    entries[i] = e;
     seconds[i] = t_level.seconds();
+    {
+      std::lock_guard<std::mutex> lock(manifest_mutex);
+      entries[i] = e;
+      const nlohmann::json partial = manifest_of(entries, false);
+      write_file_atomically(manifest_path, [&](std::ostream& out) { out << std::setw(2) << partial << "\n"; });
+    }
     progress.advance();
   });
   progress.finish();
 
-  nlohmann::json manifest;
-  manifest["format"] = "cdbench-offsets";
-  manifest["format_version"] = 1;
-  manifest["generator"] = std::string("cdbench ") + CDBENCH_VERSION;
-  manifest["input"] = {{"path", r.mesh_path},
-                       {"sha256", r.input_sha},
-                       {"vertices", r.source.mesh->vertices.size()},
-                       {"faces", r.source.mesh->faces.size()},
-                       {"diagonal", diag}};
-  manifest["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
-                                 {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
-                                 {"relative_tolerance", r.max_penetration_tolerance}};
-  manifest["options"] = {{"tolerance_relative", oo.tolerance_relative},
-                         {"tolerance", oo.tolerance_relative * diag},
-                         {"mesher_radius_relative", oo.radius_relative},
-                         {"mesher_distance_over_tolerance", oo.distance_over_tolerance},
-                         {"max_attempts", oo.max_attempts},
-                         {"seeds", oo.seeds}};
   nlohmann::json timings;
   timings["max_penetration"] = r.seconds_max_penetration;
   timings["read"] = r.source.seconds_read;
   timings["validate"] = r.source.seconds_validate;
-  manifest["levels"] = nlohmann::json::array();
-  for (std::size_t i = 0; i < n; ++i) {
-    nlohmann::json e = entries[i];
+  for (std::size_t i = 0; i < n; ++i)
     timings["levels"].push_back({{"level", r.names[i]}, {"reused", reused[i] != 0}, {"seconds", seconds[i]},
-                                 {"detail", e.contains("seconds") ? e["seconds"] : nlohmann::json()}});
-    e.erase("seconds");  // timings vary between runs: kept out of the manifest
-    manifest["levels"].push_back(e);
-  }
+                                 {"detail", entries[i].contains("seconds") ? entries[i]["seconds"] : nlohmann::json()}});
+  const nlohmann::json manifest = manifest_of(entries, true);
   timings["total"] = total.seconds() + r.seconds_max_penetration;
   write_file_atomically(manifest_path, [&](std::ostream& out) { out << std::setw(2) << manifest << "\n"; });
   write_file_atomically(r.out_dir + "/timings.json", [&](std::ostream& out) { out << std::setw(2) << timings << "\n"; });

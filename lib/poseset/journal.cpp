@@ -1,6 +1,7 @@
 #include "poseset/journal.h"
 
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
@@ -11,6 +12,19 @@
 #include "util/error.h"
 
 namespace cdbench {
+namespace {
+
+// Each journal line is a poses.csv row followed by ",#" and the FNV-1a hash of the row in 16 hex
+// digits: a line damaged on disk (a bit flip that still parses as numbers) is recomputed, not trusted.
+std::string row_hash(const std::string& row) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : row) h = (h ^ c) * 1099511628211ull;
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+}  // namespace
 
 std::map<std::uint64_t, std::string> read_journal_rows(const std::string& path) {
   std::map<std::uint64_t, std::string> rows;
@@ -20,9 +34,13 @@ std::map<std::uint64_t, std::string> read_journal_rows(const std::string& path) 
   while (start < content.size()) {
     const std::size_t end = content.find('\n', start);
     if (end == std::string::npos) break;  // cut short
-    const std::string line = content.substr(start, end - start + 1);
+    const std::string stored = content.substr(start, end - start);
     start = end + 1;
     ++line_no;
+    const std::size_t mark = stored.rfind(",#");
+    if (mark == std::string::npos || stored.size() - mark != 18 || row_hash(stored.substr(0, mark)) != stored.substr(mark + 2))
+      continue;  // damaged: its pose is computed again
+    const std::string line = stored.substr(0, mark) + "\n";
     try {
       rows[parse_pose_row(line, path + ":" + std::to_string(line_no)).pose] = line;
     } catch (const InputError&) {
@@ -60,7 +78,10 @@ PoseJournal::PoseJournal(const std::string& dir, const std::string& stem, const 
 
 void PoseJournal::append(const std::vector<std::string>& lines) {
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const std::string& l : lines) out_ << l;
+  for (const std::string& l : lines) {
+    const std::string row = !l.empty() && l.back() == '\n' ? l.substr(0, l.size() - 1) : l;
+    out_ << row << ",#" << row_hash(row) << "\n";
+  }
   out_.flush();
   if (!out_) throw InputError(path_ + ": write failed (disk full?)");
   if (kill_after_ > 0 && ++appends_ >= kill_after_) std::raise(SIGKILL);

@@ -7,6 +7,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "util/json_keys.h"
 #include "util/number_format.h"
 
 namespace cdbench {
@@ -131,6 +132,47 @@ nlohmann::json summary_json(const PoseSetManifest& m, std::size_t poses, const s
     summary["implementations"].push_back(j);
   }
   return summary;
+}
+
+std::vector<BenchSummaryImpl> read_bench_summary(const std::string& path) {
+  const nlohmann::json s = parse_json_file(path, "run 'cdbench bench' or 'cdbench score' first");
+  const JsonKeys k(path);
+  const auto format = s.is_object() ? s.find("format") : s.end();
+  if (!s.is_object() || format == s.end() || *format != "cdbench-bench")
+    throw InputError(path + ": not a cdbench benchmark summary (format is not cdbench-bench)");
+  std::vector<BenchSummaryImpl> out;
+  const nlohmann::json& impls = k.array(s, "implementations", "");
+  for (std::size_t i = 0; i < impls.size(); ++i) {
+    const std::string where = "implementations[" + std::to_string(i) + "].";
+    BenchSummaryImpl impl;
+    impl.name = k.text(impls[i], "name", where);
+    impl.counts_tests = k.boolean(impls[i], "counts_tests", where);
+    const nlohmann::json& levels = k.array(impls[i], "levels", where);
+    for (std::size_t j = 0; j < levels.size(); ++j) {
+      const std::string w = where + "levels[" + std::to_string(j) + "].";
+      const nlohmann::json& l = levels[j];
+      LevelScore ls;
+      ls.level = k.text(l, "level", w);
+      ls.target = k.number(l, "target", w, true);
+      ls.percent_of_max_penetration = k.number(l, "percent_of_max_penetration", w, true);
+      ls.poses = static_cast<std::size_t>(k.count(l, "poses", w));
+      ls.false_positives = static_cast<std::size_t>(k.count(l, "false_positives", w));
+      ls.false_negatives = static_cast<std::size_t>(k.count(l, "false_negatives", w));
+      ls.missed_or_contained = static_cast<std::size_t>(k.count(l, "missed_or_contained", w));
+      ls.ambiguous = static_cast<std::size_t>(k.count(l, "ambiguous", w));
+      ls.mean_us = k.number(l, "mean_us", w, true);
+      ls.median_us = k.number(l, "median_us", w, true);
+      ls.p95_us = k.number(l, "p95_us", w, true);
+      ls.mean_bv_tests = k.number(l, "mean_bv_tests", w, true);
+      ls.mean_triangle_tests = k.number(l, "mean_triangle_tests", w, true);
+      ls.distance_answers = static_cast<std::size_t>(k.count(l, "distance_answers", w));
+      ls.max_distance_error = k.number(l, "max_distance_error", w, true);
+      ls.max_relative_distance_error = k.number(l, "max_relative_distance_error", w, true);
+      impl.levels.push_back(ls);
+    }
+    out.push_back(std::move(impl));
+  }
+  return out;
 }
 
 void write_results_csv(std::ostream& out, const std::vector<PoseRow>& rows, const std::vector<ImplScore>& impls) {

@@ -51,6 +51,14 @@ ImplScore score_answers(const std::string& name, const PoseSetManifest& manifest
 // The bench summary (format cdbench-bench, read by `cdbench plot`); `extra` keys are merged in.
 nlohmann::json summary_json(const PoseSetManifest& manifest, std::size_t poses, const std::vector<ImplScore>& impls,
                             const nlohmann::json& extra);
+// summary.json read back (by `cdbench plot`): every key it needs checked, InputError naming the
+// file and key otherwise. Null numbers (not measured) are NaN.
+struct BenchSummaryImpl {
+  std::string name;
+  bool counts_tests = true;
+  std::vector<LevelScore> levels;
+};
+std::vector<BenchSummaryImpl> read_bench_summary(const std::string& path);
 // results.csv: one line per (implementation, pose).
 void write_results_csv(std::ostream& out, const std::vector<PoseRow>& rows, const std::vector<ImplScore>& impls);
 // The per-level table on stdout.

@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "util/error.h"
+#include "util/interrupt.h"
 
 namespace cdbench {
 namespace {
@@ -21,6 +22,11 @@ std::string temporary_name(const std::string& path) {
 
 void write_path_atomically(const std::string& path, const std::function<bool(const std::string&)>& write) {
   const std::string tmp = temporary_name(path);
+  // Removed by the interrupt handler if a signal ends the process mid-write.
+  struct Registration {
+    int slot;
+    ~Registration() { unregister_temporary_file(slot); }
+  } registration{register_temporary_file(tmp.c_str())};
   bool ok = false;
   try {
     ok = write(tmp);

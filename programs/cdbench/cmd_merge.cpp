@@ -10,7 +10,7 @@
 #include <set>
 
 #include "commands.h"
-#include "json_file.h"
+#include "util/json_keys.h"
 #include "poseset/pose_csv.h"
 #include "poseset/poseset_manifest.h"
 #include "poseset_summary.h"
@@ -25,7 +25,7 @@ struct MergeCliOptions {
   std::string out;
 };
 
-nlohmann::json read_json(const std::string& path) { return read_json_file(path, "not a pose-set directory?"); }
+nlohmann::json read_json(const std::string& path) { return parse_json_file(path, "not a pose-set directory?"); }
 
 int run_merge(const MergeCliOptions& opt) {
   std::vector<nlohmann::json> sets;

@@ -12,7 +12,7 @@
 
 #include "commands.h"
 #include "number_text.h"
-#include "json_file.h"
+#include "score/scoring.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 
@@ -23,13 +23,9 @@ struct PlotCliOptions {
   std::string dir;
 };
 
-// A number of the summary; null (not measured, no target) is NaN, which gnuplot skips.
-double num(const nlohmann::json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
-
 int run_plot(const PlotCliOptions& opt) {
   const std::string path = opt.dir + "/summary.json";
-  const nlohmann::json s = read_json_file(path, "run 'cdbench bench' first");
-  if (s.value("format", "") != "cdbench-bench") throw InputError(path + ": not a cdbench benchmark summary");
+  const std::vector<BenchSummaryImpl> impls = read_bench_summary(path);
   if (std::system("gnuplot --version > /dev/null 2>&1") != 0)
     throw InputError("gnuplot not found (Debian: apt-get install gnuplot-nox)");
 
@@ -41,23 +37,21 @@ int run_plot(const PlotCliOptions& opt) {
   std::vector<std::string> names;
   std::vector<bool> counted;  // whether the implementation reports its own BV tests
   bool timed = false;         // some level has a time
-  for (const auto& impl : s["implementations"]) {
-    names.push_back(impl["name"].get<std::string>());
-    counted.push_back(impl.value("counts_tests", true));
+  for (const BenchSummaryImpl& impl : impls) {
+    names.push_back(impl.name);
+    counted.push_back(impl.counts_tests);
     data << "# " << names.back() << "\n";
-    for (const auto& l : impl["levels"]) {
-      timed = timed || std::isfinite(num(l["mean_us"]));
-      data << std::setprecision(10) << num(l["percent_of_max_penetration"]) << " " << num(l["mean_us"])
-           << " " << num(l["median_us"]) << " " << num(l["p95_us"]) << " "
-           << num(l["mean_bv_tests"]) << "\n";
-      errors << std::left << std::setw(21) << names.back() << std::setw(10) << l["level"].get<std::string>() << std::setw(9)
-             << std::setprecision(4) << num(l["percent_of_max_penetration"]) << std::setw(7)
-             << l["poses"].get<std::size_t>() << std::setw(7) << l["false_positives"].get<std::size_t>() << std::setw(7)
-             << l["false_negatives"].get<std::size_t>() << std::setw(10) << l["missed_or_contained"].get<std::size_t>()
-             << std::setw(11) << l["ambiguous"].get<std::size_t>()
-             << (l["distance_answers"].get<std::size_t>() > 0 ? number_text(num(l["max_distance_error"]), 3) + " (" +
-                                                                 number_text(num(l["max_relative_distance_error"]), 3) + ")"
-                                                           : std::string("-"))
+    for (const LevelScore& l : impl.levels) {
+      timed = timed || std::isfinite(l.mean_us);
+      data << std::setprecision(10) << l.percent_of_max_penetration << " " << l.mean_us << " " << l.median_us << " "
+           << l.p95_us << " " << l.mean_bv_tests << "\n";
+      errors << std::left << std::setw(21) << names.back() << std::setw(10) << l.level << std::setw(9)
+             << std::setprecision(4) << l.percent_of_max_penetration << std::setw(7) << l.poses << std::setw(7)
+             << l.false_positives << std::setw(7) << l.false_negatives << std::setw(10) << l.missed_or_contained
+             << std::setw(11) << l.ambiguous
+             << (l.distance_answers > 0 ? number_text(l.max_distance_error, 3) + " (" +
+                                              number_text(l.max_relative_distance_error, 3) + ")"
+                                        : std::string("-"))
              << "\n";
     }
     data << "\n\n";

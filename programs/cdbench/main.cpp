@@ -6,12 +6,17 @@
 
 #include "commands.h"
 #include "util/error.h"
+#include "util/interrupt.h"
 
 int main(int argc, char** argv) {
   using namespace cdbench::cli;
   CLI::App app{"cdbench " CDBENCH_VERSION
                " - certified benchmark pose sets for static collision detection.\n"
-               "Exit codes: 0 success, 1 the mesh is not a valid closed solid, 2 bad input or option, 3 internal error."};
+               "Exit codes: 0 success, 1 the mesh is not a valid closed solid, 2 bad input or option, 3 internal error, "
+               "130/143 interrupted (SIGINT/SIGTERM)."};
+  cdbench::install_interrupt_handlers(
+      "Run the same command with --resume to continue (poses, certify: certified work is journaled); "
+      "offset and poses reuse every offset level already written; bench and score start again.");
   app.require_subcommand(1);
   app.set_version_flag("--version", CDBENCH_VERSION);
   int exit_code = kExitOk;

@@ -38,18 +38,7 @@ plugin="$work/plugin/libcdbench_fcl_obbrss.so"
 [ -f "$plugin" ] || fail "no plugin library"
 
 # A small certified pose set: the box at random poses around the sphere.
-python3 - "$work/poses.csv" <<'PY'
-import math, random, sys
-random.seed(11)
-with open(sys.argv[1], "w") as f:
-    f.write("pose,qw,qx,qy,qz,tx,ty,tz\n")
-    for i in range(30):
-        q = [random.gauss(0, 1) for _ in range(4)]
-        d = [random.gauss(0, 1) for _ in range(3)]
-        n = math.sqrt(sum(x * x for x in d))
-        r = [0.5, 1.3, 1.5, 2.2][i % 4]
-        f.write("%d,%s,%s\n" % (i, ",".join(repr(x) for x in q), ",".join(repr(r * x / n) for x in d)))
-PY
+python3 "$src/tests/cli/random_poses.py" "$work/poses.csv" 30 11 0.5,1.3,1.5,2.2
 "$cdbench" certify "$meshes/sphere.off" "$work/poses.csv" --mover "$meshes/box.off" --tolerance 1e-4 -o "$work/set" \
   > /dev/null || fail "certify"
 "$cdbench" bench "$work/set" --impl "fcl-obbrss,plugin:$plugin" --repeat 1 -o "$work/bench" > "$work/bench.txt" \

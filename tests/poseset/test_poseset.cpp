@@ -133,6 +133,32 @@ TEST(Journal, KeepsCompleteRowsDropsACutTailAndRefusesAnotherRun) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.journal"));
 }
 
+TEST(Journal, ALineDamagedOnDiskIsRecomputedEvenWhenItStillParses) {
+  const std::string dir = testing::TempDir() + "/journal_damage";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const nlohmann::json key = {{"run", 1}};
+  {
+    PoseJournal j(dir, "x", key, false, "test");
+    j.append({format_pose_row(row(1)), format_pose_row(row(2)), format_pose_row(row(3))});
+  }
+  std::string bytes;
+  {
+    std::ifstream in(dir + "/x.journal", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // Row 2's clearance 0.25 becomes 0.75: still a valid row, but not what was certified.
+  const std::size_t second = bytes.find('\n') + 1;
+  const std::size_t at = bytes.find("0.25", second);
+  ASSERT_NE(at, std::string::npos);
+  bytes[at + 2] = '7';
+  std::ofstream(dir + "/x.journal", std::ios::binary | std::ios::trunc) << bytes;
+  const auto rows = read_journal_rows(dir + "/x.journal");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows.count(2), 0u);
+  EXPECT_EQ(rows.at(3), format_pose_row(row(3)));
+}
+
 TEST(PoseCsv, StatusesRoundTripAndUnknownOnesAreNamed) {
   for (PoseStatus s : {PoseStatus::Certified, PoseStatus::NoContact, PoseStatus::OffsetEmpty, PoseStatus::OffsetFailed,
                        PoseStatus::ToleranceNotReached, PoseStatus::PolishStalled}) {

@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Extreme geometry end to end: a mover 1000x larger and 1000x smaller than the fixed object (pose
+# sets certified), a mover nested inside the fixed solid (certified penetration, the deepest equal
+# to the maximum penetration), and coincident meshes (mover = fixed at the identity pose: a
+# rigorous interval holding the true clearance 0, reported as not reaching the tolerance).
+# Coordinates out of scale and a 1-face input are in data/bad (cli_bad_inputs).
+set -eu
+cdbench=$1
+meshes=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+python3 - "$meshes/box.off" "$work" <<'PY'
+import sys
+lines = open(sys.argv[1]).read().split("\n")
+i = 0
+while not lines[i].strip() or lines[i].startswith("#"):
+    i += 1
+i += 1
+nv = int(lines[i].split()[0])
+i += 1
+for name, f in (("big", 1000.0), ("small", 0.001)):
+    out = lines[:]
+    for k in range(i, i + nv):
+        out[k] = " ".join(repr(float(x) * f) for x in out[k].split())
+    open("%s/box_%s.off" % (sys.argv[2], name), "w").write("\n".join(out))
+PY
+for m in big small; do
+  "$cdbench" poses "$meshes/sphere.off" --mover "$work/box_$m.off" --levels=-20%,0,10% --directions 4 --orientations 2 \
+    --band-tolerance 5e-3 -o "$work/$m" > "$work/$m.txt" 2>&1 || { cat "$work/$m.txt"; fail "mover 1000x $m"; }
+  awk -F, 'NR > 1 && $21 != "certified" { bad++ } END { exit bad > 0 }' "$work/$m/poses.csv" \
+    || fail "mover 1000x $m: uncertified poses"
+  echo "mover 1000x $m: 24 poses certified"
+done
+
+# Nested: the small box inside the unit sphere; at the centre its clearance is minus the maximum penetration.
+printf 'pose,qw,qx,qy,qz,tx,ty,tz\n0,1,0,0,0,0,0,0\n1,1,0,0,0,0.5,0,0\n2,0.7,0.1,0.7,0,-0.3,0.2,0.1\n' > "$work/nested.csv"
+"$cdbench" certify "$meshes/sphere.off" "$work/nested.csv" --mover "$work/box_small.off" -o "$work/n" > "$work/n.txt" 2>&1 \
+  || { cat "$work/n.txt"; fail "nested mover"; }
+python3 - "$work/n" <<'PY' || fail "nested mover: clearances"
+import csv, json, sys
+rows = list(csv.DictReader(open(sys.argv[1] + "/poses.csv")))
+lo, hi = json.load(open(sys.argv[1] + "/poseset.json"))["max_penetration"]["interval"]
+assert all(r["status"] == "certified" and float(r["clearance_hi"]) < 0 for r in rows), rows
+c = rows[0]
+# The box's deepest point is within its half-diagonal (0.00173) of the centre, the deepest point of F.
+assert float(c["clearance_lo"]) <= -lo + 1e-12 and float(c["clearance_hi"]) >= -hi - 0.0018, (c, lo, hi)
+PY
+echo "nested mover: 3 poses certified penetrating; at the centre [$(sed -n 2p "$work/n/poses.csv" | cut -d, -f19,20)]"
+
+# Coincident: a small work limit keeps it short; the interval must hold 0 and the status say why it is wide.
+printf 'pose,qw,qx,qy,qz,tx,ty,tz\n0,1,0,0,0,0,0,0\n' > "$work/same.csv"
+set +e
+"$cdbench" certify "$meshes/sphere.off" "$work/same.csv" --max-cells 20000 -o "$work/s" > "$work/s.txt" 2>&1
+rc=$?
+set -e
+[ "$rc" -eq 1 ] && grep -q "work limit" "$work/s.txt" || { cat "$work/s.txt"; fail "coincident meshes: exit $rc"; }
+python3 - "$work/s/poses.csv" <<'PY' || fail "coincident meshes: the interval must hold 0"
+import csv, sys
+r = list(csv.DictReader(open(sys.argv[1])))[0]
+assert r["status"] == "uncertified:tolerance-not-reached" and float(r["clearance_lo"]) <= 0 <= float(r["clearance_hi"]), r
+PY
+echo "coincident meshes: [$(sed -n 2p "$work/s/poses.csv" | cut -d, -f19,20)] holds 0, tolerance not reached (exit 1)"
+echo "extreme: all checks passed"
