@@ -176,6 +176,15 @@ def main():
     write("inward_cube.off", off(CUBE_V, [(f[0], f[2], f[1]) for f in CUBE_F]), 0, "inward-oriented")
     # Inconsistent orientation (one face flipped): fixed with a notice.
     write("one_face_flipped.off", off(CUBE_V, [(0, 1, 2)] + CUBE_F[1:]), 0, "flipped to make the orientation consistent")
+    # Extreme scale and size (issue 13): refused with the supported range named; a single face.
+    write("box_1e150.off", off([tuple(1e150 * c for c in v) for v in CUBE_V], CUBE_F), 1,
+          "outside the supported range |x| <= 1e+40")
+    write("box_1e-150.off", off([tuple(1e-150 * c for c in v) for v in CUBE_V], CUBE_F), 1, "below the supported 1e-40")
+    write("one_face.off", off(TET_V[:3], [(0, 1, 2)]), 1, "3 boundary edges (the surface is not closed)")
+    # Fuzzing finding 1: 'end_header' inside another word; CGAL's reader crashed on the property
+    # line that follows (before any element) when the pre-check stopped the header there.
+    write("end_header_inside_word.ply", "ply\nformat ascii 1.0\nelemend_header 4\nproperty float x\nend_header\n0\n", 2,
+          "a property comes before any element")
     real_world_files(write)
     os.makedirs(os.path.join(OUT, "directory.off"), exist_ok=True)
     with open(os.path.join(OUT, "directory.off", ".keep"), "w") as f:
