@@ -185,6 +185,9 @@ def main():
     # line that follows (before any element) when the pre-check stopped the header there.
     write("end_header_inside_word.ply", "ply\nformat ascii 1.0\nelemend_header 4\nproperty float x\nend_header\n0\n", 2,
           "a property comes before any element")
+    # Fuzzing finding 2: a coordinate property of a type CGAL's reader does not cast (it crashed).
+    write("uchar_coordinate.ply", textured_cube_ply().replace("property float y", "property uchar y", 1), 2,
+          "property 'y' of element 'vertex' must be float or double, not 'uchar'")
     real_world_files(write)
     os.makedirs(os.path.join(OUT, "directory.off"), exist_ok=True)
     with open(os.path.join(OUT, "directory.off", ".keep"), "w") as f:

@@ -147,7 +147,7 @@ struct PlyProperty {
   int count_size = 0;  // bytes of the list count type
   int size = 0;        // bytes of the scalar (or list item) type
   bool is_float = false;
-  std::string count_type, type;
+  std::string count_type, type, name;
 };
 struct PlyElement {
   std::string name;
@@ -172,6 +172,32 @@ std::uint64_t read_uint(const unsigned char* p, int size, bool big_endian, bool 
   }
   negative = is_signed && (v >> (8 * size - 1)) != 0;
   return v;
+}
+
+// CGAL's PLY reader casts the properties it uses to the type it expects (coordinates float or
+// double, colours uchar, half-edge indices uint, uvs float) and dereferences the cast unchecked, so
+// another type there crashed it (fuzzing finding 2). Such files are refused here, naming the property.
+void check_ply_property_types(const std::vector<PlyElement>& elements, const std::string& name) {
+  const auto require = [&](const PlyElement& e, const PlyProperty& p, std::initializer_list<const char*> types,
+                           const char* what) {
+    if (!p.list)
+      for (const char* t : types)
+        if (p.type == t) return;
+    fail(name, "PLY header: property '" + p.name + "' of element '" + e.name + "' must be " + what + ", not " +
+                   (p.list ? "a list" : "'" + p.type + "'"));
+  };
+  for (const PlyElement& e : elements) {
+    const bool vertex = e.name == "vertex" || e.name == "vertices", face = e.name == "face" || e.name == "faces";
+    for (const PlyProperty& p : e.properties) {
+      const std::string& n = p.name;
+      if (vertex && (n == "x" || n == "y" || n == "z"))
+        require(e, p, {"float", "float32", "double", "float64"}, "float or double");
+      if ((vertex || face) && (n == "red" || n == "green" || n == "blue" || n == "r" || n == "g" || n == "b"))
+        require(e, p, {"uchar", "uint8"}, "uchar (a colour)");
+      if (e.name == "halfedge" && (n == "source" || n == "target")) require(e, p, {"uint", "uint32"}, "uint");
+      if (e.name == "halfedge" && (n == "u" || n == "v")) require(e, p, {"float", "float32"}, "float");
+    }
+  }
 }
 
 void check_ply(const std::string& bytes, const std::string& name) {
@@ -222,11 +248,13 @@ void check_ply(const std::string& bytes, const std::string& name) {
       } else {
         p.type = type;
       }
+      ls >> p.name;
       p.size = ply_type_size(p.type, p.is_float);
       if (p.size == 0) fail(name, "PLY header: unknown property type '" + p.type.substr(0, 20) + "'");
       elements.back().properties.push_back(p);
     }
   }
+  check_ply_property_types(elements, name);
   const bool ascii = format == "ascii";
   const bool big = format == "binary_big_endian";
   if (!ascii && !big && format != "binary_little_endian") fail(name, "PLY header: unknown format '" + format + "'");
