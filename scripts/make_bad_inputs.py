@@ -188,6 +188,11 @@ def main():
     # Fuzzing finding 2: a coordinate property of a type CGAL's reader does not cast (it crashed).
     write("uchar_coordinate.ply", textured_cube_ply().replace("property float y", "property uchar y", 1), 2,
           "property 'y' of element 'vertex' must be float or double, not 'uchar'")
+    # Fuzzing finding 3: a second format line; the pre-check took the last, CGAL the first, and CGAL
+    # then sized a list from ASCII bytes read as binary (gigabytes, seconds per file).
+    second = textured_cube_ply().replace("element vertex", "format ascii 1.0\nelement vertex", 1)
+    write("second_format_line.ply", second.replace("format ascii 1.0", "format binary_little_endian 1.0", 1), 2,
+          "line 4: a second 'format' line")
     real_world_files(write)
     os.makedirs(os.path.join(OUT, "directory.off"), exist_ok=True)
     with open(os.path.join(OUT, "directory.off", ".keep"), "w") as f:

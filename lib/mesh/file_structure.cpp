@@ -222,11 +222,17 @@ void check_ply(const std::string& bytes, const std::string& name) {
   std::istringstream header(bytes.substr(0, header_end));
   std::string line, format;
   std::vector<PlyElement> elements;
+  std::size_t line_no = 0;
   while (std::getline(header, line)) {
+    ++line_no;
     std::istringstream ls(line);
     std::string word;
     if (!(ls >> word)) continue;
+    // CGAL takes the format from line 2 only: another format line there or later would make this
+    // check walk the body in one encoding while CGAL reads it in another (fuzzing finding 3).
+    if (line_no == 2 && word != "format") fail(name, "PLY header: line 2 must be the 'format' line");
     if (word == "format") {
+      if (line_no != 2) fail(name, "PLY header: line " + std::to_string(line_no) + ": a second 'format' line");
       ls >> format;
     } else if (word == "element") {
       PlyElement e;
