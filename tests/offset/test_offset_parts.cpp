@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <random>
 
 #include "distance/signed_distance.h"
@@ -7,6 +8,7 @@
 #include "mesh/validate_mesh.h"
 #include "offset/fast_signed_distance.h"
 #include "offset/level_list.h"
+#include "offset/offset_manifest.h"
 #include "offset/mesh_level_set.h"
 #include "util/error.h"
 
@@ -36,6 +38,41 @@ TEST(LevelList, ErrorsNameTheItem) {
       EXPECT_NE(std::string(e.what()).find("--levels"), std::string::npos);
     }
   }
+}
+
+TEST(LevelList, AtMost10000LevelsInAll) {
+  std::string ten = "0:1:0.001";
+  EXPECT_EQ(parse_level_list(ten).size(), 1001u);
+  for (int i = 0; i < 9; ++i) ten += ",0:1:0.001";
+  EXPECT_THROW(parse_level_list(ten), InputError);  // 10,010 levels
+}
+
+TEST(OffsetManifest, ReusableEntriesOnlyFromAWellFormedManifest) {
+  const std::string path = testing::TempDir() + "/manifest.json";
+  const nlohmann::json good = {{"levels",
+                                {{{"key", "k1"}, {"d", 0.1}, {"message", ""}, {"epsilon", 1e-3}, {"epsilon_over_diagonal", 1e-4},
+                                  {"faces", 12}, {"status", "certified"}, {"file", "a.off"}, {"sha256", "00"}},
+                                 {{"key", "k2"}, {"d", -5.0}, {"message", "empty"}, {"epsilon", nullptr},
+                                  {"epsilon_over_diagonal", nullptr}, {"faces", 0}, {"status", "empty"},
+                                  {"file", nullptr}, {"sha256", nullptr}}}}};
+  std::ofstream(path) << good.dump();
+  PreviousOffsets p = read_offset_manifest(path);
+  EXPECT_TRUE(p.ignored_because.empty()) << p.ignored_because;
+  ASSERT_EQ(p.by_key.size(), 2u);
+  EXPECT_EQ(*p.by_key.at("k1").file, "a.off");
+  EXPECT_FALSE(p.by_key.at("k2").file.has_value());
+  for (const auto& [key, value] : std::vector<std::pair<std::string, nlohmann::json>>{
+           {"faces", -1}, {"status", "maybe"}, {"file", "../x.off"}, {"file", nullptr}, {"d", "0.1"}}) {
+    nlohmann::json bad = good;
+    bad["levels"][0][key] = value;
+    std::ofstream(path) << bad.dump();
+    p = read_offset_manifest(path);
+    EXPECT_TRUE(p.by_key.empty()) << key;
+    EXPECT_NE(p.ignored_because.find("levels[0]." + key), std::string::npos) << p.ignored_because;
+  }
+  std::ofstream(path) << "{ not json";
+  EXPECT_NE(read_offset_manifest(path).ignored_because.find("not valid JSON"), std::string::npos);
+  EXPECT_TRUE(read_offset_manifest(path + ".missing").ignored_because.empty());
 }
 
 TEST(FastSignedDistance, AgreesWithTheCertifiedOne) {

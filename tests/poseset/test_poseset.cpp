@@ -159,6 +159,32 @@ TEST(Journal, ALineDamagedOnDiskIsRecomputedEvenWhenItStillParses) {
   EXPECT_EQ(rows.at(3), format_pose_row(row(3)));
 }
 
+TEST(PoseSetManifest, WrongTypesAndCountsAreNamedNotCast) {
+  const std::string dir = testing::TempDir() + "/manifest_test";
+  std::filesystem::create_directories(dir);
+  const nlohmann::json mesh = {{"path", "m.off"}, {"sha256", "00"}, {"vertices", 8}, {"faces", 12}, {"diagonal", 1.7},
+                               {"reference_point", {0, 0, 0}}};
+  const nlohmann::json good = {{"format", "cdbench-poseset"}, {"format_version", 1}, {"fixed", mesh}, {"mover", mesh},
+                               {"mover_is_fixed", true}, {"max_penetration", {{"interval", {0.5, 0.5000001}}}},
+                               {"levels", {{{"spec", "0"}, {"target", 0.0}}}},
+                               {"certification", {{"tolerance", 1e-6}, {"diagonal", 1.7}}}};
+  std::ofstream(dir + "/poseset.json") << good.dump();
+  EXPECT_EQ(read_poseset_manifest(dir).fixed.faces, 12u);
+  const std::vector<std::pair<nlohmann::json::json_pointer, nlohmann::json>> cases = {
+      {nlohmann::json::json_pointer("/fixed/faces"), -1},
+      {nlohmann::json::json_pointer("/fixed/vertices"), 1e300},
+      {nlohmann::json::json_pointer("/format"), 3},
+      {nlohmann::json::json_pointer("/mover_is_fixed"), "yes"},
+      {nlohmann::json::json_pointer("/max_penetration/interval/0"), -1.0},
+      {nlohmann::json::json_pointer("/certification/tolerance"), 0.0}};
+  for (const auto& [where, value] : cases) {
+    nlohmann::json bad = good;
+    bad[where] = value;
+    std::ofstream(dir + "/poseset.json") << bad.dump();
+    EXPECT_NE(error_of([&] { read_poseset_manifest(dir); }).find("poseset.json"), std::string::npos) << where;
+  }
+}
+
 TEST(PoseCsv, StatusesRoundTripAndUnknownOnesAreNamed) {
   for (PoseStatus s : {PoseStatus::Certified, PoseStatus::NoContact, PoseStatus::OffsetEmpty, PoseStatus::OffsetFailed,
                        PoseStatus::ToleranceNotReached, PoseStatus::PolishStalled}) {

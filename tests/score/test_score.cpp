@@ -1,6 +1,7 @@
 // Verdicts and scores of collision answers against certificates; answer files.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 #include "score/answers_csv.h"
@@ -34,6 +35,31 @@ PoseRow row(std::uint64_t id, int level, double lo, double hi) {
   r.clearance_lo = lo;
   r.clearance_hi = hi;
   return r;
+}
+
+TEST(Summary, ReadsWhatItWritesAndNamesAWrongKey) {
+  ImplScore s = score_answers("x", manifest(), {row(0, 0, -1.0, -0.99)}, {Answer{true}}, true);
+  const std::string dir = testing::TempDir();
+  std::ofstream(dir + "/summary.json") << summary_json(manifest(), 1, {s}, {}).dump(2);
+  const std::vector<BenchSummaryImpl> r = read_bench_summary(dir + "/summary.json");
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].name, "x");
+  ASSERT_EQ(r[0].levels.size(), 2u);
+  EXPECT_EQ(r[0].levels[0].poses, 1u);
+  EXPECT_TRUE(std::isnan(r[0].levels[0].mean_us));  // null: not timed
+  nlohmann::json j = summary_json(manifest(), 1, {s}, {});
+  j["implementations"][0]["levels"][1]["false_positives"] = -3;
+  std::ofstream(dir + "/summary.json") << j.dump();
+  try {
+    read_bench_summary(dir + "/summary.json");
+    ADD_FAILURE() << "a negative count was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("implementations[0].levels[1].false_positives' is not a count"),
+              std::string::npos)
+        << e.what();
+  }
+  std::ofstream(dir + "/summary.json") << "{\"format\": 7}";
+  EXPECT_THROW(read_bench_summary(dir + "/summary.json"), InputError);
 }
 
 TEST(Score, CountsExactlyTheWrongAnswersPerLevel) {
