@@ -92,19 +92,19 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
   head["format_version"] = 1;
   head["generator"] = std::string("cdbench ") + CDBENCH_VERSION;
   head["input"] = {{"path", r.mesh_path},
-                       {"sha256", r.input_sha},
-                       {"vertices", r.source.mesh->vertices.size()},
-                       {"faces", r.source.mesh->faces.size()},
-                       {"diagonal", diag}};
+                   {"sha256", r.input_sha},
+                   {"vertices", r.source.mesh->vertices.size()},
+                   {"faces", r.source.mesh->faces.size()},
+                   {"diagonal", diag}};
   head["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
-                                 {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
-                                 {"relative_tolerance", r.max_penetration_tolerance}};
+                             {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
+                             {"relative_tolerance", r.max_penetration_tolerance}};
   head["options"] = {{"tolerance_relative", oo.tolerance_relative},
-                         {"tolerance", oo.tolerance_relative * diag},
-                         {"mesher_radius_relative", oo.radius_relative},
-                         {"mesher_distance_over_tolerance", oo.distance_over_tolerance},
-                         {"max_attempts", oo.max_attempts},
-                         {"seeds", oo.seeds}};
+                     {"tolerance", oo.tolerance_relative * diag},
+                     {"mesher_radius_relative", oo.radius_relative},
+                     {"mesher_distance_over_tolerance", oo.distance_over_tolerance},
+                     {"max_attempts", oo.max_attempts},
+                     {"seeds", oo.seeds}};
   // The manifest is rewritten after each computed level (levels done so far, "finished": false), so
   // that an interrupted run's levels are reused by the next one; the last write has them all.
   std::mutex manifest_mutex;

@@ -10,6 +10,7 @@
 #include "poseset/pose_csv.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/json_keys.h"
 
 namespace cdbench {
 namespace {
@@ -57,11 +58,10 @@ PoseJournal::PoseJournal(const std::string& dir, const std::string& stem, const 
     if (!resume)
       throw InputError(dir + " holds an interrupted run (" + stem + ".journal): pass --resume to continue it, or remove " +
                        "the journal to start over");
-    std::ifstream kin(key_path_);
     nlohmann::json old;
     try {
-      old = nlohmann::json::parse(kin);
-    } catch (const std::exception&) {
+      old = parse_json_file(key_path_, "");
+    } catch (const InputError&) {
       throw InputError(key_path_ + ": unreadable; cannot tell which run the journal belongs to");
     }
     if (old != run_key)
