@@ -3,6 +3,7 @@
 #include <CGAL/Interval_nt.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace cdbench {
@@ -37,6 +38,22 @@ Interval segment(const V& p, const V& u, const V& v) {
 }
 
 }  // namespace
+
+double point_triangle_distance_lower_bound(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& u) {
+  // Each s_k = sum_i fl(v_i - p_i) u_i is within 6u T_k of the exact (v - p).u, T_k the sum of the
+  // absolute terms (gamma_3 for the sum of products, u for the differences; doubled for directed
+  // rounding): 2e-15 T_k covers it with margin.
+  double lo = std::numeric_limits<double>::infinity();
+  for (const Vec3* v : {&a, &b, &c}) {
+    const double d0 = (*v)[0] - p[0], d1 = (*v)[1] - p[1], d2 = (*v)[2] - p[2];
+    const double s = d0 * u[0] + d1 * u[1] + d2 * u[2];
+    const double t = std::abs(d0 * u[0]) + std::abs(d1 * u[1]) + std::abs(d2 * u[2]);
+    lo = std::min(lo, s - 2e-15 * t - 1e-300);  // (and any underflow)
+  }
+  if (!(lo > 0.0)) return 0.0;
+  const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) * (1.0 + 2e-15);
+  return lo / len * (1.0 - 2e-15);
+}
 
 Interval point_triangle_squared_distance(const Vec3& pd, const Vec3& ad, const Vec3& bd, const Vec3& cd) {
   CGAL::Protect_FPU_rounding<true> guard;  // round upward for the interval operations below

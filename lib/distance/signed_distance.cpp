@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "distance/exact_predicates.h"
 #include "distance/point_triangle_distance.h"
@@ -37,6 +39,66 @@ struct NearestPolicy {
   }
 };
 
+// The slab lower bound of dist(p, abc)^2 (point_triangle_distance_lower_bound, rounded down) along
+// the direction of the estimated closest point; *e2 receives the estimate's squared distance.
+// An error of angle theta in the direction costs about theta times the triangle's size, so it is
+// taken from exact features where the estimate would tilt it: the face normal for the interior,
+// the estimate made orthogonal to the edge for an edge, the estimate itself for a vertex.
+double slab_lower_bound_sq(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double* e2_out) {
+  int feature = 6;
+  const Vec3 e = closest_point_on_triangle(p, a, b, c, &feature) - p;
+  const double e2 = e.squaredNorm();
+  *e2_out = e2;
+  if (!(e2 > 0.0)) return 0.0;
+  Vec3 u = e;
+  if (feature == 6) {
+    u = (b - a).cross(c - a);
+    if (u.dot(e) < 0.0) u = -u;
+  } else if (feature >= 3) {
+    const Vec3& v0 = feature == 3 ? a : feature == 4 ? b : c;
+    const Vec3& v1 = feature == 3 ? b : feature == 4 ? c : a;
+    const Vec3 t = v1 - v0;
+    const double tt = t.squaredNorm();
+    if (tt > 0.0) u = e - (e.dot(t) / tt) * t;
+  }
+  const double lb = point_triangle_distance_lower_bound(p, a, b, c, u);
+  return lb > 0.0 ? round_down(lb * lb) : 0.0;
+}
+
+// The same query at about half the cost: a leaf costs a double closest-point estimate and a rigorous
+// slab lower bound along the estimated direction (point_triangle_distance_lower_bound; the
+// certified enclosure only where that bound is 0, i.e. p within rounding of the triangle's
+// plane-side slab); pruning uses the estimated best with a margin. Afterwards the caller encloses
+// the best triangle rigorously (hi): if hi lies at or below the final pruning threshold, every
+// pruned subtree is beyond the minimum, and so is every leaf whose slab bound is at least hi; the
+// lower end is the least certified lower end among the best and the leaves kept in `near` (slab
+// bound below hi; usually the few sharing the nearest feature), so the interval is as tight as
+// NearestPolicy's. Otherwise the query is redone with NearestPolicy.
+struct FastNearestPolicy {
+  const TriangleMesh& mesh;
+  Vec3 p;
+  double margin_sq;
+  std::vector<std::pair<double, std::uint32_t>>& near;  // (slab bound squared, face) below the threshold
+  double best_est_sq = kInf, threshold_sq = kInf;
+  std::uint32_t best_face = 0;
+
+  double bound(const Aabb& box) const { return squared_distance_lower_bound(box, p); }
+  double prune_bound() const { return threshold_sq; }
+  bool done() const { return false; }
+  void leaf(std::uint32_t f) {
+    const Face& t = mesh.faces[f];
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    double e2 = 0.0;
+    const double lb_sq = slab_lower_bound_sq(p, a, b, c, &e2);
+    if (e2 < best_est_sq || (e2 == best_est_sq && f < best_face)) {
+      best_est_sq = e2;
+      threshold_sq = e2 * (1.0 + 1e-6) + margin_sq;
+      best_face = f;
+    }
+    if (lb_sq < threshold_sq) near.emplace_back(lb_sq, f);
+  }
+};
+
 // All triangles whose certified lower bound is within the radius.
 struct WithinPolicy {
   const TriangleMesh& mesh;
@@ -50,6 +112,9 @@ struct WithinPolicy {
   bool done() const { return overflow; }
   void leaf(std::uint32_t f) {
     const Face& t = mesh.faces[f];
+    // The slab bound first (cheap, usually decisive); the certified enclosure only when it is not.
+    double e2 = 0.0;
+    if (slab_lower_bound_sq(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], &e2) > radius_sq) return;
     const Interval d2 = point_triangle_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
     if (d2.lo <= radius_sq) {
       out.push_back(f);
@@ -100,6 +165,34 @@ SignedDistance::SignedDistance(TriangleMesh mesh) : mesh_(std::move(mesh)), bbox
 }
 
 Interval SignedDistance::unsigned_distance(const Vec3& p, std::uint32_t* nearest) const {
+  // Margin of the estimate: far above its rounding near the surface (scale: the box and p).
+  const double scale = bbox_.lo.cwiseAbs().maxCoeff() + bbox_.hi.cwiseAbs().maxCoeff() + p.cwiseAbs().maxCoeff();
+  thread_local std::vector<std::pair<double, std::uint32_t>> near;
+  near.clear();
+  FastNearestPolicy fast{mesh_, p, (1e-10 * scale) * (1e-10 * scale), near};
+  traverse_nearest_first(tree_, fast);
+  if (fast.best_est_sq < kInf) {
+    const auto enclose = [&](std::uint32_t f) {
+      const Face& t = mesh_.faces[f];
+      return point_triangle_squared_distance(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
+    };
+    const Interval best = enclose(fast.best_face);
+    if (best.hi <= fast.threshold_sq) {
+      Interval d2 = best;
+      std::uint32_t face = fast.best_face;
+      for (const auto& [lb_sq, f] : near)
+        if (lb_sq < best.hi && f != fast.best_face) {
+          const Interval x = enclose(f);
+          d2.lo = std::min(d2.lo, x.lo);
+          if (x.hi < d2.hi) {
+            d2.hi = x.hi;
+            face = f;
+          }
+        }
+      if (nearest) *nearest = face;
+      return sqrt_interval(d2);
+    }
+  }
   NearestPolicy q{mesh_, p};
   traverse_nearest_first(tree_, q);
   if (nearest) *nearest = q.best_face;

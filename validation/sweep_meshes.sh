@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# The certified pose pipeline on every closed solid of a mesh collection (by default CGAL's data
+# up to MAX_FACES faces): for each mesh that `cdbench check` accepts, the whole `cdbench poses`
+# command (levels -20%, 0, +5 % of the maximum penetration; 20 directions x 2 orientations, all
+# cores), then validation/check_poses on a sample of its certificates. Prints one row per mesh and
+# a summary: meshes tried, failed levels, certified fraction, sampled certificates confirmed, the
+# slowest run. Meshes that are not closed solids are counted and skipped (their rejection is
+# `cdbench check`'s business, tested elsewhere).
+# Usage: validation/sweep_meshes.sh [MESH ...]
+# Environment: MAX_FACES (10000), LEVELS (-20%,0,5%), DIRECTIONS (20), ORIENTATIONS (2),
+#   CHECK_POSES (6: certificates sampled per mesh), TIME_LIMIT (300 s per command), OUT
+#   (build/sweep-meshes).
+set -uo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+bin="$root/build/cdbench"
+checker="$root/build/validation/check_poses"
+max_faces=${MAX_FACES:-10000}
+levels=${LEVELS:--20%,0,5%}
+directions=${DIRECTIONS:-20}
+orientations=${ORIENTATIONS:-2}
+check_poses=${CHECK_POSES:-6}
+limit=${TIME_LIMIT:-300}
+out=${OUT:-$root/build/sweep-meshes}
+mkdir -p "$out"
+meshes=("$@")
+if [ ${#meshes[@]} -eq 0 ]; then
+  [ -d "$root/data/cgal/meshes" ] || bash "$root/scripts/fetch-cgal-data.sh"
+  meshes=("$root"/data/cgal/meshes/*)
+fi
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //');" \
+     "levels $levels; $directions directions x $orientations orientations; at most $max_faces faces"
+printf '%-28s %8s %8s %11s %8s %10s %s\n' mesh faces seconds certified failed confirmed note
+tried=0 skipped=0 too_big=0 failed_levels=0 poses=0 certified=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
+for mesh in "${meshes[@]}"; do
+  name=$(basename "$mesh")
+  name=${name%.*}
+  check="$out/$name.check"
+  if ! timeout "$limit" "$bin" check "$mesh" --no-max-penetration > "$check" 2>&1; then
+    skipped=$((skipped + 1))
+    continue
+  fi
+  faces=$(awk '/^mesh:/ && /triangles/ { print $(NF-1); exit }' "$check")
+  if [ -z "$faces" ] || [ "$faces" -gt "$max_faces" ]; then
+    too_big=$((too_big + 1))
+    continue
+  fi
+  tried=$((tried + 1))
+  dir="$out/$name"
+  rm -rf "$dir"
+  start=$(date +%s.%N)
+  timeout "$limit" "$bin" poses "$mesh" --levels="$levels" --directions "$directions" \
+    --orientations "$orientations" -o "$dir" > "$out/$name.log" 2>&1
+  rc=$?
+  secs=$(python3 -c "print('%.1f' % ($(date +%s.%N) - $start))")
+  note=""
+  [ $rc -eq 124 ] && note="time limit"
+  [ $rc -ne 0 ] && [ $rc -ne 124 ] && note="exit $rc"
+  n=0 c=0 f=0 ok="-"
+  if [ -f "$dir/poses.csv" ]; then
+    read -r n c < <(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "status") s = i; next }
+                           { n++; if ($s == "certified") c++ } END { print n + 0, c + 0 }' "$dir/poses.csv")
+    f=$(python3 -c "import json,sys; print(sum(1 for l in json.load(open(sys.argv[1]))['levels'] if l.get('status') == 'failed'))" \
+        "$dir/poseset.json" 2>/dev/null || echo 0)
+    line=$(timeout "$limit" "$checker" "$dir" --poses "$check_poses" --grid 6 2>&1 | tail -1)
+    read -r k m < <(echo "$line" | sed -n 's/.*: \([0-9]*\) of \([0-9]*\) sampled.*/\1 \2/p')
+    if [ -n "${k:-}" ]; then
+      ok="$k/$m"
+      sampled=$((sampled + m))
+      confirmed=$((confirmed + k))
+    else
+      note="$note checker: ${line:0:60}"
+    fi
+  fi
+  poses=$((poses + n))
+  certified=$((certified + c))
+  failed_levels=$((failed_levels + f))
+  if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "$secs" "$slowest"; then
+    slowest=$secs
+    slowest_name=$name
+  fi
+  printf '%-28s %8s %8s %11s %8s %10s %s\n' "$name" "$faces" "$secs" "$c/$n" "$f" "$ok" "$note"
+done
+echo
+echo "meshes run: $tried (not closed solids: $skipped; more than $max_faces faces: $too_big)"
+echo "failed levels: $failed_levels; certified poses: $certified/$poses;" \
+     "sampled certificates confirmed: $confirmed/$sampled; slowest: $slowest_name $slowest s"
