@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
 
 #include "distance/point_triangle_distance.h"
@@ -45,6 +46,47 @@ TEST(PointTriangleDistance, NearTheTrianglePlane) {
     const double h = std::ldexp(1.0, -static_cast<int>(w(rng) * 60));
     expect_encloses(a + s * (b - a) + t * (c - a) + ((k % 2) ? h : -h) * n, a, b, c);
   }
+}
+
+// The slab bound (used by the fast nearest query) never exceeds the exact distance, for any
+// direction, at many scales and near the plane; along the normal it is tight where the projection
+// falls inside the triangle.
+TEST(PointTriangleDistance, SlabLowerBoundNeverExceedsTheExactDistance) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> w(0, 1);
+  int tight_checked = 0;
+  for (double scale : {1e-3, 1.0, 1e3}) {
+    std::uniform_real_distribution<double> u(-scale, scale);
+    for (int k = 0; k < 3000; ++k) {
+      const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+      const Vec3 n = (b - a).cross(c - a);
+      Vec3 p(u(rng), u(rng), u(rng));
+      const bool near_plane = k % 3 == 0;
+      double s = w(rng), t = w(rng);
+      if (near_plane && s + t < 1.0 && n.norm() > 0.0)  // a point just off the plane, projection inside
+        p = a + s * (b - a) + t * (c - a) + std::ldexp(scale, -static_cast<int>(w(rng) * 40)) * n.normalized();
+      const Epeck::FT exact = exact_squared_distance(p, a, b, c);
+      const Vec3 q = closest_point_on_triangle(p, a, b, c) - p;
+      const std::array<Vec3, 5> dirs{q, n, Vec3(-n), Vec3(u(rng), u(rng), u(rng)), Vec3(q + 1e-3 * n)};
+      for (const Vec3& dir : dirs) {
+        if (dir.squaredNorm() == 0.0) continue;
+        const double lb = point_triangle_distance_lower_bound(p, a, b, c, dir);
+        ASSERT_GE(lb, 0.0);
+        EXPECT_TRUE(Epeck::FT(lb) * Epeck::FT(lb) <= exact)
+            << std::setprecision(17) << "p=(" << p.transpose() << ") a=(" << a.transpose() << ") b=("
+            << b.transpose() << ") c=(" << c.transpose() << ") u=(" << dir.transpose() << ") bound " << lb
+            << " exact^2 " << CGAL::to_double(exact);
+      }
+      if (near_plane && s + t < 1.0 && n.norm() > 0.0) {
+        const Vec3 side = n.dot(p - a) > 0.0 ? -n : n;  // from p towards the plane
+        const double lb = point_triangle_distance_lower_bound(p, a, b, c, side);
+        const double d = std::sqrt(CGAL::to_double(exact));
+        EXPECT_GE(lb, d - 1e-13 * scale) << std::setprecision(17) << "exact " << d << " bound " << lb;
+        ++tight_checked;
+      }
+    }
+  }
+  EXPECT_GT(tight_checked, 1000);
 }
 
 TEST(PointTriangleDistance, HandBuiltDegenerateAndBoundaryCases) {
