@@ -129,12 +129,16 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       c = certify(out.lambda, final_tol);
     }
     double current_tol = final_tol;
+    // The previous pose of the advance, for the slope of c (a heuristic: it only picks steps).
+    double prev_lambda = 0.0, prev_mid = 0.0;
+    bool have_prev = false;
     while (!within(c.clearance) && out.steps < options.max_steps) {
       // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
       // margin; the rounding of t by the absolute one): stepping by c_lo - target cannot pass the
       // first crossing.
       const double slack = 8.0 * 0x1p-52 * (frame.t0.cwiseAbs().maxCoeff() + std::abs(out.lambda));
-      const double step = (c.clearance.lo - target) * (1.0 - 1e-9) - slack;
+      const double gap = c.clearance.lo - target;
+      const double step = gap * (1.0 - 1e-9) - slack;
       if (!(step > 0.0)) {
         if (current_tol > final_tol) {  // a loose certificate: tighten it before giving up
           c = certify(out.lambda, current_tol = final_tol);
@@ -142,16 +146,42 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         }
         break;
       }
-      current_tol = step_tolerance(c.clearance);
-      out.lambda -= step;
-      ++out.steps;
-      if (out.lambda < -lambda_far) {
-        // Passed the fixed object without reaching the target: c > target on the whole line.
-        out.contact = false;
-        out.reason = "no-contact";
-        return out;
+      const double mid = 0.5 * (c.clearance.lo + c.clearance.hi);
+      const double slope = have_prev ? std::max(0.0, (prev_mid - mid) / (prev_lambda - out.lambda)) : 1.0;
+      const double tol_next = step_tolerance(c.clearance);
+      prev_lambda = out.lambda;
+      prev_mid = mid;
+      have_prev = true;
+      bool advanced = false;
+      if (options.two_sided_steps && slope < 0.5) {
+        // Where c is flat, a step of up to twice the gap, proved from both ends: on [l - h, l],
+        // c >= max(c(l) - (l - x), c(l - h) - (x - l + h)) > target when the two gaps add up to
+        // more than h (same margins as one step, for both ends).
+        // The aim: h where the two gaps, predicted with the slope, add up to h / 0.9.
+        const double h = 0.9 * 2.0 * gap / (1.0 + slope);
+        if (h > 1.2 * step && out.lambda - h >= -lambda_far) {
+          const double slack2 = 8.0 * 0x1p-52 * (frame.t0.cwiseAbs().maxCoeff() + std::abs(out.lambda) + h);
+          const ClearanceResult c2 = certify(out.lambda - h, tol_next);
+          ++out.two_sided_tries;
+          if ((gap + (c2.clearance.lo - target)) * (1.0 - 1e-9) - 2.0 * slack2 >= h) {
+            out.lambda -= h;
+            c = c2;
+            advanced = true;
+          }
+        }
       }
-      c = certify(out.lambda, current_tol);
+      current_tol = tol_next;
+      if (!advanced) {
+        out.lambda -= step;
+        if (out.lambda < -lambda_far) {
+          // Passed the fixed object without reaching the target: c > target on the whole line.
+          out.contact = false;
+          out.reason = "no-contact";
+          return out;
+        }
+        c = certify(out.lambda, current_tol);
+      }
+      ++out.steps;
       if (c.clearance.hi <= target + options.tolerance && current_tol > final_tol)
         c = certify(out.lambda, current_tol = final_tol);  // near the end: the reported certificate
     }

@@ -67,6 +67,9 @@ struct PoseOptions {
   int max_steps = 400;     // conservative-advancement steps before giving up (reported)
   std::uint64_t max_cells = 400000;
   PoseStart start = PoseStart::Offset;
+  // Where c is flat (slope below 1/2), try steps of up to twice the gap proved from both ends
+  // (doc/poses.md); off: one-sided Lipschitz steps only (for A/B measurements).
+  bool two_sided_steps = true;
 };
 
 struct PoseOutcome {
@@ -77,6 +80,7 @@ struct PoseOutcome {
   bool certified = false;  // clearance is a rigorous interval of width within the tolerance
   bool on_target = false;  // |c - target| <= tolerance, proven
   int steps = 0;
+  int two_sided_tries = 0;  // long steps tried where c is flat (each accepted one is a step)
   std::string reason;      // why not certified / not on target
   std::uint64_t sphere_tests = 0, triangle_sweeps = 0, clearance_cells = 0;
 };

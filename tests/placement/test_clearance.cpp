@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <iomanip>
 #include <random>
 
 #include "mesh/shapes.h"
@@ -210,6 +211,85 @@ TEST(PlacePose, SurfaceAndFarStartsReachTheTarget) {
     EXPECT_FALSE(p.contact) << to_string(start);
     EXPECT_EQ(p.reason, "no-contact");
   }
+}
+
+// Long steps proved from both ends (where c is flat) never pass an earlier crossing: along each
+// approach into a torus (c dips at the tube, rises in the hole, dips again), no pose between the
+// polished one and the far start is certified below the target. Checked with long steps on and
+// off; the long steps must actually be tried.
+TEST(PlacePose, LongStepsNeverPassAnEarlierCrossing) {
+  const TriangleMesh torus = make_torus(1.0, 0.35, 32, 16);
+  const SignedDistance fixed(torus);
+  const TriangleMesh mover = make_icosphere(0.2, 1);
+  const ApproachSetup setup = make_approach_setup(fixed, mover);
+  const std::vector<std::uint32_t> comps = component_representatives(mover);
+  PoseOptions opt;
+  opt.tolerance = 1e-6;
+  opt.start = PoseStart::Far;
+  std::mt19937_64 rng(23);
+  int tries = 0, placed = 0;
+  for (int k = 0; k < 12; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const OrientationFrame frame = make_orientation_frame(setup, R);
+    // Mostly grazing lines: along the torus' plane, offset from the centre.
+    Vec3 dir = random_direction(rng);
+    if (k % 2 == 0) dir = Vec3(dir.x(), dir.y(), 0.1 * dir.z()).normalized();
+    for (double target : {-0.1, 0.05}) {
+      for (bool two_sided : {true, false}) {
+        opt.two_sided_steps = two_sided;
+        const PoseOutcome p = place_pose(setup, frame, nullptr, dir, target, opt);
+        tries += p.two_sided_tries;
+        if (!p.contact) continue;
+        ++placed;
+        EXPECT_TRUE(p.on_target);
+        const double far = setup.fixed_radius + setup.mover_radius + std::abs(target);
+        for (int i = 1; i <= 300; ++i) {
+          const double lambda = p.lambda + (far - p.lambda) * i / 300.0;
+          ClearanceOptions copt;
+          copt.tolerance = 1e-3;
+          const ClearanceResult c =
+              certify_clearance(fixed, mover, comps, frame.orientation, pose_translation(frame, dir, lambda), copt);
+          ASSERT_GE(c.clearance.hi, target - opt.tolerance)
+              << std::setprecision(17) << "two-sided " << two_sided << " target " << target << " pose lambda "
+              << p.lambda << " passed a crossing at lambda " << lambda;
+        }
+      }
+    }
+  }
+  EXPECT_GT(placed, 20);
+  EXPECT_GT(tries, 10);
+}
+
+// A thin fin standing on a long slab, approached along the slab at a constant height: c is flat
+// (the slab), then dips at the fin. A long step from the flat part could land beyond the fin with
+// c above the target there; the proof from both ends must refuse it, and the pose must be the
+// first crossing, in front of the fin.
+TEST(PlacePose, LongStepsStopInFrontOfAThinFin) {
+  const TriangleMesh fixed_mesh =
+      merge_meshes(make_box(Vec3(-2, -0.5, -0.2), Vec3(2, 0.5, 0)), make_box(Vec3(0.95, -0.5, 0.02), Vec3(0.96, 0.5, 1.5)));
+  const SignedDistance fixed(fixed_mesh);
+  const TriangleMesh mover = make_icosphere(0.05, 1);
+  ApproachSetup setup = make_approach_setup(fixed, mover);
+  // The mover's path: z = 0.65 (0.6 above the slab), through the fin at x in [0.95, 0.96].
+  setup.fixed_ref = Vec3(0.0, 0.0, 0.65);
+  const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
+  PoseOptions opt;
+  opt.tolerance = 1e-7;
+  opt.start = PoseStart::Far;
+  const double target = 0.05;
+  int tries = 0;
+  for (bool two_sided : {true, false}) {
+    opt.two_sided_steps = two_sided;
+    const PoseOutcome p = place_pose(setup, frame, nullptr, Vec3(1, 0, 0), target, opt);
+    tries += p.two_sided_tries;
+    ASSERT_TRUE(p.contact);
+    EXPECT_TRUE(p.on_target);
+    // In front of the fin: the mover's centre (x = lambda, up to the icosphere's facets) at about
+    // 0.96 + 0.05 + 0.05 (a long step from the flat part lands at about 0.82, beyond the fin).
+    EXPECT_GT(p.lambda, 1.04) << "two-sided " << two_sided;
+    EXPECT_LT(p.lambda, 1.07) << "two-sided " << two_sided;
+  }
+  EXPECT_GT(tries, 0);
 }
 
 // Without polishing, the raw pose against the surface itself is the exact first contact: its
