@@ -33,7 +33,7 @@ printf '%-28s %8s %8s %11s %8s %10s %s\n' mesh faces seconds certified failed co
 tried=0 skipped=0 too_big=0 failed_levels=0 poses=0 certified=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
 for mesh in "${meshes[@]}"; do
   name=$(basename "$mesh")
-  name=${name%.*}
+  name=${name//./_}  # keeps the extension: CGAL's data has sphere.off and sphere.obj
   check="$out/$name.check"
   if ! timeout "$limit" "$bin" check "$mesh" --no-max-penetration > "$check" 2>&1; then
     skipped=$((skipped + 1))
@@ -59,8 +59,13 @@ for mesh in "${meshes[@]}"; do
   if [ -f "$dir/poses.csv" ]; then
     read -r n c < <(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "status") s = i; next }
                            { n++; if ($s == "certified") c++ } END { print n + 0, c + 0 }' "$dir/poses.csv")
-    f=$(python3 -c "import json,sys; print(sum(1 for l in json.load(open(sys.argv[1]))['levels'] if l.get('status') == 'failed'))" \
-        "$dir/poseset.json" 2>/dev/null || echo 0)
+    # A failed level: a pose neither certified nor certified to have no contact, or an offset
+    # that could not be certified (--start offset).
+    f=$(python3 -c "
+import json, sys
+levels = json.load(open(sys.argv[1]))['levels']
+print(sum(1 for l in levels if l['certified'] + l['no_contact'] < l['poses']
+          or (l.get('swept_offset') or {}).get('status') == 'failed'))" "$dir/poseset.json" 2>/dev/null || echo '?')
     line=$(timeout "$limit" "$checker" "$dir" --poses "$check_poses" --grid 6 2>&1 | tail -1)
     read -r k m < <(echo "$line" | sed -n 's/.*: \([0-9]*\) of \([0-9]*\) sampled.*/\1 \2/p')
     if [ -n "${k:-}" ]; then
@@ -73,7 +78,7 @@ for mesh in "${meshes[@]}"; do
   fi
   poses=$((poses + n))
   certified=$((certified + c))
-  failed_levels=$((failed_levels + f))
+  if [ "$f" = "?" ]; then note="$note poseset.json unreadable"; failed_levels=$((failed_levels + 1)); else failed_levels=$((failed_levels + f)); fi
   if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "$secs" "$slowest"; then
     slowest=$secs
     slowest_name=$name
