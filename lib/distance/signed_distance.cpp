@@ -66,9 +66,8 @@ double slab_lower_bound_sq(const Vec3& p, const Vec3& a, const Vec3& b, const Ve
 }
 
 // The same query at about half the cost: a leaf costs a double closest-point estimate and a rigorous
-// slab lower bound along the estimated direction (point_triangle_distance_lower_bound; the
-// certified enclosure only where that bound is 0, i.e. p within rounding of the triangle's
-// plane-side slab); pruning uses the estimated best with a margin. Afterwards the caller encloses
+// slab lower bound along the estimated direction (slab_lower_bound_sq); pruning uses the estimated
+// best with a margin. Afterwards the caller encloses
 // the best triangle rigorously (hi): if hi lies at or below the final pruning threshold, every
 // pruned subtree is beyond the minimum, and so is every leaf whose slab bound is at least hi; the
 // lower end is the least certified lower end among the best and the leaves kept in `near` (slab
