@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build ccache pkg-config git
   libcgal-dev libcgal-demo libeigen3-dev libgmp-dev libmpfr-dev libboost-dev libtbb-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev libssl-dev
-  python3 python3-numpy libfcl-dev libbullet-dev gnuplot-nox
+  python3 python3-numpy libfcl-dev libbullet-dev gnuplot-nox libopenvdb-dev libboost-iostreams-dev
   clang-14 libclang-rt-14-dev
 )
 

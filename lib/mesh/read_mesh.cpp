@@ -143,4 +143,16 @@ PolygonSoup read_polygon_soup(const std::string& path) {
   return read_polygon_soup_from_bytes(buffer.str(), path);
 }
 
+TriangleMesh read_triangle_mesh(const std::string& path) {
+  const PolygonSoup soup = read_polygon_soup(path);
+  TriangleMesh m;
+  m.vertices = soup.points;
+  m.faces.reserve(soup.polygons.size());
+  for (const auto& p : soup.polygons) {
+    if (p.size() != 3) throw InputError(path + ": a face is not a triangle");
+    m.faces.push_back({static_cast<std::uint32_t>(p[0]), static_cast<std::uint32_t>(p[1]), static_cast<std::uint32_t>(p[2])});
+  }
+  return m;
+}
+
 }  // namespace cdbench

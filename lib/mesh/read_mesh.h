@@ -21,7 +21,11 @@ MeshFormat mesh_format_from_path(const std::string& path);
 // polygons with fewer than 3 corners, no faces).
 PolygonSoup read_polygon_soup(const std::string& path);
 
-// Same, from the file's bytes (the name is used for the format and in messages).
+// A file of triangles read as they are (no validation, no welding): the meshes cdbench writes
+// itself (offsets). InputError naming the file for a polygon that is not a triangle.
+TriangleMesh read_triangle_mesh(const std::string& path);
+
+// Same as read_polygon_soup, from the file's bytes (the name is used for the format and in messages).
 PolygonSoup read_polygon_soup_from_bytes(const std::string& bytes, const std::string& name);
 
 }  // namespace cdbench

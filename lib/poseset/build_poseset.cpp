@@ -21,6 +21,7 @@
 #include "poseset/journal.h"
 #include "poseset/level_summary.h"
 #include "poseset/pose_csv.h"
+#include "poseset/poseset_manifest.h"
 #include "sampling/sampling.h"
 #include "sweep/mesh_sweep.h"
 #include "util/atomic_file.h"
@@ -57,26 +58,6 @@ Shard parse_shard(const std::string& s) {
   return r;
 }
 
-TriangleMesh read_certified_offset(const std::string& path) {
-  const PolygonSoup soup = read_polygon_soup(path);
-  TriangleMesh m;
-  m.vertices = soup.points;
-  for (const auto& p : soup.polygons) {
-    if (p.size() != 3) throw InputError(path + ": offset mesh has a non-triangular face");
-    m.faces.push_back({static_cast<std::uint32_t>(p[0]), static_cast<std::uint32_t>(p[1]), static_cast<std::uint32_t>(p[2])});
-  }
-  return m;
-}
-
-nlohmann::json mesh_json(const std::string& path, const std::string& sha, const TriangleMesh& m, const Vec3& ref) {
-  return {{"path", path},
-          {"sha256", sha},
-          {"vertices", m.vertices.size()},
-          {"faces", m.faces.size()},
-          {"diagonal", m.bbox().diagonal()},
-          {"reference_point", {ref.x(), ref.y(), ref.z()}}};
-}
-
 // Rows of an earlier run's journal, whole approaches only (an approach's rows are written
 // together; a cut approach is computed again).
 std::map<std::uint64_t, std::string> whole_approaches(std::map<std::uint64_t, std::string> rows, std::size_t levels) {
@@ -95,10 +76,7 @@ CheckedOptions check_options(const PoseSetRequest& opt) {
   CheckedOptions c;
   c.specs = parse_level_list(opt.levels);
   c.shard = parse_shard(opt.shard);
-  if (opt.direction_sampling != "fibonacci" && opt.direction_sampling != "grid")
-    throw InputError("--direction-sampling: expected 'fibonacci' or 'grid', found '" + opt.direction_sampling + "'");
-  if (opt.orientation_sampling != "super-fibonacci" && opt.orientation_sampling != "random")
-    throw InputError("--orientation-sampling: expected 'super-fibonacci' or 'random', found '" + opt.orientation_sampling + "'");
+  check_sampling_names(opt.direction_sampling, opt.orientation_sampling);
   std::set<std::string> seen;
   for (const LevelSpec& l : c.specs)
     if (!seen.insert(l.text).second) throw InputError("--levels: level '" + l.text + "' is listed twice");
@@ -191,7 +169,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     const std::string status = offsets.manifest["levels"][i]["status"].get<std::string>();
     level_state[l] = status;
     if (status == "certified") {
-      const TriangleMesh m = read_certified_offset(req.out_dir + "/" + offsets.files[i]);
+      const TriangleMesh m = read_triangle_mesh(req.out_dir + "/" + offsets.files[i]);
       level_mesh[l] = std::make_unique<SweepMesh>(make_sweep_mesh(m.vertices, m.faces));
     } else if (status == "failed") {
       // The level's poses must not depend on an offset that could not be certified.
@@ -213,11 +191,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   };
 
   // Sampling.
-  const std::vector<Vec3> dirs =
-      opt.direction_sampling == "grid" ? sphere_grid(opt.directions) : sphere_fibonacci(opt.directions);
-  const std::vector<Eigen::Quaterniond> rots = opt.orientation_sampling == "random"
-                                                   ? rotations_random(opt.orientations, opt.seed)
-                                                   : rotations_super_fibonacci(opt.orientations);
+  const std::vector<Vec3> dirs = sample_directions(opt.direction_sampling, opt.directions);
+  const std::vector<Eigen::Quaterniond> rots = sample_orientations(opt.orientation_sampling, opt.orientations, opt.seed);
   const std::uint64_t N = dirs.size(), K = rots.size();
   const std::uint64_t approaches = N * K;
   const std::uint64_t first = approaches * shard.index / shard.count;
@@ -329,8 +304,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   nlohmann::json ps;
   ps["format"] = "cdbench-poseset";
   ps["format_version"] = 1;
-  ps["fixed"] = mesh_json(opt.fixed.path, fixed_sha, fixed_mesh, setup.fixed_ref);
-  ps["mover"] = mesh_json(mover_path, mover_sha, mover, setup.mover_ref);
+  ps["fixed"] = to_json(mesh_record(opt.fixed.path, fixed_sha, fixed_mesh.vertices, fixed_mesh.faces.size(), setup.fixed_ref));
+  ps["mover"] = to_json(mesh_record(mover_path, mover_sha, mover.vertices, mover.faces.size(), setup.mover_ref));
   ps["mover_is_fixed"] = mover_is_fixed;
   ps["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
                            {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},

@@ -15,6 +15,7 @@
 #include "distance/signed_distance.h"
 #include "placement/clearance.h"
 #include "placement/mover.h"
+#include "placement/rotation_groups.h"
 #include "poseset/journal.h"
 #include "poseset/pose_csv.h"
 #include "poseset/poseset_manifest.h"
@@ -106,26 +107,13 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   std::vector<LevelRecord> levels;
   const std::vector<int> level_of = assign_levels(file, &levels);
 
-  // Poses sharing a rotation (bit for bit) share its mover tree: built by the first thread that
-  // needs it, freed after its last pose.
-  struct LazyOrientation {
-    std::once_flag once;
-    std::unique_ptr<MoverOrientation> orientation;
-    std::atomic<std::size_t> left{0};
-  };
-  std::map<std::vector<double>, std::size_t> group_of_R;
-  std::vector<std::size_t> group(file.poses.size());
-  for (std::size_t i = 0; i < file.poses.size(); ++i) {
-    const Eigen::Matrix3d& R = file.poses[i].R;
-    group[i] = group_of_R.emplace(std::vector<double>(R.data(), R.data() + 9), group_of_R.size()).first->second;
-  }
-  std::vector<LazyOrientation> orientations(group_of_R.size());
-  // Pending poses in file order, grouped by rotation so that a tree is alive only briefly.
+  // Pending poses in file order (poses sharing a rotation share its mover tree).
   std::vector<std::size_t> pending;
-  for (std::size_t i = 0; i < file.poses.size(); ++i)
+  std::vector<Eigen::Matrix3d> rotations(file.poses.size());
+  for (std::size_t i = 0; i < file.poses.size(); ++i) {
+    rotations[i] = file.poses[i].R;
     if (!journal.done().count(file.poses[i].pose)) pending.push_back(i);
-  std::stable_sort(pending.begin(), pending.end(), [&](std::size_t a, std::size_t b) { return group[a] < group[b]; });
-  for (std::size_t i : pending) ++orientations[group[i]].left;
+  }
   result.resumed = file.poses.size() - pending.size();
 
   const std::vector<std::uint32_t> components = component_representatives(*rq.mover);
@@ -134,13 +122,17 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   co.max_cells = rq.max_cells;
   Progress progress("certify", pending.size());
   Timer t_poses;
-  parallel_for_dynamic(pending.size(), [&](std::size_t k) {
-    const std::size_t i = pending[k];
+  // The orientation index of a row: rotations numbered in first-seen order.
+  std::map<std::vector<double>, std::size_t> rotation_index;
+  std::vector<std::size_t> group(file.poses.size());
+  for (std::size_t i = 0; i < file.poses.size(); ++i) {
+    const Eigen::Matrix3d& R = file.poses[i].R;
+    group[i] = rotation_index.emplace(std::vector<double>(R.data(), R.data() + 9), rotation_index.size()).first->second;
+  }
+  const auto make_orientation = [&](const Eigen::Matrix3d& R) { return make_mover_orientation(*rq.mover, R); };
+  for_each_pose_by_rotation<MoverOrientation>(rotations, pending, make_orientation, [&](std::size_t i, const MoverOrientation& orientation) {
     const UserPose& p = file.poses[i];
-    LazyOrientation& lazy = orientations[group[i]];
-    std::call_once(lazy.once, [&] { lazy.orientation = std::make_unique<MoverOrientation>(make_mover_orientation(*rq.mover, p.R)); });
-    const ClearanceResult c = certify_clearance(sdf, *rq.mover, components, *lazy.orientation, p.t, co);
-    if (--lazy.left == 0) lazy.orientation.reset();
+    const ClearanceResult c = certify_clearance(sdf, *rq.mover, components, orientation, p.t, co);
     PoseRow row;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     row.pose = p.pose;
@@ -198,14 +190,7 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   ps["format"] = "cdbench-poseset";
   ps["format_version"] = 1;
   const auto record = [&](const std::string& path, const std::string& sha, const TriangleMesh& m) {
-    MeshRecord r;
-    r.path = path;
-    r.sha256 = sha;
-    r.vertices = m.vertices.size();
-    r.faces = m.faces.size();
-    r.diagonal = m.bbox().diagonal();
-    r.reference_point = m.bbox().center();
-    return to_json(r);
+    return to_json(mesh_record(path, sha, m.vertices, m.faces.size(), m.bbox().center()));
   };
   ps["fixed"] = record(rq.fixed_path, fixed_sha, *rq.fixed);
   ps["mover"] = record(rq.mover_path, mover_sha, *rq.mover);

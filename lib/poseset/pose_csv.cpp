@@ -29,7 +29,8 @@ void put(std::string& s, double x) {
 namespace {
 constexpr PoseStatus kStatuses[] = {PoseStatus::Certified,     PoseStatus::NoContact,
                                     PoseStatus::OffsetEmpty,   PoseStatus::OffsetFailed,
-                                    PoseStatus::ToleranceNotReached, PoseStatus::PolishStalled};
+                                    PoseStatus::ToleranceNotReached, PoseStatus::PolishStalled,
+                                    PoseStatus::Float};
 }  // namespace
 
 const char* to_string(PoseStatus s) {
@@ -40,6 +41,7 @@ const char* to_string(PoseStatus s) {
     case PoseStatus::OffsetFailed: return "uncertified:offset-failed";
     case PoseStatus::ToleranceNotReached: return "uncertified:tolerance-not-reached";
     case PoseStatus::PolishStalled: return "uncertified:polish-stalled";
+    case PoseStatus::Float: return "uncertified:float";
   }
   return "?";
 }

@@ -22,6 +22,7 @@ enum class PoseStatus {
   OffsetFailed,         // the level's offset could not be certified (no pose; without polishing)
   ToleranceNotReached,  // the branch and bound hit its cell limit (rigorous, wider interval)
   PolishStalled,        // not within the tolerance of the target after the step limit
+  Float,                // placed by the float pipeline (--pipeline float): no certificate
 };
 const char* to_string(PoseStatus s);
 // InputError naming `where` for any other text.

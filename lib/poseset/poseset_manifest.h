@@ -20,6 +20,9 @@ struct MeshRecord {
   Eigen::Vector3d reference_point = Eigen::Vector3d::Zero();
 };
 nlohmann::json to_json(const MeshRecord& m);
+// The record of a mesh used by a pose set (diagonal of its bounding box, its reference point).
+MeshRecord mesh_record(const std::string& path, const std::string& sha256, const std::vector<Eigen::Vector3d>& vertices,
+                       std::size_t faces, const Eigen::Vector3d& reference_point);
 
 struct LevelRecord {
   std::string spec;

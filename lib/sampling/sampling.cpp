@@ -3,6 +3,8 @@
 #include <cmath>
 #include <random>
 
+#include "util/error.h"
+
 namespace cdbench {
 namespace {
 
@@ -82,6 +84,23 @@ std::vector<Eigen::Quaterniond> rotations_random(std::size_t n, std::uint64_t se
                      b * std::sin(2 * kPi * u3));
   }
   return out;
+}
+
+void check_sampling_names(const std::string& directions, const std::string& orientations) {
+  if (directions != "fibonacci" && directions != "grid")
+    throw InputError("--direction-sampling: expected 'fibonacci' or 'grid', found '" + directions + "'");
+  if (orientations != "super-fibonacci" && orientations != "random")
+    throw InputError("--orientation-sampling: expected 'super-fibonacci' or 'random', found '" + orientations + "'");
+}
+
+std::vector<Eigen::Vector3d> sample_directions(const std::string& kind, std::size_t n) {
+  check_sampling_names(kind, "random");
+  return kind == "grid" ? sphere_grid(n) : sphere_fibonacci(n);
+}
+
+std::vector<Eigen::Quaterniond> sample_orientations(const std::string& kind, std::size_t n, std::uint64_t seed) {
+  check_sampling_names("grid", kind);
+  return kind == "random" ? rotations_random(n, seed) : rotations_super_fibonacci(n);
 }
 
 }  // namespace cdbench

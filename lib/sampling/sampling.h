@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace cdbench {
@@ -20,5 +21,12 @@ std::vector<Eigen::Quaterniond> rotations_super_fibonacci(std::size_t n);
 // Uniform random rotations (Shoemake), from a seed; the same on every platform (mt19937_64 and
 // our own conversion to doubles, not the library's unspecified distributions).
 std::vector<Eigen::Quaterniond> rotations_random(std::size_t n, std::uint64_t seed);
+
+// By the names of the command-line options: directions "fibonacci" or "grid", orientations
+// "super-fibonacci" or "random" (seeded). InputError naming the option for any other name;
+// check_sampling_names checks the names alone (before any work).
+void check_sampling_names(const std::string& directions, const std::string& orientations);
+std::vector<Eigen::Vector3d> sample_directions(const std::string& kind, std::size_t n);
+std::vector<Eigen::Quaterniond> sample_orientations(const std::string& kind, std::size_t n, std::uint64_t seed);
 
 }  // namespace cdbench

@@ -2,6 +2,8 @@
 
 #include <CGAL/Interval_nt.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <tuple>
 
@@ -68,7 +70,83 @@ struct SweepPolicy {
   bool done() const { return false; }
 };
 
+// The float twin of Best and SweepPolicy: the same traversal, sphere entry times and triangle
+// sweeps in plain doubles (the paper's float placement).
+struct FloatSweepPolicy {
+  const SweepMesh& fixed;
+  const SweepMesh& moving;
+  const Vec3& v;
+  double vv;
+  FloatMeshContact result;
+
+  Vec3 e1, e2;  // an orthonormal frame of the plane normal to v
+
+  FloatSweepPolicy(const SweepMesh& f, const SweepMesh& m, const Vec3& vel)
+      : fixed(f), moving(m), v(vel), vv(vel.squaredNorm()) {
+    const Vec3 u = v / std::sqrt(vv);
+    e1 = (std::abs(u.x()) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0)).cross(u).normalized();
+    e2 = u.cross(e1);
+  }
+
+  // A necessary condition for a contact of the pair before the best one so far, cheaper than the
+  // sweep: the two triangles' shadows on the plane normal to v must overlap (coordinate ranges in
+  // e1 and e2), and a = b + t v needs t >= (min a.v - max b.v) / v.v. Ranges are widened by a
+  // relative 1e-9 so that rounding never drops a contact the sweep would find.
+  bool may_touch(const Triangle& A, const Triangle& B) const {
+    const auto range = [](const Triangle& T, const Vec3& e, double* lo, double* hi) {
+      const double a = T[0].dot(e), b = T[1].dot(e), c = T[2].dot(e);
+      *lo = std::min(a, std::min(b, c));
+      *hi = std::max(a, std::max(b, c));
+    };
+    double alo, ahi, blo, bhi;
+    for (const Vec3* e : {&e1, &e2}) {
+      range(A, *e, &alo, &ahi);
+      range(B, *e, &blo, &bhi);
+      const double slack = 1e-9 * (std::abs(alo) + std::abs(ahi) + std::abs(blo) + std::abs(bhi));
+      if (ahi + slack < blo || bhi + slack < alo) return false;
+    }
+    if (!result.hit) return true;
+    range(A, v, &alo, &ahi);
+    range(B, v, &blo, &bhi);
+    const double slack = 1e-9 * (std::abs(alo) + std::abs(bhi));
+    return (alo - bhi - slack) / vv <= result.t;
+  }
+
+  double bound(const Sphere& f, const Sphere& m) {
+    ++result.sphere_tests;
+    const Vec3 w = m.center - f.center;
+    const double R = f.radius + m.radius;
+    const double wv = w.dot(v);
+    const double disc = wv * wv - vv * (w.squaredNorm() - R * R);
+    if (disc < 0.0) return std::numeric_limits<double>::infinity();
+    return (-wv - std::sqrt(disc)) / vv;
+  }
+  double prune_bound() const { return result.hit ? result.t : std::numeric_limits<double>::infinity(); }
+  bool split_first(const Sphere& f, const Sphere& m) const { return f.radius >= m.radius; }
+  void leaf(std::uint32_t f, std::uint32_t m) {
+    const Triangle A = fixed.triangle(f), B = moving.triangle(m);
+    if (!may_touch(A, B)) return;
+    ++result.triangle_sweeps;
+    const FloatLineContact lc = line_contact_float(A, B, v);
+    if (!lc.hit) return;
+    if (result.hit && (lc.t_in > result.t ||
+                       (lc.t_in == result.t && std::tie(f, m) > std::tie(result.fixed_face, result.moving_face))))
+      return;
+    result.hit = true;
+    result.t = lc.t_in;
+    result.fixed_face = f;
+    result.moving_face = m;
+  }
+  bool done() const { return false; }
+};
+
 }  // namespace
+
+FloatMeshContact first_contact_along_line_float(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v) {
+  FloatSweepPolicy policy(fixed, moving, v);
+  traverse_pairs_nearest_first(fixed.tree, moving.tree, policy);
+  return policy.result;
+}
 
 double sphere_entry_time_lower_bound(const Sphere& fixed, const Sphere& moving, const Vec3& v) {
   CGAL::Protect_FPU_rounding<true> guard;
@@ -82,6 +160,26 @@ SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces) {
   m.faces = std::move(faces);
   m.tree = build_triangle_bvh<Sphere>(m.vertices, m.faces, [](int n, const auto& p) { return bounding_sphere(n, p); });
   return m;
+}
+
+SweepMesh translated_sweep_mesh(const SweepMesh& m, const Vec3& t) {
+  SweepMesh r;
+  r.faces = m.faces;
+  r.vertices.resize(m.vertices.size());
+  for (std::size_t k = 0; k < m.vertices.size(); ++k)
+    r.vertices[k] = Vec3(m.vertices[k][0] + t[0], m.vertices[k][1] + t[1], m.vertices[k][2] + t[2]);
+  r.tree = m.tree;
+  const double tn = t.norm();
+  for (auto& node : r.tree.nodes) {
+    Sphere& s = node.bv;
+    if (s.radius < 0.0) continue;
+    const Vec3 c = s.center;
+    s.center = Vec3(c[0] + t[0], c[1] + t[1], c[2] + t[2]);
+    // |v + t| <= |c| + r + |t|; 1e-15 > 4u covers the two roundings, the norms' own rounding and
+    // this sum's; the tiny absolute term covers underflow.
+    s.radius = s.radius * (1.0 + 1e-15) + 1e-15 * (2.0 * (c.norm() + tn) + s.radius) + 1e-300;
+  }
+  return r;
 }
 
 MeshContact first_contact_along_line(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v) {

@@ -26,6 +26,11 @@ struct SweepMesh {
 
 SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces);
 
+// `m` moved by t as a pose places it: vertices fl(v + t) (bit for bit what place_point gives for
+// rotated vertices v), the same tree with centres fl(c + t) and radii grown to cover the rounding
+// of both (|fl(v+t) - fl(c+t)| <= |v - c| + u (|v+t| + |c+t|)). Costs a copy, not a rebuild.
+SweepMesh translated_sweep_mesh(const SweepMesh& m, const Vec3& t);
+
 struct MeshContact {
   bool hit = false;
   Interval t;  // encloses the exact first-contact time (a single double when it is one)
@@ -42,6 +47,17 @@ double sphere_entry_time_lower_bound(const Sphere& fixed, const Sphere& moving, 
 // The least t in R at which `moving` translated by t v touches `fixed`: the first contact of the
 // mover coming from far away on the side of -v. v must be nonzero.
 MeshContact first_contact_along_line(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v);
+
+// The float twin of first_contact_along_line (the paper's float placement): the same sphere-tree
+// traversal with sphere entry times and triangle sweeps (line_contact_float) in plain doubles, no
+// exact fallback. Not rigorous (doc/float-pipeline.md); runs in the default rounding mode.
+struct FloatMeshContact {
+  bool hit = false;
+  double t = 0.0;
+  std::uint32_t fixed_face = 0, moving_face = 0;
+  std::uint64_t sphere_tests = 0, triangle_sweeps = 0;
+};
+FloatMeshContact first_contact_along_line_float(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v);
 
 // The same by exact sweeps of all triangle pairs (reference for tests).
 MeshContact first_contact_brute_force(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v);

@@ -48,6 +48,10 @@ inline bool all_zero(const V3<I>& a) {
 inline bool all_zero(const V3<mpq_class>& a) { return sgn(a.x) == 0 && sgn(a.y) == 0 && sgn(a.z) == 0; }
 inline bool certainly_nonzero(const I& x) { return x.inf() > 0.0 || x.sup() < 0.0; }
 inline bool certainly_nonzero(const mpq_class& x) { return sgn(x) != 0; }
+// The float twin (line_contact_float): plain doubles, signs taken at face value.
+inline int sgn(double x) { return (x > 0.0) - (x < 0.0); }
+inline bool all_zero(const V3<double>& a) { return a.x == 0.0 && a.y == 0.0 && a.z == 0.0; }
+inline bool certainly_nonzero(double x) { return x != 0.0; }
 
 template <class NT>
 V3<NT> lift(const Vec3& p) {
@@ -240,6 +244,17 @@ LineContact line_contact(const Triangle& A, const Triangle& B, const Vec3& v) {
     r.t_out = enclose(e.t_out);
     r.in = e.in;
     r.out = e.out;
+  }
+  return r;
+}
+
+FloatLineContact line_contact_float(const Triangle& A, const Triangle& B, const Vec3& v) {
+  const Extremes<double> e = extremes(Inputs<double>(A, B, v));
+  FloatLineContact r;
+  r.hit = e.hit;
+  if (e.hit) {
+    r.t_in = e.t_in;
+    r.t_out = e.t_out;
   }
   return r;
 }

@@ -47,6 +47,17 @@ struct LineContact {
 // All t in R (not only t >= 0) at which A and B + t v intersect. v must be nonzero.
 LineContact line_contact(const Triangle& A, const Triangle& B, const Vec3& v);
 
+// The float twin of line_contact, as the paper's pipeline computes it: the same candidates in
+// plain doubles (round to nearest; the caller must not have changed the rounding mode), signs
+// taken at face value, no exact fallback. Not rigorous: near degenerate configurations (a
+// direction almost in a cell's plane, a candidate on a cell boundary) a candidate can be
+// wrongly kept or dropped; tests compare it with line_contact on random and degenerate pairs.
+struct FloatLineContact {
+  bool hit = false;
+  double t_in = 0.0, t_out = 0.0;
+};
+FloatLineContact line_contact_float(const Triangle& A, const Triangle& B, const Vec3& v);
+
 // The exact rational time of one candidate (the candidate must be valid for these inputs).
 mpq_class exact_candidate_time(const Triangle& A, const Triangle& B, const Vec3& v, const SweepCandidate& c);
 

@@ -28,13 +28,8 @@ int run_certify_command(const CertifyCliOptions& opt) {
   if (opt.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, opt.threads);
   const UserPoseFile file = read_user_poses_file(opt.poses);  // bad rows: an error before any work
-  const LoadedMesh fixed = load_mesh(opt.fixed);
-  if (!report_if_not_solid(fixed)) return kExitInvalidMesh;
-  LoadedMesh mover;
-  if (!opt.mover.empty()) {
-    mover = load_mesh(opt.mover);
-    if (!report_if_not_solid(mover)) return kExitInvalidMesh;
-  }
+  LoadedMesh fixed, mover;
+  if (!load_solids(opt.fixed, opt.mover, &fixed, &mover)) return kExitInvalidMesh;
   CertifyRequest rq;
   rq.fixed_path = opt.fixed;
   rq.mover_path = opt.mover.empty() ? opt.fixed : opt.mover;

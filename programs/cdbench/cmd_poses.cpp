@@ -8,8 +8,10 @@
 #include "commands.h"
 #include "mesh_loading.h"
 #include "number_text.h"
+#include "floatpipe/float_poseset.h"
 #include "poseset/build_poseset.h"
 #include "poseset_summary.h"
+#include "util/error.h"
 
 namespace cdbench::cli {
 namespace {
@@ -18,20 +20,56 @@ struct PosesCliOptions {
   PoseSetRequest request;
   std::string mesh, mover;
   int threads = 0;
+  std::string pipeline = "certified";
+  int grid = 256;
+  double voxel = 0.0;
+  bool keep_offsets = false;
 };
+
+// --pipeline float: the paper's grid + marching cubes + float sweeps; no certificate.
+int run_float_poses(const PosesCliOptions& opt) {
+  FloatPoseSetRequest rq;
+  rq.levels = opt.request.levels;
+  rq.out = opt.request.out;
+  rq.directions = opt.request.directions;
+  rq.orientations = opt.request.orientations;
+  rq.direction_sampling = opt.request.direction_sampling;
+  rq.orientation_sampling = opt.request.orientation_sampling;
+  rq.seed = opt.request.seed;
+  rq.grid = opt.grid;
+  rq.voxel = opt.voxel;
+  rq.keep_offsets = opt.keep_offsets;
+  rq.command_line = opt.request.command_line;
+  if (opt.request.resume || opt.request.no_polish || opt.request.shard != "0/1" || opt.request.start != "auto")
+    throw InputError("--pipeline float: --resume, --shard, --start and --no-polish belong to the certified pipeline");
+  check_float_poseset_request(rq);
+  LoadedMesh fixed, mover;
+  if (!load_solids(opt.mesh, opt.mover, &fixed, &mover)) return kExitInvalidMesh;
+  rq.fixed = mesh_source(fixed);
+  if (!opt.mover.empty()) rq.mover = mesh_source(mover);
+  const FloatPoseSetResult r = build_float_poseset(rq);
+  std::cout << "fixed:           " << opt.mesh << " (" << fixed.validated.mesh.faces.size() << " faces, diagonal "
+            << std::setprecision(9) << r.diagonal << ")\n";
+  std::cout << "pipeline:        float (uncertified): grid voxel " << r.voxel << " (" << r.diagonal / r.voxel
+            << " per diagonal), max depth on the grid " << number_text(r.max_depth) << "\n";
+  std::cout << "poses:           " << r.directions << " directions x " << r.orientations << " orientations x " << r.levels
+            << " levels: " << r.placed << " placed, " << r.no_contact << " without contact\n";
+  std::cout << "time:            " << std::fixed << std::setprecision(2) << r.seconds_total << " s (grid "
+            << r.seconds_grid << " s, iso-surfaces " << r.seconds_isosurfaces << " s, poses " << r.seconds_poses
+            << " s)" << std::defaultfloat << "\n";
+  std::cout << "pose set:        " << rq.out << "/poses.csv, " << rq.out
+            << "/poseset.json (status uncertified:float; certify with cdbench validate)\n";
+  return kExitOk;
+}
 
 int run_poses(PosesCliOptions opt) {
   std::unique_ptr<tbb::global_control> threads;
   if (opt.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, opt.threads);
+  if (opt.pipeline == "float") return run_float_poses(opt);
   check_poseset_request(opt.request);  // option errors before any work
-  const LoadedMesh fixed = load_mesh(opt.mesh);
-  if (!report_if_not_solid(fixed)) return kExitInvalidMesh;
-  LoadedMesh mover;
-  if (!opt.mover.empty()) {
-    mover = load_mesh(opt.mover);
-    if (!report_if_not_solid(mover)) return kExitInvalidMesh;
-  }
+  LoadedMesh fixed, mover;
+  if (!load_solids(opt.mesh, opt.mover, &fixed, &mover)) return kExitInvalidMesh;
   PoseSetRequest& rq = opt.request;
   rq.fixed = mesh_source(fixed);
   if (!opt.mover.empty()) rq.mover = mesh_source(mover);
@@ -101,6 +139,20 @@ void register_poses(CLI::App& app, int& exit_code, const std::string& command_li
   cmd->add_option("--shard", opt->request.shard, "compute only part I of N (0 <= I < N) of the approaches; 'cdbench merge' joins shards")
       ->capture_default_str();
   cmd->add_flag("--resume", opt->request.resume, "continue an interrupted run in DIR (same inputs and options)");
+  cmd->add_option("--pipeline", opt->pipeline,
+                  "certified: every pose certified (the default). float: the paper's pipeline, uncertified and fast: "
+                  "the signed distance on a grid (OpenVDB), an iso-surface per level by marching cubes, float sweeps "
+                  "(doc/float-pipeline.md); levels in % refer to the grid's max depth")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"certified", "float"}));
+  cmd->add_option("--grid", opt->grid, "float pipeline: grid cells along the bounding box's longest side")
+      ->capture_default_str()
+      ->check(CLI::Range(8, 4096));
+  cmd->add_option("--voxel", opt->voxel, "float pipeline: absolute voxel size (overrides --grid)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--keep-offsets", opt->keep_offsets,
+                "float pipeline: write each level's marching-cubes surface to DIR/offsets/ (for inspection and "
+                "'cdbench validate --offsets')");
   cmd->add_option("--threads", opt->threads, "worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 1024));
   cmd->add_option("-o,--output", opt->request.out, "output directory")->required();
   cmd->callback([opt, &exit_code]() { exit_code = run_poses(*opt); });

@@ -21,5 +21,6 @@ void register_certify(CLI::App& app, int& exit_code, const std::string& command_
 void register_score(CLI::App& app, int& exit_code);
 void register_plot(CLI::App& app, int& exit_code);
 void register_subdivide(CLI::App& app, int& exit_code);
+void register_validate(CLI::App& app, int& exit_code);
 
 }  // namespace cdbench::cli

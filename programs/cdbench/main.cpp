@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   register_score(app, exit_code);
   register_plot(app, exit_code);
   register_subdivide(app, exit_code);
+  register_validate(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -27,4 +27,12 @@ bool report_if_not_solid(const LoadedMesh& l) {
   return false;
 }
 
+bool load_solids(const std::string& fixed_path, const std::string& mover_path, LoadedMesh* fixed, LoadedMesh* mover) {
+  *fixed = load_mesh(fixed_path);
+  if (!report_if_not_solid(*fixed)) return false;
+  if (mover_path.empty()) return true;
+  *mover = load_mesh(mover_path);
+  return report_if_not_solid(*mover);
+}
+
 }  // namespace cdbench::cli

@@ -25,4 +25,8 @@ LoadedMesh load_mesh(const std::string& path, const ValidateOptions& options = {
 // on stderr, says how to repair it, and returns false (the caller exits with kExitInvalidMesh).
 bool report_if_not_solid(const LoadedMesh& loaded);
 
+// The fixed mesh and, when mover_path is not empty, the mover: both must be closed solids (false
+// when one is not; its problems are printed).
+bool load_solids(const std::string& fixed_path, const std::string& mover_path, LoadedMesh* fixed, LoadedMesh* mover);
+
 }  // namespace cdbench::cli

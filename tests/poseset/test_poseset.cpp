@@ -187,7 +187,7 @@ TEST(PoseSetManifest, WrongTypesAndCountsAreNamedNotCast) {
 
 TEST(PoseCsv, StatusesRoundTripAndUnknownOnesAreNamed) {
   for (PoseStatus s : {PoseStatus::Certified, PoseStatus::NoContact, PoseStatus::OffsetEmpty, PoseStatus::OffsetFailed,
-                       PoseStatus::ToleranceNotReached, PoseStatus::PolishStalled}) {
+                       PoseStatus::ToleranceNotReached, PoseStatus::PolishStalled, PoseStatus::Float}) {
     PoseRow r = row(3);
     r.status = s;
     EXPECT_EQ(parse_pose_row(format_pose_row(r), "x").status, s);

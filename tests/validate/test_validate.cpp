@@ -1,0 +1,159 @@
+// `validate` on a hand-made pose set with known wrong-sign and missed-contact poses: a small ball
+// (the mover) placed against a thin plate (the fixed solid), coming from +z.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "mesh/shapes.h"
+#include "mesh/write_mesh.h"
+#include "poseset/pose_csv.h"
+#include "poseset/poseset_manifest.h"
+#include "validate/validate_run.h"
+
+namespace cdbench {
+namespace {
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct Case {
+  std::uint64_t pose;
+  double target, z;  // the ball's centre at (0, 0, z); NaN: no pose
+};
+
+// Writes a bundle of poses (R = I, dir = +z) and a one-level-per-target manifest.
+void write_bundle(const std::string& dir, const std::vector<Case>& cases, const std::vector<double>& targets,
+                  const TriangleMesh& fixed, const TriangleMesh& mover, PoseStatus status) {
+  std::filesystem::create_directories(dir);
+  std::ofstream csv(dir + "/poses.csv");
+  csv << kPoseCsvHeader << "\n";
+  for (const Case& c : cases) {
+    PoseRow r;
+    r.pose = c.pose;
+    r.level = static_cast<int>(std::find(targets.begin(), targets.end(), c.target) - targets.begin());
+    r.target = c.target;
+    r.t = std::isnan(c.z) ? Vec3::Constant(kNaN) : Vec3(0, 0, c.z);
+    r.dir = Vec3(0, 0, 1);
+    r.clearance_lo = r.clearance_hi = r.raw_clearance_lo = r.raw_clearance_hi = kNaN;
+    r.status = std::isnan(c.z) ? PoseStatus::NoContact : status;
+    csv << format_pose_row(r);
+  }
+  const auto record = [](const TriangleMesh& m, const std::string& name) {
+    MeshRecord r;
+    r.path = name;
+    r.sha256 = "0";
+    r.vertices = m.vertices.size();
+    r.faces = m.faces.size();
+    r.diagonal = m.bbox().diagonal();
+    return to_json(r);
+  };
+  nlohmann::json j;
+  j["format"] = "cdbench-poseset";
+  j["format_version"] = 1;
+  j["pipeline"] = "test";
+  j["fixed"] = record(fixed, "plate");
+  j["mover"] = record(mover, "ball");
+  j["mover_is_fixed"] = false;
+  j["max_penetration"] = {{"interval", {0.05, 0.05}}};
+  j["levels"] = nlohmann::json::array();
+  for (double t : targets) j["levels"].push_back({{"spec", std::to_string(t)}, {"target", t}});
+  j["certification"] = {{"tolerance", 1e-6}, {"diagonal", fixed.bbox().diagonal()}};
+  std::ofstream(dir + "/poseset.json") << j.dump(2);
+}
+
+TEST(Validate, CountsWrongSignsAndMissedContacts) {
+  const std::string dir = testing::TempDir() + "/validate_test";
+  std::filesystem::remove_all(dir);
+  const TriangleMesh plate = make_box(Vec3(-1, -1, -0.05), Vec3(1, 1, 0.05));
+  const TriangleMesh ball = make_icosphere(0.1, 3);  // inscribed: its lowest point is a vertex at -0.1
+  const std::vector<double> targets = {-0.03, 0.1};
+  // Plate top at z = 0.05, bottom at -0.05; the ball's lowest point at z - 0.1 (a vertex), highest z + 0.1.
+  const std::vector<Case> cases = {
+      {0, 0.1, 0.25},    // right: 0.1 above the plate
+      {1, 0.1, 0.10},    // wrong sign: penetrates by 0.05
+      {2, 0.1, -0.25},   // missed contact: 0.1 below the plate, having come from +z through it
+      {3, -0.03, 0.12},  // right: 0.03 deep from the top
+      {4, -0.03, 0.30},  // wrong sign: separated
+      {5, -0.03, -0.14}, // past the reference (pose 5 there at z = 0.11, 0.04 deep) and only 0.01 deep: missed
+      {6, -0.03, kNaN},  // no pose
+  };
+  write_bundle(dir + "/set", cases, targets, plate, ball, PoseStatus::Float);
+  std::vector<Case> ref_cases = cases;
+  for (Case& c : ref_cases) c.z = c.target < 0 ? 0.11 : 0.25;  // the reference's (certified) placements
+  write_bundle(dir + "/ref", ref_cases, targets, plate, ball, PoseStatus::Certified);
+  // The reference's certificates: validate it first (its rows carry no clearance).
+  ValidateRequest rq;
+  rq.poseset = dir + "/ref";
+  rq.fixed = &plate;
+  rq.mover = &ball;
+  rq.out = dir + "/ref-validation";
+  const ValidateResult ref = run_validate(rq);
+  for (const PoseValidation& p : ref.poses) EXPECT_FALSE(p.wrong_sign) << p.pose;
+  {  // the reference with its certified clearances, as a certified pose set has them
+    std::ifstream in(dir + "/ref/poses.csv");
+    std::vector<PoseRow> rows = read_pose_csv(in, "ref");
+    std::ofstream out(dir + "/ref/poses.csv");
+    out << kPoseCsvHeader << "\n";
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      rows[i].clearance_lo = ref.poses[i].clearance.lo;
+      rows[i].clearance_hi = ref.poses[i].clearance.hi;
+      out << format_pose_row(rows[i]);
+    }
+  }
+
+  rq.poseset = dir + "/set";
+  rq.reference = dir + "/ref";
+  rq.out = dir + "/out";
+  const ValidateResult v = run_validate(rq);
+  ASSERT_EQ(v.poses.size(), cases.size());
+  const auto& p = v.poses;
+  EXPECT_NEAR(p[0].clearance.lo, 0.1, 1e-9);
+  EXPECT_FALSE(p[0].wrong_sign);
+  EXPECT_EQ(p[0].missed_contact, Tristate::No);
+  EXPECT_TRUE(p[1].wrong_sign);
+  EXPECT_EQ(p[1].missed_contact, Tristate::No);
+  EXPECT_FALSE(p[2].wrong_sign);
+  EXPECT_NEAR(p[2].clearance.lo, 0.1, 1e-9);
+  EXPECT_EQ(p[2].missed_contact, Tristate::Yes);
+  // The ball first touches the plate at z = 0.15 coming from above: pose 2 lies 0.4 past it,
+  // pose 1 0.05, pose 0 not at all.
+  EXPECT_NEAR(p[2].past_first_contact, 0.4, 1e-9);
+  EXPECT_NEAR(p[1].past_first_contact, 0.05, 1e-9);
+  EXPECT_EQ(p[0].past_first_contact, 0.0);
+  EXPECT_TRUE(std::isnan(p[3].past_first_contact));
+  EXPECT_EQ(v.levels[1].past_first_contact, 2u);
+  EXPECT_NEAR(p[3].clearance.lo, -0.03, 1e-5);
+  EXPECT_FALSE(p[3].wrong_sign);
+  EXPECT_EQ(p[3].missed_contact, Tristate::No);
+  EXPECT_TRUE(p[4].wrong_sign);
+  EXPECT_NEAR(p[5].clearance.hi, -0.01, 1e-5);
+  EXPECT_EQ(p[5].missed_contact, Tristate::Yes);
+  EXPECT_FALSE(p[6].placed);
+  EXPECT_EQ(v.levels[0].wrong_sign, 1u);
+  EXPECT_EQ(v.levels[0].missed_contact, 1u);
+  EXPECT_EQ(v.levels[1].wrong_sign, 1u);
+  EXPECT_EQ(v.levels[1].missed_contact, 1u);
+  EXPECT_EQ(v.levels[0].placed, 3u);
+  EXPECT_NEAR(v.levels[1].error_max, 0.15, 1e-5);  // pose 1: c = -0.05 for a target of 0.1
+  // Without a reference, penetrating poses' missed contacts are undecided, not guessed.
+  rq.reference.clear();
+  rq.out = dir + "/out2";
+  const ValidateResult w = run_validate(rq);
+  EXPECT_EQ(w.poses[5].missed_contact, Tristate::Unknown);
+  EXPECT_EQ(w.levels[0].missed_undecided, 3u);
+  EXPECT_EQ(w.levels[1].missed_contact, 1u);
+  // The CSV: one row per pose, the columns.
+  std::ifstream csv(dir + "/out/validation.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "pose,level,target,clearance_lo,clearance_hi,error,wrong_sign,missed_contact,past_first_contact");
+  int n = 0;
+  while (std::getline(csv, line)) ++n;
+  EXPECT_EQ(n, 7);
+}
+
+}  // namespace
+}  // namespace cdbench
