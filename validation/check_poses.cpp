@@ -5,7 +5,9 @@
 // doubles. The sampled minimum m is (up to double rounding) an upper bound of the clearance c, and
 // m - h a lower bound (s is 1-Lipschitz, every surface point is within h of a sample). A
 // certificate [lo, hi] is confirmed when it meets [m - h - e, m + e], e = 1e-9 x diagonal for
-// rounding. Usage: check_poses POSESET_DIR [--poses K] [--grid n]
+// rounding. With --intervals VALIDATION.csv (written by `cdbench validate`), the intervals checked
+// are that file's (matched by pose id) instead of the pose set's own: float or other uncertified
+// sets, certified by validate. Usage: check_poses POSESET_DIR [--poses K] [--grid n] [--intervals CSV]
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -17,6 +19,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -49,13 +52,15 @@ Mesh to_cgal(const cdbench::TriangleMesh& m) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: check_poses POSESET_DIR [--poses K] [--grid n]\n");
+    std::fprintf(stderr, "usage: check_poses POSESET_DIR [--poses K] [--grid n] [--intervals VALIDATION.csv]\n");
     return 2;
   }
   const std::string dir = argv[1];
   std::size_t wanted = 30;
   int n = 16;
+  std::string intervals;
   for (int i = 2; i + 1 < argc; ++i) {
+    if (std::strcmp(argv[i], "--intervals") == 0) intervals = argv[i + 1];
     if (std::strcmp(argv[i], "--poses") == 0) wanted = std::stoul(argv[i + 1]);
     if (std::strcmp(argv[i], "--grid") == 0) n = std::stoi(argv[i + 1]);
   }
@@ -73,7 +78,28 @@ int main(int argc, char** argv) {
   tree.accelerate_distance_queries();
   const CGAL::Side_of_triangle_mesh<Mesh, K> side(F);
   std::ifstream csv(dir + "/poses.csv");
-  const std::vector<cdbench::PoseRow> rows = cdbench::read_pose_csv(csv, dir + "/poses.csv");
+  std::vector<cdbench::PoseRow> rows = cdbench::read_pose_csv(csv, dir + "/poses.csv");
+  if (!intervals.empty()) {
+    // validation.csv: pose,level,target,clearance_lo,clearance_hi,...
+    std::ifstream v(intervals);
+    std::string line;
+    if (!v || !std::getline(v, line) || line.rfind("pose,level,target,clearance_lo,clearance_hi", 0) != 0) {
+      std::fprintf(stderr, "%s: not a validation.csv of cdbench validate\n", intervals.c_str());
+      return 2;
+    }
+    std::map<std::uint64_t, std::pair<double, double>> by_pose;
+    while (std::getline(v, line)) {
+      std::stringstream ss(line);
+      std::string f[5];
+      for (auto& x : f) std::getline(ss, x, ',');
+      by_pose[std::stoull(f[0])] = {std::stod(f[3]), std::stod(f[4])};
+    }
+    for (auto& r : rows) {
+      const auto it = by_pose.find(r.pose);
+      r.clearance_lo = it == by_pose.end() ? NAN : it->second.first;
+      r.clearance_hi = it == by_pose.end() ? NAN : it->second.second;
+    }
+  }
   std::vector<const cdbench::PoseRow*> placed;
   for (const auto& r : rows)
     if (!std::isnan(r.clearance_lo)) placed.push_back(&r);

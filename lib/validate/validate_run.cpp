@@ -191,6 +191,7 @@ ValidateResult run_validate(const ValidateRequest& rq) {
   std::vector<std::atomic<std::uint64_t>> level_ns(L);
   std::atomic<std::uint64_t> sweep_ns{0};
   const double slack = 1e-9 * res.diagonal;
+  const double mp = res.max_penetration.lo;
   Progress progress("validate", todo.size());
   Timer t_cert;
   for_each_pose_by_rotation<RotationState>(rotations, todo, make_state, [&](std::size_t i, const RotationState& s) {
@@ -216,6 +217,22 @@ ValidateResult run_validate(const ValidateRequest& rq) {
       const bool past = mc.hit && mc.t.hi < 0.0;
       p.past_first_contact = past ? -mc.t.hi * r.dir.norm() : 0.0;
       p.missed_contact = past && c.clearance.lo > 0.0 ? Tristate::Yes : Tristate::No;
+      // A penetrating or touching pose far past its first contact may have skipped it: proven by
+      // a witness, a point of the approach between the first contact and the pose where the
+      // mover is certainly separated again, or certainly deeper than at the pose (then the pose
+      // is not on the first crossing of its own depth). Where to look is a heuristic (poses more
+      // than 5 % of the max penetration past it, 7 evenly spaced points); certificates decide.
+      if (past && p.missed_contact == Tristate::No && p.past_first_contact > 0.05 * mp) {
+        ClearanceOptions wo = co;
+        wo.tolerance = 1e-4 * res.diagonal;
+        wo.frontier = nullptr;
+        for (int k = 1; k <= 7 && p.missed_contact == Tristate::No; ++k) {
+          const double back = -mc.t.hi * k / 8.0;
+          const Vec3 tk(r.t[0] + back * r.dir[0], r.t[1] + back * r.dir[1], r.t[2] + back * r.dir[2]);
+          const Interval w = certify_clearance(sdf, *rq.mover, components, s.orientation, tk, wo).clearance;
+          if (w.lo > 0.0 || w.hi < c.clearance.lo) p.missed_contact = Tristate::Yes;
+        }
+      }
     } else {
       // Penetrating target: the reference pose of the same approach is the first crossing of the
       // reference's target. The pose skipped the first crossing of its own target d when it lies
@@ -287,7 +304,6 @@ ValidateResult run_validate(const ValidateRequest& rq) {
           << number_text(p.clearance.hi) << ',' << number_text(p.error) << ',' << (p.wrong_sign ? 1 : 0) << ','
           << (p.placed ? to_text(p.missed_contact) : "") << ',' << number_text(p.past_first_contact) << '\n';
   });
-  const double mp = res.max_penetration.lo;
   const auto num = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
   nlohmann::json j;
   j["format"] = "cdbench-validation";
@@ -305,7 +321,9 @@ ValidateResult run_validate(const ValidateRequest& rq) {
       {"wrong_sign", "target < 0 but certainly separated (clearance_lo > 0), or target > 0 but certainly penetrating"},
       {"missed_contact",
        "target >= 0: certainly separated and past the exact first contact of its own approach line with the fixed "
-       "surface (it went through the solid); target < 0: past the reference's certified pose of the same approach, "
+       "surface (it went through the solid), or more than 5% of the max penetration past that first contact with a "
+       "witness point between them where the mover is certainly separated or certainly deeper than at the pose; "
+       "target < 0: past the reference's certified pose of the same approach, "
        "which is certainly deeper than the target, while certainly shallower than the target itself (the approach "
        "crossed the target and came back out). Unknown without an approach direction, or for target < 0 without a "
        "reference"},

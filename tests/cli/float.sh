@@ -3,10 +3,12 @@
 # manifest, byte-identical for 1 and 2 threads), `validate` of it (the issue's CSV columns, a
 # table, no wrong sign on a smooth mesh at a fine grid) and of a certified pose set of the same
 # request (zero wrong signs and missed contacts), several grids (error against voxel size), and
-# bad options.
+# bad options. With validation/check_poses (third argument), validate's intervals are confirmed
+# independently.
 set -eu
 cdbench=$1
 meshes=$2
+check_poses=${3:-}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -51,6 +53,10 @@ for l in j["levels"]:
         assert l["float_offset"]["band"] > 0, l
     assert l["seconds_per_pose"]["pipeline"] > 0 and l["seconds_per_pose"]["reference_certified"] > 0, l
 PY
+if [ -n "$check_poses" ]; then
+  "$check_poses" "$work/f96" --poses 16 --intervals "$work/v96/validation.csv" > "$work/c.txt" 2>&1 ||
+    { cat "$work/c.txt"; fail "validate's intervals not confirmed by check_poses"; }
+fi
 # A certified pose set validates with no wrong sign, no missed contact and errors within the tolerance.
 "$cdbench" validate "$work/cert" -o "$work/vcert" > /dev/null 2>&1 || fail "validate of the certified set"
 python3 - "$work/vcert/validation.json" <<'PY' || fail "validation of the certified set"

@@ -69,7 +69,7 @@ TEST(Validate, CountsWrongSignsAndMissedContacts) {
   std::filesystem::remove_all(dir);
   const TriangleMesh plate = make_box(Vec3(-1, -1, -0.05), Vec3(1, 1, 0.05));
   const TriangleMesh ball = make_icosphere(0.1, 3);  // inscribed: its lowest point is a vertex at -0.1
-  const std::vector<double> targets = {-0.03, 0.1};
+  const std::vector<double> targets = {-0.03, 0.1, 0.0};
   // Plate top at z = 0.05, bottom at -0.05; the ball's lowest point at z - 0.1 (a vertex), highest z + 0.1.
   const std::vector<Case> cases = {
       {0, 0.1, 0.25},    // right: 0.1 above the plate
@@ -79,6 +79,8 @@ TEST(Validate, CountsWrongSignsAndMissedContacts) {
       {4, -0.03, 0.30},  // wrong sign: separated
       {5, -0.03, -0.14}, // past the reference (pose 5 there at z = 0.11, 0.04 deep) and only 0.01 deep: missed
       {6, -0.03, kNaN},  // no pose
+      {7, 0.0, -0.13},   // touching target, but below the plate after passing through it (0.02 deep, 0.05 before)
+      {8, 0.0, 0.1499},  // touching target, 1e-4 deep on its first contact: not missed
   };
   write_bundle(dir + "/set", cases, targets, plate, ball, PoseStatus::Float);
   std::vector<Case> ref_cases = cases;
@@ -132,6 +134,13 @@ TEST(Validate, CountsWrongSignsAndMissedContacts) {
   EXPECT_NEAR(p[5].clearance.hi, -0.01, 1e-5);
   EXPECT_EQ(p[5].missed_contact, Tristate::Yes);
   EXPECT_FALSE(p[6].placed);
+  // Pose 7 lies 0.28 past its first contact (z = 0.15); at z = 0.01 on the way the ball was 0.05
+  // deep, deeper than its 0.02 at the pose: a witness that it skipped the first contact.
+  EXPECT_NEAR(p[7].clearance.hi, -0.02, 1e-5);
+  EXPECT_NEAR(p[7].past_first_contact, 0.28, 1e-9);
+  EXPECT_EQ(p[7].missed_contact, Tristate::Yes);
+  EXPECT_EQ(p[8].missed_contact, Tristate::No);
+  EXPECT_NEAR(p[8].past_first_contact, 1e-4, 1e-9);
   EXPECT_EQ(v.levels[0].wrong_sign, 1u);
   EXPECT_EQ(v.levels[0].missed_contact, 1u);
   EXPECT_EQ(v.levels[1].wrong_sign, 1u);
@@ -152,7 +161,7 @@ TEST(Validate, CountsWrongSignsAndMissedContacts) {
   EXPECT_EQ(header, "pose,level,target,clearance_lo,clearance_hi,error,wrong_sign,missed_contact,past_first_contact");
   int n = 0;
   while (std::getline(csv, line)) ++n;
-  EXPECT_EQ(n, 7);
+  EXPECT_EQ(n, 9);
 }
 
 }  // namespace
