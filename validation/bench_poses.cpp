@@ -7,8 +7,6 @@
 //  - per level, the certified polished pose on the same approaches (the pose set's own start and
 //    tolerance), timed in the same run, and its ratio to FCL's conservative advancement.
 // Usage: bench_poses POSESET_DIR [--approaches M]
-#include <fcl/fcl.h>
-#include <fcl/narrowphase/detail/conservative_advancement_func_matrix.h>
 
 #include <algorithm>
 #include <chrono>
@@ -22,6 +20,7 @@
 #include <vector>
 
 #include "collide/fcl_model.h"
+#include "fcl_ca.h"
 #include "mesh/read_mesh.h"
 #include "mesh/validate_mesh.h"
 #include "placement/place_pose.h"
@@ -120,21 +119,9 @@ int main(int argc, char** argv) {
     const double lambda_exact = c.hit ? -exact_contact_time(level0, frame->swept, -d, c).get_d() : NAN;
     t_exact += seconds_since(t0);
 
-    const fcl::Matrix3<double> R = frame->orientation.R;
-    fcl::Transform3<double> start = fcl::Transform3<double>::Identity(), end = start, id = start;
-    start.linear() = R;
-    end.linear() = R;
-    start.translation() = pose_translation(*frame, d, far);
-    end.translation() = pose_translation(*frame, d, -far);
-    fcl::TranslationMotion<double> m1(id, id), m2(start, end);
-    fcl::CollisionRequest<double> request;
-    fcl::CollisionResult<double> result;
-    double toc = 1.0;
-    t0 = Clock::now();
-    const bool hit = fcl::detail::conservativeAdvancementMeshOriented<fcl::OBBRSS<double>,
-                                                                       fcl::detail::MeshConservativeAdvancementTraversalNodeOBBRSS<double>>(
-        *fcl_fixed, &m1, *fcl_mover, &m2, request, result, toc);
-    t_fcl += seconds_since(t0);
+    double lambda_ca = 0.0, seconds_ca = 0.0;
+    const bool hit = fcl_ca_contact(*fcl_fixed, *fcl_mover, *frame, d, far, &lambda_ca, &seconds_ca);
+    t_fcl += seconds_ca;
     for (std::size_t l = 0; l < L; ++l) {
       const SweepMesh* swept = level_start[l] == PoseStart::Surface ? &level0 : level_offset[l].get();
       if (level_start[l] == PoseStart::Offset && !swept) continue;  // the level had no offset
@@ -147,7 +134,7 @@ int main(int argc, char** argv) {
       level_steps[l] += static_cast<std::size_t>(p.steps);
     }
     if (!c.hit) continue;
-    const double lambda_fcl = hit ? far - toc * 2 * far : NAN;
+    const double lambda_fcl = hit ? lambda_ca : NAN;
     const double err = lambda_fcl - lambda_exact;  // < 0: FCL moved past the exact first contact
     if (!hit || std::abs(err) > 1e-6 * diag) {
       ++checked;

@@ -5,9 +5,6 @@
 // to the mirrored far end gives a touching pose (level 0; CA has no offset, so it places touching
 // poses only). Status uncertified:float, "pipeline": "fcl-ca" in poseset.json, timings per pose.
 // Usage: fcl_poses POSESET_DIR -o OUT_DIR
-#include <fcl/fcl.h>
-#include <fcl/narrowphase/detail/conservative_advancement_func_matrix.h>
-
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -18,13 +15,13 @@
 #include <vector>
 
 #include "collide/fcl_model.h"
+#include "fcl_ca.h"
 #include "mesh/read_mesh.h"
 #include "mesh/validate_mesh.h"
 #include "placement/place_pose.h"
 #include "poseset/pose_csv.h"
 #include "poseset/poseset_manifest.h"
 #include "sampling/sampling.h"
-#include "util/timer.h"
 
 using namespace cdbench;
 
@@ -59,20 +56,9 @@ int main(int argc, char** argv) {
       const OrientationFrame frame = make_orientation_frame(setup, rots[o].toRotationMatrix());
       for (std::size_t d = 0; d < N; ++d) {
         const Vec3& dir = dirs[d];
-        fcl::Transform3<double> start = fcl::Transform3<double>::Identity(), end = start, id = start;
-        start.linear() = frame.orientation.R;
-        end.linear() = frame.orientation.R;
-        start.translation() = pose_translation(frame, dir, far);
-        end.translation() = pose_translation(frame, dir, -far);
-        fcl::TranslationMotion<double> m1(id, id), m2(start, end);
-        fcl::CollisionRequest<double> request;
-        fcl::CollisionResult<double> result;
-        double toc = 1.0;
-        Timer t;
-        const bool hit = fcl::detail::conservativeAdvancementMeshOriented<
-            fcl::OBBRSS<double>, fcl::detail::MeshConservativeAdvancementTraversalNodeOBBRSS<double>>(
-            *fcl_fixed, &m1, *fcl_mover, &m2, request, result, toc);
-        seconds += t.seconds();
+        double lambda = 0.0, t = 0.0;
+        const bool hit = fcl_ca_contact(*fcl_fixed, *fcl_mover, frame, dir, far, &lambda, &t);
+        seconds += t;
         PoseRow r;
         const double nan = std::numeric_limits<double>::quiet_NaN();
         r.pose = o * N + d;
@@ -84,7 +70,7 @@ int main(int argc, char** argv) {
         r.direction = d;
         r.clearance_lo = r.clearance_hi = r.raw_clearance_lo = r.raw_clearance_hi = nan;
         if (hit) {
-          r.lambda = far - toc * 2 * far;
+          r.lambda = lambda;
           r.t = pose_translation(frame, dir, r.lambda);
           r.status = PoseStatus::Float;
           ++placed;

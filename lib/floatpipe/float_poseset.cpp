@@ -9,8 +9,6 @@
 #include <iostream>
 #include <limits>
 #include <memory>
-#include <mutex>
-#include <set>
 
 #include "distance/signed_distance.h"
 #include "floatpipe/grid_offsets.h"
@@ -18,12 +16,10 @@
 #include "offset/level_list.h"
 #include "placement/place_pose.h"
 #include "placement/rotation_groups.h"
-#include "poseset/level_summary.h"
 #include "poseset/pose_csv.h"
 #include "poseset/poseset_manifest.h"
 #include "sampling/sampling.h"
 #include "util/atomic_file.h"
-#include "util/dynamic_parallel.h"
 #include "util/error.h"
 #include "util/number_format.h"
 #include "util/progress.h"
@@ -39,9 +35,7 @@ namespace {
 
 std::vector<LevelSpec> checked_levels(const FloatPoseSetRequest& opt) {
   std::vector<LevelSpec> specs = parse_level_list(opt.levels);
-  std::set<std::string> seen;
-  for (const LevelSpec& l : specs)
-    if (!seen.insert(l.text).second) throw InputError("--levels: level '" + l.text + "' is listed twice");
+  check_distinct_levels(specs);
   check_sampling_names(opt.direction_sampling, opt.orientation_sampling);
   if (opt.voxel < 0.0 || !std::isfinite(opt.voxel)) throw InputError("--voxel: expected a size > 0");
   if (opt.voxel == 0.0 && (opt.grid < 8 || opt.grid > 4096))
@@ -200,9 +194,8 @@ FloatPoseSetResult build_float_poseset(const FloatPoseSetRequest& opt) {
   ps["format"] = "cdbench-poseset";
   ps["format_version"] = 1;
   ps["pipeline"] = "float";
-  ps["fixed"] = to_json(mesh_record(opt.fixed.path, fixed_sha, fixed.vertices, fixed.faces.size(), setup.fixed_ref));
-  ps["mover"] = to_json(mesh_record(mover_is_fixed ? opt.fixed.path : opt.mover.path, mover_sha, mover.vertices,
-                                     mover.faces.size(), setup.mover_ref));
+  ps["fixed"] = to_json(mesh_record(opt.fixed.path, fixed_sha, fixed, setup.fixed_ref));
+  ps["mover"] = to_json(mesh_record(mover_is_fixed ? opt.fixed.path : opt.mover.path, mover_sha, mover, setup.mover_ref));
   ps["mover_is_fixed"] = mover_is_fixed;
   ps["max_penetration"] = {{"interval", {res.max_depth, res.max_depth}},
                            {"method", "deepest grid sample (uncertified; too small by up to about a voxel)"}};

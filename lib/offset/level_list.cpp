@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <set>
 #include <sstream>
 
 #include "util/error.h"
@@ -76,6 +77,12 @@ std::vector<LevelSpec> parse_level_list(const std::string& list) {
 
 double level_distance(const LevelSpec& level, double max_penetration) {
   return level.percent ? level.value / 100.0 * max_penetration : level.value;
+}
+
+void check_distinct_levels(const std::vector<LevelSpec>& levels) {
+  std::set<std::string> seen;
+  for (const LevelSpec& l : levels)
+    if (!seen.insert(l.text).second) throw InputError("--levels: level '" + l.text + "' is listed twice");
 }
 
 }  // namespace cdbench

@@ -15,6 +15,9 @@ struct LevelSpec {
 // Throws InputError naming the offending item. Ranges include TO when it is hit within 1e-9 of a step.
 std::vector<LevelSpec> parse_level_list(const std::string& list);
 
+// InputError naming the first level whose text is listed twice (a pose set's levels must differ).
+void check_distinct_levels(const std::vector<LevelSpec>& levels);
+
 // Absolute signed distance of a level given the maximum penetration.
 double level_distance(const LevelSpec& level, double max_penetration);
 

@@ -77,9 +77,7 @@ CheckedOptions check_options(const PoseSetRequest& opt) {
   c.specs = parse_level_list(opt.levels);
   c.shard = parse_shard(opt.shard);
   check_sampling_names(opt.direction_sampling, opt.orientation_sampling);
-  std::set<std::string> seen;
-  for (const LevelSpec& l : c.specs)
-    if (!seen.insert(l.text).second) throw InputError("--levels: level '" + l.text + "' is listed twice");
+  check_distinct_levels(c.specs);
   return c;
 }
 
@@ -304,8 +302,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   nlohmann::json ps;
   ps["format"] = "cdbench-poseset";
   ps["format_version"] = 1;
-  ps["fixed"] = to_json(mesh_record(opt.fixed.path, fixed_sha, fixed_mesh.vertices, fixed_mesh.faces.size(), setup.fixed_ref));
-  ps["mover"] = to_json(mesh_record(mover_path, mover_sha, mover.vertices, mover.faces.size(), setup.mover_ref));
+  ps["fixed"] = to_json(mesh_record(opt.fixed.path, fixed_sha, fixed_mesh, setup.fixed_ref));
+  ps["mover"] = to_json(mesh_record(mover_path, mover_sha, mover, setup.mover_ref));
   ps["mover_is_fixed"] = mover_is_fixed;
   ps["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
                            {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},

@@ -107,13 +107,16 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   std::vector<LevelRecord> levels;
   const std::vector<int> level_of = assign_levels(file, &levels);
 
-  // Pending poses in file order (poses sharing a rotation share its mover tree).
-  std::vector<std::size_t> pending;
+  // Pending poses in file order (poses sharing a rotation share its mover tree); a row's
+  // orientation index numbers the file's rotations in first-seen order.
+  std::vector<std::size_t> pending, all(file.poses.size());
   std::vector<Eigen::Matrix3d> rotations(file.poses.size());
   for (std::size_t i = 0; i < file.poses.size(); ++i) {
     rotations[i] = file.poses[i].R;
+    all[i] = i;
     if (!journal.done().count(file.poses[i].pose)) pending.push_back(i);
   }
+  const std::vector<std::size_t> group = rotation_group_ids(rotations, all);
   result.resumed = file.poses.size() - pending.size();
 
   const std::vector<std::uint32_t> components = component_representatives(*rq.mover);
@@ -122,13 +125,6 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   co.max_cells = rq.max_cells;
   Progress progress("certify", pending.size());
   Timer t_poses;
-  // The orientation index of a row: rotations numbered in first-seen order.
-  std::map<std::vector<double>, std::size_t> rotation_index;
-  std::vector<std::size_t> group(file.poses.size());
-  for (std::size_t i = 0; i < file.poses.size(); ++i) {
-    const Eigen::Matrix3d& R = file.poses[i].R;
-    group[i] = rotation_index.emplace(std::vector<double>(R.data(), R.data() + 9), rotation_index.size()).first->second;
-  }
   const auto make_orientation = [&](const Eigen::Matrix3d& R) { return make_mover_orientation(*rq.mover, R); };
   for_each_pose_by_rotation<MoverOrientation>(rotations, pending, make_orientation, [&](std::size_t i, const MoverOrientation& orientation) {
     const UserPose& p = file.poses[i];
@@ -190,7 +186,7 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   ps["format"] = "cdbench-poseset";
   ps["format_version"] = 1;
   const auto record = [&](const std::string& path, const std::string& sha, const TriangleMesh& m) {
-    return to_json(mesh_record(path, sha, m.vertices, m.faces.size(), m.bbox().center()));
+    return to_json(mesh_record(path, sha, m, m.bbox().center()));
   };
   ps["fixed"] = record(rq.fixed_path, fixed_sha, *rq.fixed);
   ps["mover"] = record(rq.mover_path, mover_sha, *rq.mover);

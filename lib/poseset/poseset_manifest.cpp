@@ -19,19 +19,14 @@ nlohmann::json to_json(const MeshRecord& m) {
           {"reference_point", {m.reference_point.x(), m.reference_point.y(), m.reference_point.z()}}};
 }
 
-MeshRecord mesh_record(const std::string& path, const std::string& sha256, const std::vector<Eigen::Vector3d>& vertices,
-                       std::size_t faces, const Eigen::Vector3d& reference_point) {
+MeshRecord mesh_record(const std::string& path, const std::string& sha256, const TriangleMesh& mesh,
+                       const Eigen::Vector3d& reference_point) {
   MeshRecord r;
   r.path = path;
   r.sha256 = sha256;
-  r.vertices = vertices.size();
-  r.faces = faces;
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
-  for (const Eigen::Vector3d& v : vertices) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  r.diagonal = vertices.empty() ? 0.0 : (hi - lo).norm();
+  r.vertices = mesh.vertices.size();
+  r.faces = mesh.faces.size();
+  r.diagonal = mesh.bbox().diagonal();
   r.reference_point = reference_point;
   return r;
 }

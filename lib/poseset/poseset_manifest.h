@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/triangle_mesh.h"
 #include "poseset/pose_csv.h"
 
 namespace cdbench {
@@ -21,8 +22,8 @@ struct MeshRecord {
 };
 nlohmann::json to_json(const MeshRecord& m);
 // The record of a mesh used by a pose set (diagonal of its bounding box, its reference point).
-MeshRecord mesh_record(const std::string& path, const std::string& sha256, const std::vector<Eigen::Vector3d>& vertices,
-                       std::size_t faces, const Eigen::Vector3d& reference_point);
+MeshRecord mesh_record(const std::string& path, const std::string& sha256, const TriangleMesh& mesh,
+                       const Eigen::Vector3d& reference_point);
 
 struct LevelRecord {
   std::string spec;

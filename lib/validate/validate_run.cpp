@@ -276,6 +276,9 @@ ValidateResult run_validate(const ValidateRequest& rq) {
       abs_errors[static_cast<std::size_t>(p.level)].push_back(std::abs(p.error));
     }
   }
+  std::vector<std::size_t> ref_level_poses(L, 0);
+  for (const auto& [id, r] : ref_rows)
+    if (static_cast<std::size_t>(r.level) < L) ++ref_level_poses[static_cast<std::size_t>(r.level)];
   for (std::size_t l = 0; l < L; ++l) {
     LevelValidation& lv = res.levels[l];
     const std::vector<double>& e = errors[l];
@@ -288,11 +291,7 @@ ValidateResult run_validate(const ValidateRequest& rq) {
     lv.past_p95 = pasts[l].empty() ? kNaN : quantile(pasts[l], 0.95);
     lv.past_max = pasts[l].empty() ? kNaN : *std::max_element(pasts[l].begin(), pasts[l].end());
     lv.seconds_per_pose = recorded_seconds_per_pose(man.json, l, lv.poses);
-    if (!ref_json.is_null()) {
-      std::size_t ref_level_poses = 0;
-      for (const auto& [id, r] : ref_rows) ref_level_poses += static_cast<std::size_t>(r.level) == l;
-      lv.reference_seconds_per_pose = recorded_seconds_per_pose(ref_json, l, ref_level_poses);
-    }
+    if (!ref_json.is_null()) lv.reference_seconds_per_pose = recorded_seconds_per_pose(ref_json, l, ref_level_poses[l]);
     lv.certify_seconds_per_pose = lv.placed ? 1e-9 * static_cast<double>(level_ns[l].load()) / lv.placed : 0.0;
   }
 
