@@ -92,6 +92,10 @@ int main(int argc, char** argv) {
       level_offset[l] = std::make_unique<SweepMesh>(make_sweep_mesh(m.vertices, m.faces));
     }
   }
+  std::vector<std::size_t> descending(L);
+  for (std::size_t l = 0; l < L; ++l) descending[l] = l;
+  std::sort(descending.begin(), descending.end(),
+            [&](std::size_t a, std::size_t b) { return level_target[a] > level_target[b]; });
   double t_exact = 0.0, t_fcl = 0.0, max_over = 0.0, max_under = 0.0;
   std::size_t differ = 0, overshoot = 0, both = 0, fcl_miss = 0;
   // Where the two disagree, the certified clearance decides: at the exact contact it must enclose 0
@@ -122,13 +126,16 @@ int main(int argc, char** argv) {
     double lambda_ca = 0.0, seconds_ca = 0.0;
     const bool hit = fcl_ca_contact(*fcl_fixed, *fcl_mover, *frame, d, far, &lambda_ca, &seconds_ca);
     t_fcl += seconds_ca;
-    for (std::size_t l = 0; l < L; ++l) {
+    // As `cdbench poses` places them: descending targets, sharing the contact and continuing the
+    // advance from the previous level's pose (place_pose's memo); each level timed with its share.
+    ApproachMemo memo;
+    for (const std::size_t l : descending) {
       const SweepMesh* swept = level_start[l] == PoseStart::Surface ? &level0 : level_offset[l].get();
       if (level_start[l] == PoseStart::Offset && !swept) continue;  // the level had no offset
       PoseOptions lpo = po;
       lpo.start = level_start[l];
       t0 = Clock::now();
-      const PoseOutcome p = place_pose(setup, *frame, swept, d, level_target[l], lpo);
+      const PoseOutcome p = place_pose(setup, *frame, swept, d, level_target[l], lpo, &memo);
       level_seconds[l] += seconds_since(t0);
       level_certified[l] += p.contact && p.certified && p.on_target;
       level_steps[l] += static_cast<std::size_t>(p.steps);

@@ -92,7 +92,15 @@ struct Cell {
   int level;
   std::array<std::array<double, 2>, 3> bary;  // (beta, gamma) of the corners; exact dyadics
   bool stale = false;  // a warm-start cell: its bound is shifted, not evaluated at this pose
+  SideBall ball = {};  // from its evaluation (or, for a stale cell, from the previous pose's)
 };
+
+// The side of x, when x certainly lies in the ball (0 otherwise). The computed norm's relative
+// error is a few ulps; the factor covers it.
+int side_from_ball(const SideBall* b, const Vec3& x) {
+  if (b == nullptr || b->side == 0 || !(b->free > 0.0)) return 0;
+  return up((x - b->centre).norm() * (1.0 + 1e-12)) < b->free ? b->side : 0;
+}
 struct CellOrder {
   bool operator()(const Cell& a, const Cell& b) const {
     return a.lower > b.lower || (a.lower == b.lower && a.seq > b.seq);
@@ -103,8 +111,9 @@ class BranchAndBound {
  public:
   // keep_frontier: remember discarded cells too, for export_frontier().
   BranchAndBound(const SignedDistance& fixed, const MoverOrientation& o, const std::vector<Vec3>& P, const Vec3& t,
-                 double tol, bool keep_frontier)
-      : fixed_(fixed), o_(o), P_(P), t_(t), tol_(tol), keep_discarded_(keep_frontier) {}
+                 const ClearanceOptions& opt, bool keep_frontier)
+      : fixed_(fixed), o_(o), P_(P), t_(t), tol_(opt.tolerance), rel_(opt.relative_tolerance),
+        target_(opt.target), keep_discarded_(keep_frontier) {}
 
   void run(std::uint64_t max_cells, std::int64_t hint_face, double hint_beta, double hint_gamma,
            const ClearanceFrontier* warm, ClearanceResult& r) {
@@ -117,29 +126,29 @@ class BranchAndBound {
       // Each placed vertex moved by the translation difference plus the roundings of both poses.
       const double shift = up(up((t_ - warm->t).norm() * (1.0 + 1e-12)) + up(warm->transform_error + o_.transform_error(t_)));
       for (const ClearanceFrontier::Cell& w : warm->cells)
-        push(Cell{down(w.lower - shift), 0, w.is_node, w.id, w.level, w.bary, true});
+        push(Cell{down(w.lower - shift), 0, w.is_node, w.id, w.level, w.bary, true, w.ball});
     } else {
       push(evaluate_node(0));
     }
     while (!queue_.empty()) {
       const Cell c = queue_.top();
-      if (c.lower >= upper_ - tol_) break;
+      if (c.lower >= threshold()) break;
       if (r.cells >= max_cells) break;
       queue_.pop();
       ++r.cells;
       if (c.stale) {  // evaluate it at this pose before splitting it
-        push(c.is_node ? evaluate_node(c.id) : evaluate_face(Cell{0, 0, false, c.id, c.level, c.bary}));
+        push(c.is_node ? evaluate_node(c.id, &c.ball) : evaluate_face(Cell{0, 0, false, c.id, c.level, c.bary}, &c.ball));
         continue;
       }
       if (c.is_node) {
         const auto& node = o_.boxes.nodes[c.id];
         if (node.count == 0) {
-          push(evaluate_node(node.first));
-          push(evaluate_node(node.first + 1));
+          push(evaluate_node(node.first, &c.ball));
+          push(evaluate_node(node.first + 1, &c.ball));
         } else {
           for (std::uint32_t i = 0; i < node.count; ++i) {
             Cell f{0, 0, false, o_.boxes.order[node.first + i], 0, {{{0, 0}, {1, 0}, {0, 1}}}};
-            push(evaluate_face(f));
+            push(evaluate_face(f, &c.ball));
           }
         }
       } else {
@@ -150,12 +159,12 @@ class BranchAndBound {
         const std::array<double, 2> m20{0.5 * (b[2][0] + b[0][0]), 0.5 * (b[2][1] + b[0][1])};
         const std::array<std::array<std::array<double, 2>, 3>, 4> kids{
             {{{b[0], m01, m20}}, {{m01, b[1], m12}}, {{m20, m12, b[2]}}, {{m01, m12, m20}}}};
-        for (const auto& k : kids) push(evaluate_face(Cell{0, 0, false, c.id, c.level + 1, k}));
+        for (const auto& k : kids) push(evaluate_face(Cell{0, 0, false, c.id, c.level + 1, k}, &c.ball));
       }
     }
     double lower = min_discarded_;
     if (!queue_.empty()) lower = std::min(lower, queue_.top().lower);
-    r.tolerance_reached = queue_.empty() || queue_.top().lower >= upper_ - tol_;
+    r.tolerance_reached = queue_.empty() || queue_.top().lower >= threshold();
     r.clearance = {lower, upper_};
     r.distance_queries = queries_;
     r.argmin_face = argmin_face_;
@@ -166,7 +175,7 @@ class BranchAndBound {
   // The leaves of this search: the cells left in the queue and the discarded ones.
   void export_frontier(ClearanceFrontier& f) {
     f.cells.clear();
-    const auto keep = [&](const Cell& c) { f.cells.push_back({c.lower, c.is_node, c.id, c.level, c.bary}); };
+    const auto keep = [&](const Cell& c) { f.cells.push_back({c.lower, c.is_node, c.id, c.level, c.bary, c.ball}); };
     for (const Cell& c : discarded_) keep(c);
     while (!queue_.empty()) {
       keep(queue_.top());
@@ -178,9 +187,17 @@ class BranchAndBound {
   }
 
  private:
+  // Cells with a lower bound at or above this need no refinement. With a relative tolerance it is
+  // upper - max(tol, rel (upper - target)), non-increasing as the upper end falls, so a cell set
+  // aside earlier never falls below a later threshold (the result's lower end stays consistent).
+  double threshold() const {
+    if (!(upper_ < kInf)) return kInf;
+    return upper_ - std::max(tol_, rel_ * (upper_ - target_));
+  }
+
   void push(Cell c) {
     c.seq = seq_++;
-    if (c.lower >= upper_ - tol_) {
+    if (c.lower >= threshold()) {
       min_discarded_ = std::min(min_discarded_, c.lower);
       if (keep_discarded_) discarded_.push_back(c);
       return;
@@ -188,7 +205,17 @@ class BranchAndBound {
     queue_.push(c);
   }
 
-  Cell evaluate_node(std::uint32_t n) {
+  // s at x from its unsigned distance; the side from `ball` when x lies in it, else a ray test.
+  // `own` receives the ball about x that this evaluation certifies.
+  Interval signed_at(const Vec3& x, const Interval& ud, const SideBall* ball, SideBall* own) {
+    int side = side_from_ball(ball, x);
+    if (side == 0) side = fixed_.side(x, ud);
+    if (own) *own = SideBall{x, side == 0 ? 0.0 : ud.lo, side};
+    if (side == 0) return {0.0, 0.0};
+    return side < 0 ? Interval{-ud.hi, -ud.lo} : ud;
+  }
+
+  Cell evaluate_node(std::uint32_t n, const SideBall* parent = nullptr) {
     Cell c{0, 0, true, n, 0, {}};
     const Aabb box = moved(o_.boxes.nodes[n].bv, t_);
     const Vec3 centre = box.center();
@@ -196,9 +223,9 @@ class BranchAndBound {
     const double r = up(up(0.5 * box.diagonal()) * (1.0 + 1e-12));
     ++queries_;
     const Interval ud = fixed_.unsigned_distance(centre);
-    const Interval s = fixed_.signed_distance(centre, ud);
+    const Interval s = signed_at(centre, ud, parent, &c.ball);
     double lower = down(s.lo - r);
-    if (lower < upper_ - tol_ && s.hi < 0.0) {
+    if (lower < threshold() && s.hi < 0.0) {
       std::array<Vec3, 8> corners;
       for (int k = 0; k < 8; ++k) corners[k] = box.corner(k);
       const double depth = depth_upper_bound(fixed_, centre, up(ud.hi + 2 * r), corners.data(), 8, ids_);
@@ -208,7 +235,7 @@ class BranchAndBound {
     return c;
   }
 
-  Cell evaluate_face(Cell c) {
+  Cell evaluate_face(Cell c, const SideBall* parent = nullptr) {
     const Face& f = (*o_.faces)[c.id];
     const Vec3 &p0 = P_[f[0]], &p1 = P_[f[1]], &p2 = P_[f[2]];
     std::array<Vec3, 3> v;
@@ -231,11 +258,11 @@ class BranchAndBound {
     r = up(r * (1.0 + 1e-12));
     ++queries_;
     const Interval ud = fixed_.unsigned_distance(m);
-    const Interval s = fixed_.signed_distance(m, ud);
+    const Interval s = signed_at(m, ud, parent, &c.ball);
     offer_upper(up(s.hi + eta_m), c.id,
                 {(c.bary[0][0] + c.bary[1][0] + c.bary[2][0]) / 3, (c.bary[0][1] + c.bary[1][1] + c.bary[2][1]) / 3});
     double lower = down(down(s.lo - r) - eta_m);
-    if (lower < upper_ - tol_) {
+    if (lower < threshold()) {
       // Distance from the cell to F, needed only where the cell may reach F (otherwise the
       // Lipschitz bound already proves it disjoint): the nearest triangles of any cell point lie
       // within ud + 2r of m.
@@ -265,7 +292,8 @@ class BranchAndBound {
         // that the upper end meets the convexity bound without subdividing towards that corner.
         if (depth < kInf) {
           ++queries_;
-          offer_upper(up(fixed_.signed_distance(v[corner]).hi + eta), c.id, c.bary[corner]);
+          const Interval s_corner = signed_at(v[corner], fixed_.unsigned_distance(v[corner]), &c.ball, nullptr);
+          offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
         }
         lower = std::max(lower, down(-depth - eta));
       }
@@ -287,7 +315,7 @@ class BranchAndBound {
   const MoverOrientation& o_;
   const std::vector<Vec3>& P_;
   const Vec3& t_;
-  double tol_;
+  double tol_, rel_, target_;
   double upper_ = kInf;
   std::int64_t argmin_face_ = -1;
   std::array<double, 2> argmin_bary_{0.0, 0.0};
@@ -313,7 +341,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   scale = std::max({scale, mover_box.lo.cwiseAbs().maxCoeff(), mover_box.hi.cwiseAbs().maxCoeff()});
   dist.tiny_sq = (1e-9 * scale) * (1e-9 * scale);
   dist.margin_sq = (1e-10 * scale) * (1e-10 * scale);
-  traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, dist);
+  if (options.try_distance_path) traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, dist);
   r.pair_tests = dist.tests;
   if (!dist.intersect && dist.best_est_sq < kInf) {
     // Rigorous upper end from the best pair; pruned pairs lie beyond the final threshold, so they
@@ -335,7 +363,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
       dist.intersect = rigorous.intersect;
     }
   }
-  bool all_outside = !dist.intersect && dist.min_lo_sq > 0.0;
+  bool all_outside = options.try_distance_path && !dist.intersect && dist.min_lo_sq > 0.0;
   if (all_outside)
     for (std::uint32_t v : components)
       if (fixed.side(P[v]) < 0) all_outside = false;
@@ -344,7 +372,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     r.clearance = sqrt_interval({dist.min_lo_sq, dist.best_hi_sq});
     if (options.frontier) options.frontier->valid = false;
   } else {
-    BranchAndBound bb(fixed, orientation, P, t, options.tolerance, options.frontier != nullptr);
+    BranchAndBound bb(fixed, orientation, P, t, options, options.frontier != nullptr);
     const ClearanceFrontier* warm = options.frontier && options.frontier->valid ? options.frontier : nullptr;
     bb.run(options.max_cells, options.hint_face, options.hint_beta, options.hint_gamma, warm, r);
     if (options.frontier) bb.export_frontier(*options.frontier);

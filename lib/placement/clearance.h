@@ -20,6 +20,15 @@
 
 namespace cdbench {
 
+// A ball that certainly does not meet F (radius: a certified lower bound of the distance from its
+// centre to F), with the side of F it lies on (-1 inside, +1 outside; 0 = unknown). Every point
+// within it is on that side: a cell's centre or corner inside its parent's ball needs no ray test.
+struct SideBall {
+  Vec3 centre = Vec3::Zero();
+  double free = 0.0;
+  int side = 0;
+};
+
 // The leaves of a branch and bound's search (cells of the mover's surface in its own coordinates,
 // with their lower bounds) at the pose t: a warm start for a nearby pose. Every point of a cell
 // moves by at most |t' - t| plus the two poses' rounding bounds, and s is 1-Lipschitz, so the old
@@ -31,6 +40,7 @@ struct ClearanceFrontier {
     std::uint32_t id;
     int level;
     std::array<std::array<double, 2>, 3> bary;
+    SideBall ball;  // at the frontier's pose: a ball free of F around the cell's centre, and its side
   };
   bool valid = false;
   Vec3 t = Vec3::Zero();
@@ -40,6 +50,14 @@ struct ClearanceFrontier {
 
 struct ClearanceOptions {
   double tolerance = 0.0;             // absolute; target width for the branch-and-bound case
+  // A looser width while the upper end is far above `target`: max(tolerance, relative_tolerance *
+  // (upper - target)). For advance steps towards a target, where only the lower end's distance to
+  // the target matters; 0 = the absolute tolerance alone. Only the work changes, never the rigour.
+  double relative_tolerance = 0.0;
+  double target = 0.0;
+  // false: go straight to the branch and bound (which decides every case), skipping the pair
+  // distance path that only pays off for separated poses.
+  bool try_distance_path = true;
   std::uint64_t max_cells = 400000;   // safety stop (the result then reports a wider interval)
   // A mover surface point (face, barycentrics) likely to be near the minimum, e.g. the previous
   // pose's: it only speeds up the branch and bound (an early upper bound prunes more).

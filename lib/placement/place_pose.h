@@ -7,6 +7,7 @@
 // the tolerance of the target. See doc/poses.md.
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -85,10 +86,34 @@ struct PoseOutcome {
   std::uint64_t sphere_tests = 0, triangle_sweeps = 0, clearance_cells = 0;
 };
 
+// Work shared by the levels of one approach (one frame, one direction) when they are placed in
+// descending target order (doc/poses.md, "Levels of one approach"):
+//  * the exact first contact with a swept surface and its raw certificate (the same for level 0
+//    and every surface-started level), reused as is;
+//  * the last pose on target: its advance proved c > its target on every farther pose, so a
+//    lower target's advance may continue from it instead of from its own start.
+struct ApproachMemo {
+  struct Contact {
+    const SweepMesh* swept = nullptr;
+    bool hit = false;
+    double lambda = 0.0;
+    ClearanceResult certificate;
+    ClearanceFrontier frontier;
+  };
+  struct OnTarget {
+    double target = 0.0, lambda = 0.0;
+    ClearanceResult certificate;
+    ClearanceFrontier frontier;
+  };
+  std::optional<Contact> contact;
+  std::optional<OnTarget> last;
+};
+
 // `swept` is the surface swept against for the raw pose: the offset (start Offset), the fixed
 // surface (start Surface), unused for start Far (may be null). When polishing, a raw pose whose
-// certificate is neither on target nor above it restarts the advance far away.
+// certificate is neither on target nor above it restarts the advance far away. `memo` (optional):
+// the approach's shared work, read and updated; levels must then come in descending target order.
 PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame, const SweepMesh* swept,
-                       const Vec3& dir, double target, const PoseOptions& options);
+                       const Vec3& dir, double target, const PoseOptions& options, ApproachMemo* memo = nullptr);
 
 }  // namespace cdbench

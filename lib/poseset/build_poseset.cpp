@@ -222,6 +222,11 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   std::vector<std::atomic<std::uint64_t>> level_ns(L);  // thread time per level
   Timer t_poses;
   std::mutex journal_mutex;
+  // Levels in descending target order within an approach (place_pose's memo).
+  std::vector<std::size_t> descending_levels(L);
+  for (std::size_t l = 0; l < L; ++l) descending_levels[l] = l;
+  std::sort(descending_levels.begin(), descending_levels.end(),
+            [&](std::size_t a, std::size_t b) { return targets[a] > targets[b]; });
   parallel_for_dynamic(pending.size(), [&](std::size_t i) {
     const std::uint64_t a = pending[i], o = a / N;
     LazyFrame& lazy = frames[o];
@@ -231,7 +236,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     const OrientationFrame& frame = *lazy.frame;
     const Vec3& dir = dirs[a % N];
     std::vector<std::string> lines(L);
-    for (std::size_t l = 0; l < L; ++l) {
+    ApproachMemo memo;  // the levels of this approach share their raw contact and continue each other's advance
+    for (const std::size_t l : descending_levels) {
       PoseRow row;
       row.pose = a * L + l;
       row.level = static_cast<int>(l);
@@ -254,7 +260,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
         PoseOptions level_po = po;
         level_po.start = start[l];
         Timer t_pose;
-        const PoseOutcome p = place_pose(setup, frame, swept_against, dir, targets[l], level_po);
+        const PoseOutcome p = place_pose(setup, frame, swept_against, dir, targets[l], level_po, &memo);
         level_ns[l] += static_cast<std::uint64_t>(t_pose.seconds() * 1e9);
         if (!p.contact) {
           unplaced(PoseStatus::NoContact);

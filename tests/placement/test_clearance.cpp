@@ -23,6 +23,35 @@ Vec3 random_direction(std::mt19937_64& rng) {
   return Vec3(u(rng), u(rng), u(rng)).normalized();
 }
 
+// No pose between `pose_lambda` and the far start (sampled at n points) is certified below the
+// target: the pose is on the first crossing.
+void expect_no_earlier_crossing(const SignedDistance& fixed, const TriangleMesh& mover, const OrientationFrame& frame,
+                                const Vec3& dir, const ApproachSetup& setup, double pose_lambda, double target,
+                                double tolerance, int n) {
+  const double far = setup.fixed_radius + setup.mover_radius + std::abs(target);
+  ClearanceOptions copt;
+  copt.tolerance = 1e-3;
+  for (int i = 1; i <= n; ++i) {
+    const double lambda = pose_lambda + (far - pose_lambda) * i / n;
+    const ClearanceResult c = certify_clearance(fixed, mover, setup.components, frame.orientation,
+                                                pose_translation(frame, dir, lambda), copt);
+    ASSERT_GE(c.clearance.hi, target - tolerance) << std::setprecision(17) << "target " << target << " pose lambda "
+                                                  << pose_lambda << " passed a crossing at lambda " << lambda;
+  }
+}
+
+// A fixed solid, a mover and the fixed surface's sweep mesh (the surface start's contact).
+struct Scene {
+  SignedDistance fixed;
+  TriangleMesh mover;
+  ApproachSetup setup;  // points into fixed and mover: a Scene is neither copied nor moved
+  SweepMesh surface;
+  Scene(const TriangleMesh& f, TriangleMesh m)
+      : fixed(f), mover(std::move(m)), setup(make_approach_setup(fixed, mover)),
+        surface(make_sweep_mesh(f.vertices, f.faces)) {}
+  Scene(const Scene&) = delete;
+};
+
 struct Case {
   SignedDistance fixed;
   TriangleMesh mover;
@@ -222,7 +251,6 @@ TEST(PlacePose, LongStepsNeverPassAnEarlierCrossing) {
   const SignedDistance fixed(torus);
   const TriangleMesh mover = make_icosphere(0.2, 1);
   const ApproachSetup setup = make_approach_setup(fixed, mover);
-  const std::vector<std::uint32_t> comps = component_representatives(mover);
   PoseOptions opt;
   opt.tolerance = 1e-6;
   opt.start = PoseStart::Far;
@@ -242,17 +270,8 @@ TEST(PlacePose, LongStepsNeverPassAnEarlierCrossing) {
         if (!p.contact) continue;
         ++placed;
         EXPECT_TRUE(p.on_target);
-        const double far = setup.fixed_radius + setup.mover_radius + std::abs(target);
-        for (int i = 1; i <= 300; ++i) {
-          const double lambda = p.lambda + (far - p.lambda) * i / 300.0;
-          ClearanceOptions copt;
-          copt.tolerance = 1e-3;
-          const ClearanceResult c =
-              certify_clearance(fixed, mover, comps, frame.orientation, pose_translation(frame, dir, lambda), copt);
-          ASSERT_GE(c.clearance.hi, target - opt.tolerance)
-              << std::setprecision(17) << "two-sided " << two_sided << " target " << target << " pose lambda "
-              << p.lambda << " passed a crossing at lambda " << lambda;
-        }
+        SCOPED_TRACE("two-sided " + std::to_string(two_sided));
+        expect_no_earlier_crossing(fixed, mover, frame, dir, setup, p.lambda, target, opt.tolerance, 300);
       }
     }
   }
@@ -296,11 +315,9 @@ TEST(PlacePose, LongStepsStopInFrontOfAThinFin) {
 // certified clearance must be 0 up to the rounding of the stored translation and the tolerance
 // (an independent check of the sweep against the clearance certificate).
 TEST(PlacePose, RawFirstContactWithTheSurfaceTouches) {
-  const TriangleMesh torus = make_torus(1.0, 0.4, 24, 12);
-  const SignedDistance fixed(torus);
-  const TriangleMesh mover = make_icosphere(0.3, 2);
-  const ApproachSetup setup = make_approach_setup(fixed, mover);
-  const SweepMesh level0 = make_sweep_mesh(torus.vertices, torus.faces);
+  const Scene scene(make_torus(1.0, 0.4, 24, 12), make_icosphere(0.3, 2));
+  const ApproachSetup& setup = scene.setup;
+  const SweepMesh& level0 = scene.surface;
   PoseOptions opt;
   opt.tolerance = 1e-9;
   opt.polish = false;
@@ -319,6 +336,95 @@ TEST(PlacePose, RawFirstContactWithTheSurfaceTouches) {
     EXPECT_LE(p.clearance.width(), 1e-9 * 1.001) << k;
   }
   EXPECT_GT(touching, 10);
+}
+
+// A relative tolerance (advance steps) and skipping the pair-distance path only change the work:
+// every certificate still encloses the clearance (against a tight cold one and dense sampling),
+// and the loose width is within max(tolerance, rel (upper - target)).
+TEST(Clearance, RelativeToleranceAndNoDistancePathStayRigorous) {
+  std::mt19937_64 rng(31);
+  Case c(make_torus(1.0, 0.4, 24, 12), make_icosphere(0.5, 1));
+  int loose_cheaper = 0, checked = 0;
+  for (int k = 0; k < 6; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const Vec3 dir = random_direction(rng);
+    const MoverOrientation o = make_mover_orientation(c.mover, R);
+    for (int step = 0; step < 6; ++step) {
+      // From separated (step 0: 0.3 outside the tube's surface) to deep inside.
+      const Vec3 t = Vec3(1.0, 0.0, 0.0) + (1.2 - 0.2 * step) * dir;
+      const ClearanceResult tight = c.run(R, t, 1e-7);
+      const Interval ref = sampled_enclosure(c.fixed, o.placed(t), c.mover.faces, 8);
+      for (bool distance_path : {true, false}) {
+        ClearanceOptions opt;
+        opt.tolerance = 1e-7;
+        opt.relative_tolerance = 0.125;
+        opt.target = tight.clearance.lo - 0.05;
+        opt.try_distance_path = distance_path;
+        const ClearanceResult r = certify_clearance(c.fixed, c.mover, c.comps, o, t, opt);
+        SCOPED_TRACE("case " + std::to_string(k) + " step " + std::to_string(step) + " distance path " +
+                     std::to_string(distance_path));
+        ++checked;
+        EXPECT_TRUE(r.tolerance_reached);
+        EXPECT_LE(r.clearance.lo, tight.clearance.hi);
+        EXPECT_GE(r.clearance.hi, tight.clearance.lo);
+        EXPECT_LE(r.clearance.lo, ref.hi);
+        EXPECT_GE(r.clearance.hi, ref.lo);
+        if (!r.separated) {
+          EXPECT_LE(r.clearance.width(), std::max(1e-7, 0.125 * (r.clearance.hi - opt.target)) * 1.001 + 1e-12);
+          loose_cheaper += r.cells < tight.cells;
+        }
+        if (!distance_path) {
+          EXPECT_FALSE(r.separated);
+        }
+      }
+    }
+  }
+  EXPECT_EQ(checked, 72);
+  EXPECT_GT(loose_cheaper, 10);
+}
+
+// The levels of one approach placed in descending target order with a shared memo: the raw contact
+// is computed once and reused as is, lower targets continue from the last pose on target, and
+// every pose is still on target and on the first crossing (no pose between it and the far start
+// certified below the target). Ascending order is refused.
+TEST(PlacePose, LevelsOfOneApproachShareTheContactAndContinueEachOther) {
+  const Scene scene(make_torus(1.0, 0.35, 32, 16), make_icosphere(0.2, 1));
+  const ApproachSetup& setup = scene.setup;
+  const SweepMesh& surface = scene.surface;
+  PoseOptions opt;
+  opt.tolerance = 1e-6;
+  std::mt19937_64 rng(41);
+  int chained = 0, placed = 0;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const OrientationFrame frame = make_orientation_frame(setup, R);
+    Vec3 dir = random_direction(rng);
+    if (k % 2 == 0) dir = Vec3(dir.x(), dir.y(), 0.1 * dir.z()).normalized();
+    ApproachMemo memo;
+    for (double target : {0.08, 0.03, 0.0, -0.05, -0.12}) {
+      opt.start = target > 0.0 ? PoseStart::Far : PoseStart::Surface;
+      const bool had_pose = memo.last.has_value();
+      const PoseOutcome p = place_pose(setup, frame, &surface, dir, target, opt, &memo);
+      const PoseOutcome alone = place_pose(setup, frame, &surface, dir, target, opt);
+      SCOPED_TRACE("case " + std::to_string(k) + " target " + std::to_string(target));
+      ASSERT_EQ(p.contact, alone.contact);
+      if (!p.contact) continue;
+      ++placed;
+      chained += had_pose && p.lambda != alone.lambda;
+      EXPECT_TRUE(p.on_target) << p.clearance.lo << " " << p.clearance.hi;
+      EXPECT_EQ(p.lambda_raw, alone.lambda_raw);
+      EXPECT_EQ(p.raw_clearance.lo, alone.raw_clearance.lo);
+      EXPECT_EQ(p.raw_clearance.hi, alone.raw_clearance.hi);
+      EXPECT_NEAR(p.lambda, alone.lambda, 1e-4);  // both on the first crossing, within tolerances
+      expect_no_earlier_crossing(scene.fixed, scene.mover, frame, dir, setup, p.lambda, target, opt.tolerance, 200);
+    }
+    opt.start = PoseStart::Far;
+    if (memo.last) {
+      EXPECT_THROW(place_pose(setup, frame, &surface, dir, 0.1, opt, &memo), std::invalid_argument);
+    }
+  }
+  EXPECT_GT(placed, 25);
+  EXPECT_GT(chained, 5);
 }
 
 }  // namespace
