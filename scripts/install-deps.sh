@@ -9,6 +9,7 @@ PACKAGES=(
   libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev libssl-dev
   python3 python3-numpy libfcl-dev libbullet-dev gnuplot-nox libopenvdb-dev libboost-iostreams-dev
   clang-14 libclang-rt-14-dev
+  slurm-wlm munge  # the Slurm test starts its own single-node cluster (tests/cli/slurm.sh)
 )
 
 missing=()

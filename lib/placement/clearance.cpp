@@ -43,6 +43,9 @@ struct DistancePolicy {
   double min_lo_sq = kInf, best_hi_sq = kInf;  // rigorous mode: enclosure of the minimum
   double best_est_sq = kInf, threshold_sq = kInf;  // fast mode: estimate and pruning threshold
   double tiny_sq = 0.0, margin_sq = 0.0;
+  // Relative tolerance (fast mode): prune at (e - rel (e - target))^2 below the best estimate e,
+  // so that the lower end min(leaves, final threshold) is within rel of the gap to the target.
+  double rel = 0.0, target = 0.0;
   std::uint32_t best_f = 0, best_m = 0;
   bool intersect = false;
   std::uint64_t tests = 0;
@@ -65,6 +68,10 @@ struct DistancePolicy {
       if (e2 < best_est_sq) {
         best_est_sq = e2;
         threshold_sq = e2 * (1.0 + 1e-6) + margin_sq;
+        if (rel > 0.0) {
+          const double e = std::sqrt(e2), p = e - rel * (e - target);
+          if (e > target && p > 0.0) threshold_sq = std::min(threshold_sq, p * p);
+        }
         best_f = fi;
         best_m = mi;
       }
@@ -341,19 +348,22 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   scale = std::max({scale, mover_box.lo.cwiseAbs().maxCoeff(), mover_box.hi.cwiseAbs().maxCoeff()});
   dist.tiny_sq = (1e-9 * scale) * (1e-9 * scale);
   dist.margin_sq = (1e-10 * scale) * (1e-10 * scale);
+  dist.rel = options.relative_tolerance;
+  dist.target = options.target;
   if (options.try_distance_path) traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, dist);
   r.pair_tests = dist.tests;
   if (!dist.intersect && dist.best_est_sq < kInf) {
-    // Rigorous upper end from the best pair; pruned pairs lie beyond the final threshold, so they
-    // cannot hold the minimum if it is below that threshold. Otherwise redo rigorously.
+    // Rigorous upper end from the best pair. Pruned pairs lie beyond the final threshold (it only
+    // falls), so min(leaves, threshold) is a lower end; without a relative tolerance it is the
+    // leaves' own (tight) when the best pair lies at or below the threshold, else redo rigorously.
     const Face& a = fixed.mesh().faces[dist.best_f];
     const Face& b = mover.faces[dist.best_m];
     const auto& fv = fixed.mesh().vertices;
     const Interval best =
         triangle_triangle_squared_distance(fv[a[0]], fv[a[1]], fv[a[2]], P[b[0]], P[b[1]], P[b[2]]);
-    dist.min_lo_sq = std::min(dist.min_lo_sq, best.lo);
+    dist.min_lo_sq = std::min({dist.min_lo_sq, best.lo, dist.threshold_sq});
     dist.best_hi_sq = best.hi;
-    if (!(best.hi <= dist.threshold_sq)) {
+    if (!(best.hi <= dist.threshold_sq) && !(dist.rel > 0.0)) {
       DistancePolicy rigorous{fixed.mesh(), P, mover.faces, t};
       rigorous.fast = false;
       traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, rigorous);

@@ -51,8 +51,9 @@ struct ClearanceFrontier {
 struct ClearanceOptions {
   double tolerance = 0.0;             // absolute; target width for the branch-and-bound case
   // A looser width while the upper end is far above `target`: max(tolerance, relative_tolerance *
-  // (upper - target)). For advance steps towards a target, where only the lower end's distance to
-  // the target matters; 0 = the absolute tolerance alone. Only the work changes, never the rigour.
+  // (upper - target)), in the branch and bound and in the pair-distance path (separated poses).
+  // For advance steps towards a target, where only the lower end's distance to the target
+  // matters; 0 = the absolute tolerance alone. Only the work changes, never the rigour.
   double relative_tolerance = 0.0;
   double target = 0.0;
   // false: go straight to the branch and bound (which decides every case), skipping the pair

@@ -149,8 +149,10 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       }
     }
   } else {
+    // Far away only the lower end matters (the first step); the raw clearance is then a wider
+    // certified interval.
     out.lambda_raw = out.lambda = lambda_far;
-    c = certify(out.lambda, false);
+    c = certify(out.lambda, true);
   }
   out.contact = true;
   out.raw_clearance = c.clearance;

@@ -88,6 +88,7 @@ ImplScore score_answers(const std::string& name, const PoseSetManifest& m, const
     for (double t : times[l]) sum += t;
     ls.mean_us = times[l].empty() ? kNaN : sum / static_cast<double>(times[l].size()) / 1e3;
     ls.median_us = percentile(times[l], 0.5) / 1e3;
+    ls.p05_us = percentile(times[l], 0.05) / 1e3;
     ls.p95_us = percentile(times[l], 0.95) / 1e3;
     ls.mean_bv_tests = bv_n[l] ? bv[l] / static_cast<double>(bv_n[l]) : kNaN;
     ls.mean_triangle_tests = tri_n[l] ? tri[l] / static_cast<double>(tri_n[l]) : kNaN;
@@ -123,6 +124,7 @@ nlohmann::json summary_json(const PoseSetManifest& m, std::size_t poses, const s
                              {"ambiguous", l.ambiguous},
                              {"mean_us", maybe(l.mean_us)},
                              {"median_us", maybe(l.median_us)},
+                             {"p05_us", maybe(l.p05_us)},
                              {"p95_us", maybe(l.p95_us)},
                              {"mean_bv_tests", maybe(l.mean_bv_tests)},
                              {"mean_triangle_tests", maybe(l.mean_triangle_tests)},
@@ -162,6 +164,8 @@ std::vector<BenchSummaryImpl> read_bench_summary(const std::string& path) {
       ls.ambiguous = static_cast<std::size_t>(k.count(l, "ambiguous", w));
       ls.mean_us = k.number(l, "mean_us", w, true);
       ls.median_us = k.number(l, "median_us", w, true);
+      // p05_us: summaries written before it was added have none (NaN: no band in the plots).
+      ls.p05_us = l.contains("p05_us") ? k.number(l, "p05_us", w, true) : std::numeric_limits<double>::quiet_NaN();
       ls.p95_us = k.number(l, "p95_us", w, true);
       ls.mean_bv_tests = k.number(l, "mean_bv_tests", w, true);
       ls.mean_triangle_tests = k.number(l, "mean_triangle_tests", w, true);

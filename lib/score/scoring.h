@@ -28,7 +28,7 @@ struct LevelScore {
   double target = 0.0, percent_of_max_penetration = 0.0;  // NaN without a target
   std::size_t poses = 0, answered = 0, missing = 0;
   std::size_t false_positives = 0, false_negatives = 0, missed_or_contained = 0, ambiguous = 0;
-  double mean_us, median_us, p95_us;                        // NaN without times
+  double mean_us, median_us, p05_us, p95_us;                // NaN without times
   double mean_bv_tests, mean_triangle_tests;                // NaN without counts
   std::size_t distance_answers = 0;                         // separated poses with a distance
   double max_distance_error = 0.0, max_relative_distance_error = 0.0;

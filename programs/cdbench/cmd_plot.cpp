@@ -29,7 +29,8 @@ int run_plot(const PlotCliOptions& opt) {
   if (std::system("gnuplot --version > /dev/null 2>&1") != 0)
     throw InputError("gnuplot not found (Debian: apt-get install gnuplot-nox)");
 
-  // One data block per implementation: percent of max penetration, mean us, median us, p95 us, BV tests.
+  // One data block per implementation: percent of max penetration, mean us, median us, p95 us, BV tests,
+  // p5 us.
   std::ostringstream data, errors;
   errors << std::left << std::setw(21) << "impl" << std::setw(10) << "level" << std::setw(9) << "% maxpen" << std::setw(7)
          << "poses" << std::setw(7) << "FP" << std::setw(7) << "FN" << std::setw(10) << "missed*" << std::setw(11)
@@ -44,7 +45,7 @@ int run_plot(const PlotCliOptions& opt) {
     for (const LevelScore& l : impl.levels) {
       timed = timed || std::isfinite(l.mean_us);
       data << std::setprecision(10) << l.percent_of_max_penetration << " " << l.mean_us << " " << l.median_us << " "
-           << l.p95_us << " " << l.mean_bv_tests << "\n";
+           << l.p95_us << " " << l.mean_bv_tests << " " << l.p05_us << "\n";
       errors << std::left << std::setw(21) << names.back() << std::setw(10) << l.level << std::setw(9)
              << std::setprecision(4) << l.percent_of_max_penetration << std::setw(7) << l.poses << std::setw(7)
              << l.false_positives << std::setw(7) << l.false_negatives << std::setw(10) << l.missed_or_contained
@@ -81,6 +82,20 @@ int run_plot(const PlotCliOptions& opt) {
     gp << "set title 'Static collision query time vs distance'\n";
     if (timed) gp << "plot " << series(2) << "\n";
     else gp << "set label 1 'no times given' at graph 0.5, 0.5 center\nunset logscale y\nplot [0:1] [0:1] NaN notitle\nunset label 1\nset logscale y\n";
+    // The paper's figures: mean time per level with a band for the spread (5th to 95th percentile).
+    gp << "set output 'time_band_vs_level." << ext << "'\nset ylabel 'query time (us): mean, band 5-95 %'\n";
+    gp << "set title 'Static collision query time vs distance, with its spread'\n";
+    if (timed) {
+      gp << "plot ";
+      for (std::size_t i = 0; i < names.size(); ++i)
+        gp << (i ? ", " : "") << "'plot.dat' index " << i << " using 1:6:4 with filledcurves lc " << (i % 8 + 1)
+           << " fs transparent solid 0.15 noborder notitle, 'plot.dat' index " << i
+           << " using 1:2 with linespoints lc " << (i % 8 + 1) << " dt " << (i / 8 + 1) << " pt " << (i % 13 + 1)
+           << " title '" << names[i] << "'";
+      gp << "\n";
+    } else {
+      gp << "set label 1 'no times given' at graph 0.5, 0.5 center\nunset logscale y\nplot [0:1] [0:1] NaN notitle\nunset label 1\nset logscale y\n";
+    }
     gp << "set output 'bv_tests_vs_level." << ext << "'\nset ylabel 'mean bounding-volume tests'\n";
     gp << "set title 'Bounding-volume tests vs distance'\n";
     if (series(5).empty()) gp << "set label 1 'no bounding-volume tests given' at graph 0.5, 0.5 center\nunset logscale y\nplot [0:1] [0:1] NaN notitle\nunset label 1\n";
@@ -93,7 +108,8 @@ int run_plot(const PlotCliOptions& opt) {
   const std::string cmd = "cd '" + opt.dir + "' && gnuplot plot.gp";
   if (std::system(cmd.c_str()) != 0) throw InputError("gnuplot failed on " + opt.dir + "/plot.gp");
   std::cout << errors.str();
-  for (const char* f : {"time_vs_level.png", "time_vs_level.svg", "bv_tests_vs_level.png", "bv_tests_vs_level.svg"})
+  for (const char* f : {"time_vs_level.png", "time_vs_level.svg", "time_band_vs_level.png", "time_band_vs_level.svg",
+                        "bv_tests_vs_level.png", "bv_tests_vs_level.svg"})
     std::cout << "plot: " << opt.dir << "/" << f << "\n";
   std::cout << "errors: " << opt.dir << "/errors.txt\n";
   return kExitOk;

@@ -100,11 +100,13 @@ void register_poses(CLI::App& app, int& exit_code, const std::string& command_li
   CLI::App* cmd = app.add_subcommand(
       "poses",
       "A certified pose set: for every orientation x approach direction x level, the mover (rotated about its "
-      "bbox centre, centres together) comes from far along +dir and moves along -dir to its first contact with the "
-      "level's certified offset surface (exact sweeps on sphere trees), is then polished by conservative advancement "
-      "until its certified clearance is within the tolerance of the target, and gets a rigorous clearance interval "
-      "against the original surface. Writes DIR/poses.csv, DIR/poseset.json and DIR/offsets/ "
-      "(format: doc/pose-set-format.md). An interrupted run continues with --resume.");
+      "bbox centre, centres together) comes from far along +dir and moves along -dir to the first pose where its "
+      "certified clearance reaches the level: from the exact first contact with the surface (exact sweeps on sphere "
+      "trees) for levels <= 0, from far away for levels > 0 (or from certified offset surfaces: --start offset), by "
+      "certified conservative advancement, until the clearance is within the tolerance of the target; every pose "
+      "gets a rigorous clearance interval against the original surface. Writes DIR/poses.csv, DIR/poseset.json "
+      "(and DIR/offsets/ with --start offset; format: doc/pose-set-format.md). An interrupted run continues with "
+      "--resume.");
   cmd->add_option("mesh", opt->mesh, "the fixed closed mesh")->required();
   cmd->add_option("--mover", opt->mover, "the moving closed mesh (default: the fixed mesh)");
   cmd->add_option("--levels", opt->request.levels,

@@ -63,7 +63,7 @@ awk -F, 'NR > 1 && ($12 == "false-positive" || $12 == "false-negative") { bad++ 
   "$dir/bench/results.csv" || fail "bench: an implementation contradicts a certificate"
 if command -v gnuplot > /dev/null 2>&1; then
   "$bin" plot "$dir/bench" > /dev/null 2>&1 || fail "plot"
-  for f in time_vs_level.png time_vs_level.svg bv_tests_vs_level.png bv_tests_vs_level.svg errors.txt; do
+  for f in time_vs_level.png time_vs_level.svg time_band_vs_level.png time_band_vs_level.svg bv_tests_vs_level.png bv_tests_vs_level.svg errors.txt; do
     [ -s "$dir/bench/$f" ] || fail "plot: $f missing"
   done
 fi
