@@ -79,26 +79,21 @@ def main():
     claim("Drops quickly with distance (set 1)", "the mean time at the largest separation is at most half the peak",
           drops_with_distance)
 
-    def constant_with_penetration(b):
-        deep = [r for r in series(s1, b) if r[0] <= -15.0]
-        if len(deep) < 2:
-            return ("n/a", False)
-        m = [r[1] for r in deep]
-        spread = max(m) / min(m)
-        return (f"max/min of the means at −15…−25 %: {spread:.2f}", spread <= 1.25)
+    def flat_below(bench, deepest_above, label, limit):
+        """max/min of the mean times over the levels at or below `deepest_above` %, within `limit`."""
+        def measure(b):
+            m = [r[1] for r in series(bench, b) if r[0] <= deepest_above]
+            if len(m) < 2:
+                return ("n/a", False)
+            spread = max(m) / min(m)
+            return (f"max/min of the means at {label}: {spread:.2f}", spread <= limit)
+        return measure
 
     claim("Approaches a constant with penetration (set 1)", "the means at −15 % … −25 % within a factor 1.25",
-          constant_with_penetration)
+          flat_below(s1, -15.0, "−15…−25 %", 1.25))
 
-    def flat_to_80(b):
-        deep = [r for r in series(s2, b) if r[0] <= -20.0]
-        if len(deep) < 2:
-            return ("n/a", False)
-        m = [r[1] for r in deep]
-        spread = max(m) / min(m)
-        return (f"max/min of the means at −20…−80 %: {spread:.2f}", spread <= 1.5)
-
-    claim("Stays flat up to 80 % penetration (set 2)", "the means at −20 % … −80 % within a factor 1.5", flat_to_80)
+    claim("Stays flat up to 80 % penetration (set 2)", "the means at −20 % … −80 % within a factor 1.5",
+          flat_below(s2, -20.0, "−20…−80 %", 1.5))
 
     def irregular_near_boundary(b):
         s = series(s3, b)

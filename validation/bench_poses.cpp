@@ -92,10 +92,7 @@ int main(int argc, char** argv) {
       level_offset[l] = std::make_unique<SweepMesh>(make_sweep_mesh(m.vertices, m.faces));
     }
   }
-  std::vector<std::size_t> descending(L);
-  for (std::size_t l = 0; l < L; ++l) descending[l] = l;
-  std::sort(descending.begin(), descending.end(),
-            [&](std::size_t a, std::size_t b) { return level_target[a] > level_target[b]; });
+  const std::vector<std::size_t> descending = descending_target_order(level_target);
   double t_exact = 0.0, t_fcl = 0.0, max_over = 0.0, max_under = 0.0;
   std::size_t differ = 0, overshoot = 0, both = 0, fcl_miss = 0;
   // Where the two disagree, the certified clearance decides: at the exact contact it must enclose 0

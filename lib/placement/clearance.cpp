@@ -29,6 +29,13 @@ inline Aabb moved(const Aabb& b, const Vec3& t) {
   return m;
 }
 
+// The relative tolerance's stopping point (ClearanceOptions::relative_tolerance): values at or
+// above it need no refinement. Non-increasing as `upper` falls, so a part set aside under an
+// earlier threshold stays above every later one.
+inline double relaxed_threshold(double upper, double tol, double rel, double target) {
+  return upper - std::max(tol, rel * (upper - target));
+}
+
 // Minimum triangle-pair distance between the placed mover and F (squared, certified), stopping at
 // the first proven intersection. In the fast mode a leaf costs a double closest-point estimate plus
 // a rigorous lower bound from the projections on the estimated direction (exact up to rounding for
@@ -69,8 +76,8 @@ struct DistancePolicy {
         best_est_sq = e2;
         threshold_sq = e2 * (1.0 + 1e-6) + margin_sq;
         if (rel > 0.0) {
-          const double e = std::sqrt(e2), p = e - rel * (e - target);
-          if (e > target && p > 0.0) threshold_sq = std::min(threshold_sq, p * p);
+          const double e = std::sqrt(e2), p = relaxed_threshold(e, 0.0, rel, target);
+          if (p > 0.0 && p < e) threshold_sq = std::min(threshold_sq, p * p);  // p < e: e above the target
         }
         best_f = fi;
         best_m = mi;
@@ -194,13 +201,9 @@ class BranchAndBound {
   }
 
  private:
-  // Cells with a lower bound at or above this need no refinement. With a relative tolerance it is
-  // upper - max(tol, rel (upper - target)), non-increasing as the upper end falls, so a cell set
-  // aside earlier never falls below a later threshold (the result's lower end stays consistent).
-  double threshold() const {
-    if (!(upper_ < kInf)) return kInf;
-    return upper_ - std::max(tol_, rel_ * (upper_ - target_));
-  }
+  // Cells with a lower bound at or above this need no refinement (relaxed_threshold: a cell set
+  // aside earlier never falls below a later threshold, so the result's lower end stays consistent).
+  double threshold() const { return upper_ < kInf ? relaxed_threshold(upper_, tol_, rel_, target_) : kInf; }
 
   void push(Cell c) {
     c.seq = seq_++;

@@ -68,6 +68,13 @@ bool fallback_start(double target, bool polish, PoseStart* start) {
   return true;
 }
 
+std::vector<std::size_t> descending_target_order(const std::vector<double>& targets) {
+  std::vector<std::size_t> order(targets.size());
+  for (std::size_t l = 0; l < order.size(); ++l) order[l] = l;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return targets[a] > targets[b]; });
+  return order;
+}
+
 PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame, const SweepMesh* swept,
                        const Vec3& dir, double target, const PoseOptions& options, ApproachMemo* memo) {
   PoseOutcome out;

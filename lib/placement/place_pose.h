@@ -109,6 +109,10 @@ struct ApproachMemo {
   std::optional<OnTarget> last;
 };
 
+// Level indices in descending target order: the order in which the levels of one approach are
+// placed with a shared ApproachMemo (ties keep their index order).
+std::vector<std::size_t> descending_target_order(const std::vector<double>& targets);
+
 // `swept` is the surface swept against for the raw pose: the offset (start Offset), the fixed
 // surface (start Surface), unused for start Far (may be null). When polishing, a raw pose whose
 // certificate is neither on target nor above it restarts the advance far away. `memo` (optional):

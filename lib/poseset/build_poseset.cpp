@@ -223,10 +223,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   Timer t_poses;
   std::mutex journal_mutex;
   // Levels in descending target order within an approach (place_pose's memo).
-  std::vector<std::size_t> descending_levels(L);
-  for (std::size_t l = 0; l < L; ++l) descending_levels[l] = l;
-  std::sort(descending_levels.begin(), descending_levels.end(),
-            [&](std::size_t a, std::size_t b) { return targets[a] > targets[b]; });
+  const std::vector<std::size_t> descending_levels = descending_target_order(targets);
   parallel_for_dynamic(pending.size(), [&](std::size_t i) {
     const std::uint64_t a = pending[i], o = a / N;
     LazyFrame& lazy = frames[o];
