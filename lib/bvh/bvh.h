@@ -150,46 +150,113 @@ void traverse_nearest_first(const Bvh<BV>& bvh, Policy& policy) {
   }
 }
 
+namespace detail {
+
+struct NodePair {
+  std::uint32_t a, b;
+  double bound;
+};
+
+// Runs the policy on every primitive pair of two leaves; false once the policy is done.
+template <class NodeA, class NodeB, class BVA, class BVB, class Policy>
+bool visit_leaf_pairs(const Bvh<BVA>& ta, const NodeA& na, const Bvh<BVB>& tb, const NodeB& nb, Policy& policy) {
+  for (std::uint32_t i = 0; i < na.count; ++i)
+    for (std::uint32_t j = 0; j < nb.count; ++j) {
+      policy.leaf(ta.order[na.first + i], tb.order[nb.first + j]);
+      if (policy.done()) return false;
+    }
+  return true;
+}
+
+// The two child pairs of a pair that is not two leaves (the node the policy calls larger is
+// split; a leaf never is), nearer first.
+template <class BVA, class BVB, class Policy>
+std::array<NodePair, 2> child_pairs(const Bvh<BVA>& ta, const Bvh<BVB>& tb, const NodePair& e, Policy& policy) {
+  const auto& na = ta.nodes[e.a];
+  const auto& nb = tb.nodes[e.b];
+  const bool split_a = nb.count > 0 || (na.count == 0 && policy.split_first(na.bv, nb.bv));
+  std::array<NodePair, 2> c;
+  for (std::uint32_t k = 0; k < 2; ++k)
+    c[k] = split_a ? NodePair{na.first + k, e.b, policy.bound(ta.nodes[na.first + k].bv, nb.bv)}
+                   : NodePair{e.a, nb.first + k, policy.bound(na.bv, tb.nodes[nb.first + k].bv)};
+  if (c[1].bound < c[0].bound) std::swap(c[0], c[1]);
+  return c;
+}
+
+}  // namespace detail
+
 template <class BVA, class BVB, class Policy>
 void traverse_pairs_nearest_first(const Bvh<BVA>& ta, const Bvh<BVB>& tb, Policy& policy) {
   if (ta.empty() || tb.empty()) return;
-  struct Entry {
-    std::uint32_t a, b;
-    double bound;
-  };
-  std::vector<Entry> stack;
+  std::vector<detail::NodePair> stack;
   stack.reserve(128);
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const double root_bound = policy.bound(ta.nodes[0].bv, tb.nodes[0].bv);  // +inf: never
   if (!(root_bound <= policy.prune_bound() && root_bound < kInf)) return;
   stack.push_back({0, 0, root_bound});
   while (!stack.empty() && !policy.done()) {
-    const Entry e = stack.back();
+    const detail::NodePair e = stack.back();
     stack.pop_back();
     if (e.bound > policy.prune_bound()) continue;
     const auto& na = ta.nodes[e.a];
     const auto& nb = tb.nodes[e.b];
     if (na.count > 0 && nb.count > 0) {
-      for (std::uint32_t i = 0; i < na.count; ++i)
-        for (std::uint32_t j = 0; j < nb.count; ++j) {
-          policy.leaf(ta.order[na.first + i], tb.order[nb.first + j]);
-          if (policy.done()) return;
-        }
+      if (!detail::visit_leaf_pairs(ta, na, tb, nb, policy)) return;
       continue;
     }
-    const bool split_a = nb.count > 0 || (na.count == 0 && policy.split_first(na.bv, nb.bv));
-    Entry c1, c2;
-    if (split_a) {
-      c1 = {na.first, e.b, policy.bound(ta.nodes[na.first].bv, nb.bv)};
-      c2 = {na.first + 1, e.b, policy.bound(ta.nodes[na.first + 1].bv, nb.bv)};
-    } else {
-      c1 = {e.a, nb.first, policy.bound(na.bv, tb.nodes[nb.first].bv)};
-      c2 = {e.a, nb.first + 1, policy.bound(na.bv, tb.nodes[nb.first + 1].bv)};
-    }
-    if (c2.bound < c1.bound) std::swap(c1, c2);
+    const auto c = detail::child_pairs(ta, tb, e, policy);
     const double prune = policy.prune_bound();
-    if (c2.bound <= prune && c2.bound < kInf) stack.push_back(c2);  // the farther pair waits
-    if (c1.bound <= prune && c1.bound < kInf) stack.push_back(c1);
+    if (c[1].bound <= prune && c[1].bound < kInf) stack.push_back(c[1]);  // the farther pair waits
+    if (c[0].bound <= prune && c[0].bound < kInf) stack.push_back(c[0]);
+  }
+}
+
+// Best-first twin of traverse_pairs_nearest_first: one heap of node pairs ordered by bound, so
+// that a pair is expanded only if its bound is below the best leaf found when it comes up. For
+// first-hit queries (the least entry time along a line) this expands exactly the pairs whose
+// bound lies below the answer; depth-first descends into pairs that a later, better leaf would
+// have pruned. The nearer child is followed at once while no waiting pair has a smaller bound
+// (the order stays best-first; the heap only holds the pairs set aside). Same policy interface;
+// the policy's answer must not depend on the visiting order.
+template <class BVA, class BVB, class Policy>
+void traverse_pairs_best_first(const Bvh<BVA>& ta, const Bvh<BVB>& tb, Policy& policy) {
+  if (ta.empty() || tb.empty()) return;
+  using detail::NodePair;
+  const auto later = [](const NodePair& x, const NodePair& y) { return x.bound > y.bound; };  // min-heap
+  std::vector<NodePair> heap;
+  heap.reserve(256);
+  const auto push = [&](const NodePair& p) {
+    heap.push_back(p);
+    std::push_heap(heap.begin(), heap.end(), later);
+  };
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double root_bound = policy.bound(ta.nodes[0].bv, tb.nodes[0].bv);
+  if (!(root_bound <= policy.prune_bound() && root_bound < kInf)) return;
+  NodePair e{0, 0, root_bound};
+  for (;;) {
+    if (policy.done()) return;
+    if (e.bound <= policy.prune_bound()) {
+      const auto& na = ta.nodes[e.a];
+      const auto& nb = tb.nodes[e.b];
+      if (na.count > 0 && nb.count > 0) {
+        if (!detail::visit_leaf_pairs(ta, na, tb, nb, policy)) return;
+      } else {
+        const auto c = detail::child_pairs(ta, tb, e, policy);
+        const double prune = policy.prune_bound();
+        const bool keep0 = c[0].bound <= prune && c[0].bound < kInf;
+        if (c[1].bound <= prune && c[1].bound < kInf) push(c[1]);
+        if (keep0 && (heap.empty() || c[0].bound <= heap.front().bound)) {
+          e = c[0];
+          continue;
+        }
+        if (keep0) push(c[0]);
+      }
+    }
+    if (heap.empty()) return;
+    std::pop_heap(heap.begin(), heap.end(), later);
+    e = heap.back();
+    heap.pop_back();
+    if (e.bound > policy.prune_bound()) return;  // every waiting pair is bounded below by e.bound
   }
 }
 

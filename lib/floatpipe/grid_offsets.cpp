@@ -27,12 +27,13 @@ GridSdf::GridSdf(const TriangleMesh& mesh, const GridSdfOptions& options) : impl
   triangles.reserve(mesh.faces.size());
   for (const Face& f : mesh.faces) triangles.emplace_back(f[0], f[1], f[2]);
   const std::vector<openvdb::Vec4I> quads;
-  // Inside, the band reaches the deepest point: no interior point is farther than half the
-  // bounding box's smallest side from the surface. Outside, as far as asked, plus 2 voxels so that
-  // marching cubes sees the sign change of the outermost level.
+  // Inside, the band reaches as deep as asked (the whole interior: no interior point is farther
+  // than half the bounding box's smallest side from the surface). Outside, as far as asked. Both
+  // plus 2 voxels so that marching cubes sees the sign change of the outermost levels.
   const Vec3 ext = mesh.bbox().hi - mesh.bbox().lo;
   const double h = options.voxel;
-  const float in_band = static_cast<float>(std::ceil(0.5 * ext.minCoeff() / h) + 2.0);
+  const double in_reach = std::min(options.interior_reach, 0.5 * ext.minCoeff());
+  const float in_band = static_cast<float>(std::ceil(std::max(0.0, in_reach) / h) + 2.0);
   const float ex_band = static_cast<float>(std::ceil(options.exterior_reach / h) + 2.0);
   const openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(h);
   impl_->grid = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(*xform, points, triangles, quads,
@@ -68,6 +69,25 @@ TriangleMesh GridSdf::isosurface(double iso) const {
     m.faces.push_back({q[0], q[3], q[2]});
   }
   return m;
+}
+
+std::vector<Vec3> GridSdf::deepest_samples(double margin, std::size_t max_count) const {
+  const float cut = static_cast<float>(-(impl_->depth - margin));
+  std::vector<std::pair<float, openvdb::Coord>> hits;
+  for (auto it = impl_->grid->cbeginValueOn(); it; ++it)
+    if (*it <= cut) hits.emplace_back(*it, it.getCoord());
+  // Deepest first; ties by coordinate so that the order never depends on the tree's iteration.
+  std::sort(hits.begin(), hits.end(), [](const auto& a, const auto& b) {
+    return a.first < b.first || (a.first == b.first && a.second < b.second);
+  });
+  if (hits.size() > max_count) hits.resize(max_count);
+  std::vector<Vec3> out;
+  out.reserve(hits.size());
+  for (const auto& [v, c] : hits) {
+    const openvdb::Vec3d w = impl_->grid->indexToWorld(c);
+    out.emplace_back(w.x(), w.y(), w.z());
+  }
+  return out;
 }
 
 double voxel_for_grid(const TriangleMesh& mesh, int cells) {

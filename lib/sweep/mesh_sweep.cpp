@@ -144,7 +144,7 @@ struct FloatSweepPolicy {
 
 FloatMeshContact first_contact_along_line_float(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v) {
   FloatSweepPolicy policy(fixed, moving, v);
-  traverse_pairs_nearest_first(fixed.tree, moving.tree, policy);
+  traverse_pairs_best_first(fixed.tree, moving.tree, policy);
   return policy.result;
 }
 
@@ -154,11 +154,12 @@ double sphere_entry_time_lower_bound(const Sphere& fixed, const Sphere& moving, 
   return entry_lower_bound(fixed, moving, vx, vy, vz, vx * vx + vy * vy + vz * vz);
 }
 
-SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces) {
+SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces, const BvhBuildOptions& options) {
   SweepMesh m;
   m.vertices = std::move(vertices);
   m.faces = std::move(faces);
-  m.tree = build_triangle_bvh<Sphere>(m.vertices, m.faces, [](int n, const auto& p) { return bounding_sphere(n, p); });
+  m.tree = build_triangle_bvh<Sphere>(
+      m.vertices, m.faces, [](int n, const auto& p) { return bounding_sphere(n, p); }, options);
   return m;
 }
 

@@ -17,14 +17,14 @@ namespace cdbench {
 struct SweepMesh {
   std::vector<Vec3> vertices;
   std::vector<Face> faces;
-  Bvh<Sphere> tree;  // one triangle per leaf
+  Bvh<Sphere> tree;  // one triangle per leaf unless built otherwise
 
   Triangle triangle(std::uint32_t f) const {
     return {vertices[faces[f][0]], vertices[faces[f][1]], vertices[faces[f][2]]};
   }
 };
 
-SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces);
+SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces, const BvhBuildOptions& options = {});
 
 // `m` moved by t as a pose places it: vertices fl(v + t) (bit for bit what place_point gives for
 // rotated vertices v), the same tree with centres fl(c + t) and radii grown to cover the rounding

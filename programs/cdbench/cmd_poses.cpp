@@ -51,7 +51,7 @@ int run_float_poses(const PosesCliOptions& opt) {
   std::cout << "fixed:           " << opt.mesh << " (" << fixed.validated.mesh.faces.size() << " faces, diagonal "
             << std::setprecision(9) << r.diagonal << ")\n";
   std::cout << "pipeline:        float (uncertified): grid voxel " << r.voxel << " (" << r.diagonal / r.voxel
-            << " per diagonal), max depth on the grid " << number_text(r.max_depth) << "\n";
+            << " per diagonal), max depth on the lattice " << number_text(r.max_depth) << "\n";
   std::cout << "poses:           " << r.directions << " directions x " << r.orientations << " orientations x " << r.levels
             << " levels: " << r.placed << " placed, " << r.no_contact << " without contact\n";
   std::cout << "time:            " << std::fixed << std::setprecision(2) << r.seconds_total << " s (grid "

@@ -13,6 +13,7 @@
 #include "mesh_loading.h"
 #include "poseset/poseset_manifest.h"
 #include "util/error.h"
+#include "util/number_format.h"
 #include "validate/validate_run.h"
 
 namespace cdbench::cli {
@@ -84,8 +85,9 @@ int run_validate_cmd(const ValidateCliOptions& opt) {
     runs.push_back(run_validate(rq));
     const ValidateResult& v = runs.back();
     std::cout << "pose set: " << rq.poseset << " (pipeline " << v.pipeline
-              << (v.voxel > 0 ? ", voxel " + std::to_string(v.voxel / v.diagonal).substr(0, 8) + " x diagonal" : "")
-              << ")\ncertified max penetration [" << v.max_penetration.lo << ", " << v.max_penetration.hi
+              << (v.voxel > 0 ? ", voxel " + number_text(v.voxel / v.diagonal, 4) + " x diagonal" : "")
+              << ")\ncertified max penetration [" << number_text(v.max_penetration.lo) << ", "
+              << number_text(v.max_penetration.hi)
               << "]; errors c - target in % of it; missed: first contacts skipped (n/a: undecidable)\n";
     print_table(v);
     std::cout << "written: " << rq.out << "/validation.csv, " << rq.out << "/validation.json (" << std::fixed

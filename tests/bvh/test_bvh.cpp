@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <iostream>
 #include <limits>
+#include <tuple>
 #include <random>
 
 #include "bvh/aabb.h"
@@ -101,6 +103,70 @@ TEST(Bvh, NearestFirstTraversalMatchesBruteForceAndPrunes) {
     total_leaves += q.leaves;
   }
   EXPECT_LT(total_leaves, 200L * 2000 / 10) << "the traversal should prune most leaves";
+}
+
+// The nearest pair of boxes between two hierarchies, through both pair traversals: the same
+// answer as brute force, and best-first never visits more leaf pairs than depth-first.
+struct NearestPair {
+  const std::vector<Aabb>& a;
+  const std::vector<Aabb>& b;
+  double best = std::numeric_limits<double>::infinity();
+  std::uint32_t ia = 0, ib = 0;
+  long leaves = 0;
+  double bound(const Aabb& x, const Aabb& y) const { return squared_distance_lower_bound(x, y); }
+  double prune_bound() const { return best; }
+  bool split_first(const Aabb& x, const Aabb& y) const { return x.diagonal() >= y.diagonal(); }
+  bool done() const { return false; }
+  void leaf(std::uint32_t i, std::uint32_t j) {
+    ++leaves;
+    const double d = squared_distance_lower_bound(a[i], b[j]);
+    if (d < best || (d == best && std::tie(i, j) < std::tie(ia, ib))) {
+      best = d;
+      ia = i;
+      ib = j;
+    }
+  }
+};
+
+TEST(Bvh, BestFirstPairTraversalMatchesDepthFirstAndBruteForce) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> shift(-25, 25);
+  long best_first = 0, depth_first = 0;
+  for (int k = 0; k < 40; ++k) {
+    RandomBoxes ra(600, 100 + k), rb(500, 200 + k);
+    const Eigen::Vector3d t(shift(rng), shift(rng), shift(rng));
+    for (Aabb& box : rb.boxes) {
+      box.lo += t;
+      box.hi += t;
+    }
+    for (auto& c : rb.centroids) c += t;
+    const Bvh<Aabb> ta = ra.build(k % 2 ? 1 : 4), tb = rb.build(k % 3 ? 1 : 2);
+    NearestPair p{ra.boxes, rb.boxes}, q{ra.boxes, rb.boxes};
+    traverse_pairs_best_first(ta, tb, p);
+    traverse_pairs_nearest_first(ta, tb, q);
+    double brute = std::numeric_limits<double>::infinity();
+    std::uint32_t bi = 0, bj = 0;
+    for (std::uint32_t i = 0; i < ra.boxes.size(); ++i)
+      for (std::uint32_t j = 0; j < rb.boxes.size(); ++j) {
+        const double d = squared_distance_lower_bound(ra.boxes[i], rb.boxes[j]);
+        if (d < brute) {
+          brute = d;
+          bi = i;
+          bj = j;
+        }
+      }
+    EXPECT_EQ(p.best, brute) << k;
+    EXPECT_EQ(q.best, brute) << k;
+    EXPECT_EQ(std::tie(p.ia, p.ib), std::tie(q.ia, q.ib)) << k;
+    if (brute > 0) {  // overlapping boxes all tie at 0
+      EXPECT_EQ(std::tie(p.ia, p.ib), std::tie(bi, bj)) << k;
+    }
+    EXPECT_LE(p.leaves, q.leaves) << k;
+    best_first += p.leaves;
+    depth_first += q.leaves;
+  }
+  EXPECT_LT(best_first, 40L * 600 * 500 / 100) << "best-first should prune nearly all leaf pairs";
+  std::cout << "leaf pairs visited: best-first " << best_first << ", depth-first " << depth_first << "\n";
 }
 
 TEST(Aabb, DistanceLowerBoundNeverExceedsTruth) {
