@@ -1,5 +1,6 @@
 #include "offset/level_list.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <set>
@@ -77,6 +78,13 @@ std::vector<LevelSpec> parse_level_list(const std::string& list) {
 
 double level_distance(const LevelSpec& level, double max_penetration) {
   return level.percent ? level.value / 100.0 * max_penetration : level.value;
+}
+
+double max_penetration_tolerance_for(const std::vector<LevelSpec>& levels, double tolerance, double floor) {
+  double p = 0.0;
+  for (const LevelSpec& l : levels)
+    if (l.percent) p = std::max(p, std::abs(l.value) / 100.0);
+  return p > 0.0 ? std::max(floor, tolerance / p) : floor;
 }
 
 void check_distinct_levels(const std::vector<LevelSpec>& levels) {

@@ -21,4 +21,11 @@ void check_distinct_levels(const std::vector<LevelSpec>& levels);
 // Absolute signed distance of a level given the maximum penetration.
 double level_distance(const LevelSpec& level, double max_penetration);
 
+// How tightly the maximum penetration M must be certified (width relative to the diagonal) for a
+// pose set whose percentage levels p are placed to `tolerance` (relative to the diagonal): a level
+// at p·M is then known to |p|·width <= tolerance of p times the true M. Never below `floor` (the
+// default width); `floor` when no level is a percentage. M is only the levels' scale: a thin
+// tube's M has a 2-D plateau of deepest points that costs ~1/width^0.7 cells to certify.
+double max_penetration_tolerance_for(const std::vector<LevelSpec>& levels, double tolerance, double floor);
+
 }  // namespace cdbench

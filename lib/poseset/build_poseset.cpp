@@ -104,7 +104,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   const SignedDistance sdf(fixed_mesh);
   const double diag = sdf.bbox().diagonal();
   double seconds_mp = 0.0;
-  const MaxPenetrationResult mp = timed_max_penetration(sdf, opt.max_penetration_tolerance, &seconds_mp);
+  const double mp_tol = max_penetration_tolerance_for(specs, opt.tolerance, opt.max_penetration_tolerance);
+  const MaxPenetrationResult mp = timed_max_penetration(sdf, mp_tol, &seconds_mp);
   const bool polish = !opt.no_polish;
   const double tol = opt.tolerance * diag;
 
@@ -140,7 +141,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 
   // Offsets of the levels that start from one (reused across runs by their own manifest).
-  OffsetSetRequest req = make_offset_request(opt.fixed, sdf, mp, opt.max_penetration_tolerance, seconds_mp, fixed_sha,
+  OffsetSetRequest req = make_offset_request(opt.fixed, sdf, mp, mp_tol, seconds_mp, fixed_sha,
                                             opt.out + "/offsets");
   std::vector<std::ptrdiff_t> offset_of(L, -1);  // index in the offset set
   for (std::size_t l = 0; l < L; ++l) {
@@ -310,7 +311,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   ps["mover_is_fixed"] = mover_is_fixed;
   ps["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
                            {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
-                           {"relative_tolerance", opt.max_penetration_tolerance}};
+                           {"relative_tolerance", mp_tol}};
   ps["levels"] = nlohmann::json::array();
   for (std::size_t l = 0; l < L; ++l) {
     const LevelSummary& x = summary[l];

@@ -24,6 +24,8 @@ struct PoseSetRequest {
   std::string start = "auto";
   double tolerance = 1e-6;       // certification tolerance, relative to the fixed mesh's diagonal
   double band_tolerance = 1e-3;  // offsets' band tolerance, relative
+  // The least width of the max penetration (relative); percentage levels loosen it to what their
+  // targets need (max_penetration_tolerance_for).
   double max_penetration_tolerance = 1e-6;
   int max_steps = 400;
   std::string command_line;

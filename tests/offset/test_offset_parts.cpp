@@ -29,6 +29,17 @@ TEST(LevelList, AbsolutePercentAndRanges) {
   EXPECT_EQ(parse_level_list("0:1:0.1").size(), 11u);  // rounding must not drop the end point
 }
 
+TEST(LevelList, MaxPenetrationToleranceFollowsTheDeepestPercentage) {
+  // |p| width <= tolerance for every percentage level, never below the floor.
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-25%,0,10%"), 1e-6, 1e-6), 4e-6);
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-20%,5%"), 1e-6, 1e-6), 5e-6);
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-80%:0%:10%"), 1e-6, 1e-6), 1.25e-6);
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-200%,0"), 1e-6, 1e-6), 1e-6);
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-0.5,0,0.2"), 1e-6, 1e-6), 1e-6);
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("0"), 1e-5, 1e-6), 1e-6);
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-50%,0.3"), 1e-5, 1e-6), 2e-5);
+}
+
 TEST(LevelList, ErrorsNameTheItem) {
   for (const char* bad : {"", "abc", "1,,2", "1:2", "1%:2:1", "2:1:0.5", "0:1:0", "0:1e9:1", "nan", "5%%"}) {
     try {
