@@ -8,9 +8,28 @@
 
 namespace cdbench {
 
+double translated_depth(const TranslatedDepthBound& b, const Vec3& D) {
+  if (b.n == 0) return std::numeric_limits<double>::infinity();
+  const double d2 = D.squaredNorm(), dn = std::sqrt(d2);
+  double worst = 0.0;
+  for (int k = 0; k < b.n; ++k) {
+    const CornerMoments& m = b.corners[k];
+    // The computed A and W are within (n + 5) u (n <= 48 weights) of the exact means of the
+    // computed w: 1e-13 relative for A, 1e-13 sqrt(A) for W (|W| <= sqrt(A) by Cauchy-Schwarz).
+    // The sum then rounds by a few u times (sqrt(A) + |D|)^2; 1e-12 of it covers that.
+    const double sa = std::sqrt(m.a);
+    double g = m.a * (1.0 + 1e-13) + 2.0 * m.w.dot(D) + 2e-13 * sa * dn + d2;
+    g += 1e-12 * (sa + dn) * (sa + dn);
+    worst = std::max(worst, g);
+  }
+  return round_up(round_up(std::sqrt(worst)) + b.err);
+}
+
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
-                         std::vector<std::uint32_t>& ids, Vec3* candidate, const Vec3* plane_normal, int* worst_corner) {
+                         std::vector<std::uint32_t>& ids, Vec3* candidate, const Vec3* plane_normal, int* worst_corner,
+                         TranslatedDepthBound* moments) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (moments) moments->n = 0;
   sdf.triangles_within(c, radius, 48, ids);  // a partial set is still valid
   if (ids.empty()) return kInf;
   const TriangleMesh& m = sdf.mesh();
@@ -44,15 +63,31 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
     for (std::size_t j = 0; j < n; ++j) *candidate += lambda[j] * nearest[j];
   }
   double worst = 0.0;
+  if (moments) moments->err = 0.0;
+  const bool with_moments = moments && n_corners <= static_cast<int>(moments->corners.size());
   for (int corner = 0; corner < n_corners; ++corner) {
     const Vec3& v = corners[corner];
     double sum = 0.0, weights = 0.0;
+    CornerMoments cm;
     for (std::size_t j = 0; j < n; ++j) {
       if (lambda[j] <= 0.0) continue;
       const Face& f = m.faces[ids[j]];
-      const Interval d2 = point_triangle_squared_distance(v, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
+      const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &cc = m.vertices[f[2]];
+      const Interval d2 = point_triangle_squared_distance(v, a, b, cc);
       sum += lambda[j] * round_up(std::sqrt(d2.hi));  // sqrt is correctly rounded: one ulp up bounds it
       weights += lambda[j];
+      if (with_moments) {
+        const Vec3 w = v - point_of_triangle_near(v, a, b, cc);
+        cm.a += lambda[j] * w.squaredNorm();
+        cm.w += lambda[j] * w;
+        // q's distance to the triangle, and fl(v - q) within 2 u |w| (norm) of v - q.
+        moments->err = std::max(moments->err, closest_point_error(a, b, cc) + 1e-15 * w.norm());
+      }
+    }
+    if (with_moments && weights > 0.0) {
+      cm.a /= weights;
+      cm.w /= weights;
+      moments->corners[moments->n++] = cm;
     }
     // Positive terms only: the relative rounding error of at most ~50 additions and one product each
     // is below 1e-13; the factor covers it with margin.
@@ -62,6 +97,7 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
       if (worst_corner) *worst_corner = corner;
     }
   }
+  if (moments && moments->n != n_corners) moments->n = 0;  // every corner or none
   return round_up(worst);
 }
 

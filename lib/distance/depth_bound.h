@@ -6,12 +6,34 @@
 // gradients of the nearest triangles cancel (the min-norm point of their convex hull) make it
 // tight at a medial point and exact on a plateau between parallel faces. For interior cells this
 // bounds the depth (penetration), so -bound is a lower bound of the signed distance.
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "distance/signed_distance.h"
 
 namespace cdbench {
+
+// The same bound for the cell translated by any vector D (doc/poses.md, "Warm starts keep the
+// depth bounds"). With q_jk a point of triangle j near corner k (point_of_triangle_near) and the
+// weights normalised, d_j(v_k + D) <= |w_jk + D| (w_jk = v_k - q_jk) and, by Jensen,
+//   sum_j l_j |w_jk + D| <= sqrt(sum_j l_j |w_jk + D|^2) = sqrt(A_k + 2 W_k.D + |D|^2),
+// A_k = sum_j l_j |w_jk|^2, W_k = sum_j l_j w_jk: two moments per corner bound the depth of the
+// translated cell for every D, and the bound grows only as fast as the cell deepens along D (a
+// shifted Lipschitz bound grows by |D|).
+struct CornerMoments {
+  double a = 0.0;
+  Vec3 w = Vec3::Zero();
+};
+struct TranslatedDepthBound {
+  std::array<CornerMoments, 8> corners;
+  int n = 0;          // corners used; 0: no bound
+  double err = 0.0;   // the points q_jk's distance to their triangles, w's rounding (absolute)
+};
+// A certified upper bound of dist(x, F) for every point x of the cell (the convex hull of the
+// corners given to depth_upper_bound) translated by D, for the computed D itself (a caller whose
+// real translation differs adds the difference: the bound is 1-Lipschitz in D). +inf when n = 0.
+double translated_depth(const TranslatedDepthBound& b, const Vec3& D);
 
 // c: a point of the cell (its centre); radius: the triangles considered are those within radius
 // of c (any subset gives a valid bound; it must reach the nearest ones to be tight). Returns +inf
@@ -22,8 +44,10 @@ namespace cdbench {
 // the plane peaks on a ridge between nearest triangles (only tightness depends on the weights).
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
                          std::vector<std::uint32_t>& scratch, Vec3* candidate = nullptr,
-                         const Vec3* plane_normal = nullptr, int* worst_corner = nullptr);
+                         const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
+                         TranslatedDepthBound* moments = nullptr);
 // worst_corner (optional) receives the corner attaining the bound: where the true depth is likely
-// largest, worth certifying as a candidate (a lower bound on the maximum depth).
+// largest, worth certifying as a candidate (a lower bound on the maximum depth). moments (optional,
+// at most 8 corners) receives the translated form of the same bound, with the same weights.
 
 }  // namespace cdbench

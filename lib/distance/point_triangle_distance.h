@@ -31,6 +31,15 @@ namespace cdbench {
 // it receives the closest feature: 0..2 vertex a, b, c; 3..5 edge ab, bc, ca; 6 interior.
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int* feature = nullptr);
 
+// A point of the closed triangle abc near its closest point to p, for bounds that need a point
+// *of* the triangle: the closest point's barycentrics (beta, gamma) clamped so that beta, gamma >= 0
+// and beta + gamma <= 1 hold exactly, then q = a + beta (b - a) + gamma (c - a) in doubles. The
+// real point with those barycentrics lies in the triangle, and the computed q is within
+// closest_point_error(a, b, c) of it (a handful of roundings, each at most u times a magnitude
+// below |a| + |b - a| + |c - a| <= 5 max|coordinate|).
+Vec3 point_of_triangle_near(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+double closest_point_error(const Vec3& a, const Vec3& b, const Vec3& c);
+
 // Weights lambda (>= 0, summing to 1) whose combination of the unit vectors g is near the
 // min-norm point of their convex hull (Frank-Wolfe with exact line search, starting at g[0]).
 // Heuristic: callers only use the weights in bounds that are valid for any weights.

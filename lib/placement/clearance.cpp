@@ -107,7 +107,17 @@ struct Cell {
   std::array<std::array<double, 2>, 3> bary;  // (beta, gamma) of the corners; exact dyadics
   bool stale = false;  // a warm-start cell: its bound is shifted, not evaluated at this pose
   SideBall ball = {};  // from its evaluation (or, for a stale cell, from the previous pose's)
+  std::int32_t depth = -1;  // its translated depth bound (index into BranchAndBound::depth_), if any
 };
+
+// A lower bound of s on a cell's points placed in doubles at the pose t (rounding `rounding_t`), from
+// its translated depth bound: they lie within d.rounding + rounding_t of the evaluated cell moved by
+// the real t - d.t, which is within 1e-15 |D| of the computed D, and the bound is 1-Lipschitz in D.
+double translated_lower(const CellDepthBound& d, const Vec3& t, double rounding_t) {
+  const Vec3 D = t - d.t;
+  const double depth = translated_depth(d.bound, D) + 1e-15 * D.norm() + d.rounding + rounding_t;
+  return down(-up(depth * (1.0 + 1e-15)));
+}
 
 // The side of x, when x certainly lies in the ball (0 otherwise). The computed norm's relative
 // error is a few ulps; the factor covers it.
@@ -137,10 +147,16 @@ class BranchAndBound {
       evaluate_face(h);  // sets the upper bound only (a point cell, not pushed)
     }
     if (warm) {
-      // Each placed vertex moved by the translation difference plus the roundings of both poses.
-      const double shift = up(up((t_ - warm->t).norm() * (1.0 + 1e-12)) + up(warm->transform_error + o_.transform_error(t_)));
-      for (const ClearanceFrontier::Cell& w : warm->cells)
-        push(Cell{down(w.lower - shift), 0, w.is_node, w.id, w.level, w.bary, true, w.ball});
+      // Each placed vertex moved by the translation difference plus the roundings of both poses;
+      // a cell with a translated depth bound may keep a tighter bound from it.
+      const double rounding = o_.transform_error(t_);
+      const double shift = up(up((t_ - warm->t).norm() * (1.0 + 1e-12)) + up(warm->transform_error + rounding));
+      depth_ = warm->depth;
+      for (const ClearanceFrontier::Cell& w : warm->cells) {
+        double lower = down(w.lower - shift);
+        if (w.depth >= 0) lower = std::max(lower, translated_lower(depth_[w.depth], t_, rounding));
+        push(Cell{lower, 0, w.is_node, w.id, w.level, w.bary, true, w.ball, w.depth});
+      }
     } else {
       push(evaluate_node(0));
     }
@@ -189,7 +205,19 @@ class BranchAndBound {
   // The leaves of this search: the cells left in the queue and the discarded ones.
   void export_frontier(ClearanceFrontier& f) {
     f.cells.clear();
-    const auto keep = [&](const Cell& c) { f.cells.push_back({c.lower, c.is_node, c.id, c.level, c.bary, c.ball}); };
+    f.depth.clear();
+    std::vector<std::int32_t> renumber(depth_.size(), -1);  // only the bounds of kept cells
+    const auto keep = [&](const Cell& c) {
+      std::int32_t d = -1;
+      if (c.depth >= 0) {
+        if (renumber[c.depth] < 0) {
+          renumber[c.depth] = static_cast<std::int32_t>(f.depth.size());
+          f.depth.push_back(depth_[c.depth]);
+        }
+        d = renumber[c.depth];
+      }
+      f.cells.push_back({c.lower, c.is_node, c.id, c.level, c.bary, c.ball, d});
+    };
     for (const Cell& c : discarded_) keep(c);
     while (!queue_.empty()) {
       keep(queue_.top());
@@ -238,8 +266,11 @@ class BranchAndBound {
     if (lower < threshold() && s.hi < 0.0) {
       std::array<Vec3, 8> corners;
       for (int k = 0; k < 8; ++k) corners[k] = box.corner(k);
-      const double depth = depth_upper_bound(fixed_, centre, up(ud.hi + 2 * r), corners.data(), 8, ids_);
+      TranslatedDepthBound moments;
+      const double depth = depth_upper_bound(fixed_, centre, up(ud.hi + 2 * r), corners.data(), 8, ids_, nullptr,
+                                             nullptr, nullptr, &moments);
       lower = std::max(lower, -depth);
+      c.depth = keep_depth(moments, 0.0);
     }
     c.lower = lower;
     return c;
@@ -296,8 +327,10 @@ class BranchAndBound {
         const double len = normal.norm();
         int corner = 0;
         if (len > 0.0) normal /= len;
+        TranslatedDepthBound moments;
         const double depth = depth_upper_bound(fixed_, m, up(ud.hi + 2 * r), v.data(), 3, ids_, nullptr,
-                                               len > 0.0 ? &normal : nullptr, &corner);
+                                               len > 0.0 ? &normal : nullptr, &corner, &moments);
+        c.depth = keep_depth(moments, eta);
         // The deepest point of a cell is often a corner (a mover vertex or edge): certify it, so
         // that the upper end meets the convexity bound without subdividing towards that corner.
         if (depth < kInf) {
@@ -310,6 +343,14 @@ class BranchAndBound {
     }
     c.lower = lower;
     return c;
+  }
+
+  // Stores a cell's translated depth bound at this pose (eta: its corners' rounding); its index.
+  std::int32_t keep_depth(TranslatedDepthBound& b, double eta) {
+    if (b.n == 0) return -1;
+    b.err = up(b.err + eta);
+    depth_.push_back(CellDepthBound{b, t_, o_.transform_error(t_)});
+    return static_cast<std::int32_t>(depth_.size() - 1);
   }
 
   // A certified value of s at a mover surface point (face, barycentrics): the upper end so far.
@@ -332,6 +373,7 @@ class BranchAndBound {
   bool keep_discarded_;
   double min_discarded_ = kInf;
   std::vector<Cell> discarded_;
+  std::vector<CellDepthBound> depth_;
   std::uint64_t seq_ = 0, queries_ = 0;
   std::vector<std::uint32_t> ids_;
   std::priority_queue<Cell, std::vector<Cell>, CellOrder> queue_;

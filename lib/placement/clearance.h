@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "distance/depth_bound.h"
 #include "distance/signed_distance.h"
 #include "placement/mover.h"
 #include "util/interval.h"
@@ -29,10 +30,21 @@ struct SideBall {
   int side = 0;
 };
 
+// A cell's translated depth bound (distance/depth_bound.h) as evaluated at the pose t: at any pose
+// t', every point of the cell, placed in doubles, has s >= -(translated_depth(bound, t' - t) + the
+// rounding of t' - t + rounding + the rounding of the pose t'); s >= -dist(x, F) holds inside and
+// outside. The cell's own corner rounding is in bound.err.
+struct CellDepthBound {
+  TranslatedDepthBound bound;
+  Vec3 t = Vec3::Zero();
+  double rounding = 0.0;  // transform_error(t)
+};
+
 // The leaves of a branch and bound's search (cells of the mover's surface in its own coordinates,
 // with their lower bounds) at the pose t: a warm start for a nearby pose. Every point of a cell
 // moves by at most |t' - t| plus the two poses' rounding bounds, and s is 1-Lipschitz, so the old
-// lower bounds shifted by that are valid at t'; cells are re-evaluated only when they matter.
+// lower bounds shifted by that are valid at t'; so is a cell's translated depth bound, which
+// falls only as fast as the cell really deepens. Cells are re-evaluated only when they matter.
 struct ClearanceFrontier {
   struct Cell {
     double lower;
@@ -41,11 +53,13 @@ struct ClearanceFrontier {
     int level;
     std::array<std::array<double, 2>, 3> bary;
     SideBall ball;  // at the frontier's pose: a ball free of F around the cell's centre, and its side
+    std::int32_t depth = -1;  // index into `depth`, or -1 (no translated depth bound)
   };
   bool valid = false;
   Vec3 t = Vec3::Zero();
   double transform_error = 0.0;
   std::vector<Cell> cells;
+  std::vector<CellDepthBound> depth;
 };
 
 struct ClearanceOptions {

@@ -135,13 +135,14 @@ TEST(Clearance, AgreesWithDenseSampling) {
   EXPECT_GT(penetrating, 2);
 }
 
-// A branch and bound warm-started from the previous pose's frontier (shifted bounds) must give a
-// rigorous certificate too: along approaches into a torus, chained warm certificates agree with
-// cold ones and with the dense-sampling enclosure; at least one step must use the warm start.
+// A branch and bound warm-started from the previous pose's frontier (shifted bounds, and the cells'
+// translated depth bounds) must give a rigorous certificate too: along approaches into a torus,
+// chained warm certificates agree with cold ones and with the dense-sampling enclosure; steps must
+// use the warm start and its depth bounds.
 TEST(Clearance, WarmStartFromTheLastFrontierStaysRigorous) {
   std::mt19937_64 rng(21);
   Case c(make_torus(1.0, 0.4, 24, 12), make_icosphere(0.5, 1));
-  int warm_runs = 0;
+  int warm_runs = 0, with_depth_bounds = 0;
   for (int k = 0; k < 6; ++k) {
     const Eigen::Matrix3d R = random_rotation(rng);
     const Vec3 dir = random_direction(rng);
@@ -157,6 +158,7 @@ TEST(Clearance, WarmStartFromTheLastFrontierStaysRigorous) {
       const ClearanceResult w = certify_clearance(c.fixed, c.mover, c.comps, o, t, warm);
       const ClearanceResult cold = c.run(R, t, 1e-6);
       warm_runs += had_frontier && !w.separated;
+      with_depth_bounds += had_frontier && !frontier.depth.empty();  // translated depth bounds were kept
       SCOPED_TRACE("case " + std::to_string(k) + " step " + std::to_string(step));
       EXPECT_TRUE(w.tolerance_reached);
       EXPECT_LE(w.clearance.lo, cold.clearance.hi) << w.clearance.lo << " " << w.clearance.hi;
@@ -168,6 +170,7 @@ TEST(Clearance, WarmStartFromTheLastFrontierStaysRigorous) {
     }
   }
   EXPECT_GT(warm_runs, 10);
+  EXPECT_GT(with_depth_bounds, 10);
 }
 
 TEST(PlacePose, PolishedPosesHitTheTarget) {
