@@ -22,9 +22,10 @@ using Cell = Aabb;
 enum class Verdict : unsigned char { Discard, Split, Missed, Unresolved };
 
 // Whether s has no critical point (local extremum) in the cell: every point x of the cell has its
-// nearest surface points on the triangles `ids` (all triangles within dist(c) + 2r of c), and some
-// direction w satisfies w.(x - p) > 0 for all x in the cell and p on those triangles (a linear
-// function: checked at corner/vertex pairs), so dist strictly increases along w at every x.
+// nearest surface points on the triangles `ids` (all triangles within radius = dist(c) + 2r of c),
+// within radius of c, and some direction w satisfies w.(x - p) > 0 for all x in the cell and such
+// p (w.(x - c) is least at a corner; max_towards bounds w.(p - c)), so dist strictly increases
+// along w at every x.
 bool no_critical_point(const SignedDistance& sdf, const Cell& cell, const Vec3& c, double radius,
                        std::vector<std::uint32_t>& ids) {
   // Far from F the possibly-nearest set is a thin shell holding many triangles: allow a few hundred.
@@ -42,22 +43,53 @@ bool no_critical_point(const SignedDistance& sdf, const Cell& cell, const Vec3& 
   const Vec3 x = min_norm_combination(g, lambda, 60);
   if (!(x.norm() > 1e-6)) return false;
   const Vec3 w = x.normalized();
+  double nearest_corner = kInf, corner_size = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 v = cell.corner(corner);
+    nearest_corner = std::min(nearest_corner, w.dot(v - c));
+    corner_size = std::max(corner_size, v.cwiseAbs().sum());
+  }
   for (std::uint32_t id : ids) {
     const Face& f = m.faces[id];
-    for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 v = cell.corner(corner);
-      for (std::uint32_t t : f) {
-        const Vec3 diff = v - m.vertices[t];
-        // Margin far above the rounding of a 3-term dot product of these magnitudes.
-        const double margin = 1e-12 * (diff.cwiseAbs().sum() + v.cwiseAbs().sum() + m.vertices[t].cwiseAbs().sum());
-        if (!(w.dot(diff) > margin)) return false;
-      }
-    }
+    const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &q = m.vertices[f[2]];
+    // Margin far above the rounding of the 3-term dot products and differences of these magnitudes.
+    const double margin =
+        1e-12 * (corner_size + c.cwiseAbs().sum() + a.cwiseAbs().sum() + b.cwiseAbs().sum() + q.cwiseAbs().sum());
+    if (!(nearest_corner - max_towards(w, c, radius, a, b, q) > margin)) return false;
   }
   return true;
 }
 
 }  // namespace
+
+// The vertex bound: a linear function on a triangle peaks at a vertex. The disc bound: with n* the
+// exact unit normal and h* = (c - a).n*, every such p has p - c = u - h* n*, u orthogonal to n*,
+// |u|^2 <= rho^2 - h*^2, so w.(p - c) <= |w - (w.n*) n*| sqrt(rho^2 - h*^2) - h* (w.n*). The
+// computed normal n is within kappa of n* (cross-product rounding relative to |b - a| |q - a|,
+// divided by |N|: large for slivers, where the vertex bound serves); h and w.n are widened by it.
+// -inf when the ball misses the plane (no point of the triangle can be nearest).
+double max_towards(const Vec3& w, const Vec3& c, double rho, const Vec3& a, const Vec3& b, const Vec3& q) {
+  double vertices = -kInf;  // each with its rounding (a difference and a 3-term dot product)
+  for (const Vec3* v : {&a, &b, &q})
+    vertices = std::max(vertices, w.dot(*v - c) + 1e-14 * ((*v - c).cwiseAbs().sum() + v->cwiseAbs().sum()));
+  const Vec3 e1 = b - a, e2 = q - a, N = e1.cross(e2);
+  const double len = N.norm();
+  if (!(len > 0.0)) return vertices;
+  const double kappa = 1e-14 * e1.norm() * e2.norm() / len;
+  if (!(kappa < 1e-3)) return vertices;
+  const Vec3 n = N / len;
+  const double ca = (c - a).norm();
+  const double h = (c - a).dot(n), eh = ca * (kappa + 1e-15);
+  const double wn = w.dot(n), ewn = kappa + 1e-15;
+  const double h_lo = std::max(0.0, std::abs(h) - eh);
+  if (h_lo > rho) return -kInf;
+  const double wn_lo = std::max(0.0, std::abs(wn) - ewn);
+  const double along = std::sqrt(std::max(0.0, 1.0 + 1e-14 - wn_lo * wn_lo)) * std::sqrt(rho * rho - h_lo * h_lo);
+  const double across = -h * wn + std::abs(h) * ewn + std::abs(wn) * eh + eh * ewn;
+  // The few roundings of these terms stay far below 1e-12 (rho + |c - a|).
+  const double disc = along + across + 1e-12 * (rho + ca);
+  return std::min(vertices, disc);
+}
 
 CompletenessResult certify_completeness(const SignedDistance& sdf, const TriangleMesh& offset, double d, double eps,
                                         const CompletenessOptions& options) {

@@ -23,6 +23,13 @@ struct CompletenessResult {
   double seconds = 0.0;
 };
 
+// An upper bound of w.(p - c) over the points p of the closed triangle (a, b, q) within rho of c,
+// for a unit w (up to rounding): the smaller of the vertex bound and the bound over the disc where
+// the triangle's plane meets the ball (-inf when the ball misses the plane). Rigorous in doubles.
+// Used by the search's no-critical-point test: only the parts of long triangles near a cell can hold
+// its nearest points.
+double max_towards(const Vec3& w, const Vec3& c, double rho, const Vec3& a, const Vec3& b, const Vec3& q);
+
 // `offset` must be a validated closed surface (it may be empty: then every point is outside it).
 CompletenessResult certify_completeness(const SignedDistance& sdf, const TriangleMesh& offset, double d, double eps,
                                         const CompletenessOptions& options = {});
