@@ -333,7 +333,9 @@ class BranchAndBound {
         c.depth = keep_depth(moments, eta);
         // The deepest point of a cell is often a corner (a mover vertex or edge): certify it, so
         // that the upper end meets the convexity bound without subdividing towards that corner.
-        if (depth < kInf) {
+        // (Not when the cell's own lower bound already reaches the upper end: s at the corner is
+        // at least that, so it could not lower the upper end.)
+        if (depth < kInf && down(-depth - eta) < upper_) {
           ++queries_;
           const Interval s_corner = signed_at(v[corner], fixed_.unsigned_distance(v[corner]), &c.ball, nullptr);
           offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
