@@ -98,6 +98,35 @@ TEST(SignedDistance, BoxPointsExactlyOnFacesEdgesAndVertices) {
   EXPECT_EQ(sdf.signed_distance(Vec3(0.5, 1, 2)).hi, -0.5);
 }
 
+// triangles_within lists every triangle within the radius (a certified superset), checked with
+// exact rational distances on points near, on and away from a torus, radii from 1e-9 to 0.3 of
+// the diagonal; and it is no loose superset: nothing beyond twice the radius (plus 1e-12 x diag).
+TEST(SignedDistance, TrianglesWithinListEveryTriangleWithinTheRadius) {
+  const TriangleMesh mesh = make_torus(2.0, 0.6, 24, 12);
+  const double diag = mesh.bbox().diagonal();
+  const SignedDistance sdf(mesh);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<std::uint32_t> ids;
+  int listed = 0;
+  for (const Vec3& p : sample_points(mesh, 11)) {
+    const double radius = diag * std::pow(10.0, -9.0 + 8.5 * u(rng));
+    ASSERT_TRUE(sdf.triangles_within(p, radius, mesh.faces.size(), ids));
+    std::vector<bool> in(mesh.faces.size(), false);
+    for (std::uint32_t f : ids) in[f] = true;
+    listed += static_cast<int>(ids.size());
+    const Epeck::FT r2 = Epeck::FT(radius) * Epeck::FT(radius);
+    const double loose = 2 * radius + 1e-12 * diag;
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+      const Face& t = mesh.faces[f];
+      const Epeck::FT d2 = testing::exact_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+      if (d2 <= r2) ASSERT_TRUE(in[f]) << "face " << f << " within the radius but not listed";
+      if (in[f]) EXPECT_TRUE(d2 <= Epeck::FT(loose) * Epeck::FT(loose)) << "face " << f << " listed far beyond the radius";
+    }
+  }
+  EXPECT_GT(listed, 1000);
+}
+
 TEST(SignedDistance, DistanceAtMostStopsEarlyButIsRigorous) {
   const TriangleMesh m = make_icosphere(1.0, 3);
   const SignedDistance sdf(m);
