@@ -34,27 +34,34 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
   if (ids.empty()) return kInf;
   const TriangleMesh& m = sdf.mesh();
   const std::size_t n = ids.size();
-  std::vector<Vec3> g(n), nearest(n);
-  std::vector<std::pair<double, std::uint32_t>> order(n);
+  // Per-thread scratch: this runs for every deep cell of every branch and bound.
+  thread_local std::vector<Vec3> g, nearest, points;
+  thread_local std::vector<std::pair<double, std::uint32_t>> order;
+  g.resize(n);
+  nearest.resize(n);
+  points.resize(n);
+  order.resize(n);
   for (std::size_t j = 0; j < n; ++j) {
     const Face& f = m.faces[ids[j]];
-    order[j] = {(c - closest_point_on_triangle(c, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]])).squaredNorm(),
-                ids[j]};
+    points[j] = closest_point_on_triangle(c, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
+    order[j] = {(c - points[j]).squaredNorm(), static_cast<std::uint32_t>(j)};
   }
   // Nearest first (ties by id): the search below then prefers, among triangles of one face, the one
   // holding the projection, whose gradient is the exact face normal.
-  std::sort(order.begin(), order.end());
+  std::sort(order.begin(), order.end(), [&](const auto& x, const auto& y) {
+    return x.first < y.first || (x.first == y.first && ids[x.second] < ids[y.second]);
+  });
+  for (std::size_t j = 0; j < n; ++j) nearest[j] = points[order[j].second];
+  for (std::size_t j = 0; j < n; ++j) order[j].second = ids[order[j].second];
   for (std::size_t j = 0; j < n; ++j) ids[j] = order[j].second;
   for (std::size_t j = 0; j < n; ++j) {
-    const Face& f = m.faces[ids[j]];
-    nearest[j] = closest_point_on_triangle(c, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
     const Vec3 v = c - nearest[j];
     const double len = v.norm();
     if (!(len > 0.0)) return kInf;
     g[j] = v / len;
   }
   // Weights near the min-norm point of conv{g_j} (heuristic: only tightness depends on them).
-  std::vector<double> lambda;
+  thread_local std::vector<double> lambda;
   if (plane_normal)
     for (Vec3& x : g) x -= x.dot(*plane_normal) * *plane_normal;
   min_norm_combination(g, lambda, 100);
