@@ -84,9 +84,12 @@ double max_towards(const Vec3& w, const Vec3& c, double rho, const Vec3& a, cons
   const double h_lo = std::max(0.0, std::abs(h) - eh);
   if (h_lo > rho) return -kInf;
   const double wn_lo = std::max(0.0, std::abs(wn) - ewn);
-  const double along = std::sqrt(std::max(0.0, 1.0 + 1e-14 - wn_lo * wn_lo)) * std::sqrt(rho * rho - h_lo * h_lo);
+  // rho^2 - h_lo^2 may cancel: its absolute rounding (below 3 u rho^2) is added before the root,
+  // where it would otherwise grow to sqrt(u) rho; likewise |w|^2 <= 1 + 4 u.
+  const double chord2 = rho * rho - h_lo * h_lo + 1e-15 * rho * rho;
+  const double along = std::sqrt(std::max(0.0, 1.0 + 1e-14 - wn_lo * wn_lo)) * std::sqrt(std::max(0.0, chord2));
   const double across = -h * wn + std::abs(h) * ewn + std::abs(wn) * eh + eh * ewn;
-  // The few roundings of these terms stay far below 1e-12 (rho + |c - a|).
+  // The other roundings of these terms stay far below 1e-12 (rho + |c - a|).
   const double disc = along + across + 1e-12 * (rho + ca);
   return std::min(vertices, disc);
 }
