@@ -25,15 +25,27 @@ double translated_depth(const TranslatedDepthBound& b, const Vec3& D) {
   return round_up(round_up(std::sqrt(worst)) + b.err);
 }
 
+namespace {
+// The most triangles a bound combines: a partial set is still valid, and the nearest ones make it
+// tight (the first found by the tree's nearest-first order, or the nearest of a candidate list).
+constexpr std::size_t kMaxTriangles = 49;
+}  // namespace
+
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
                          std::vector<std::uint32_t>& ids, Vec3* candidate, const Vec3* plane_normal, int* worst_corner,
                          TranslatedDepthBound* moments) {
+  sdf.triangles_within(c, radius, kMaxTriangles - 1, ids);  // stops after kMaxTriangles
+  return depth_upper_bound_among(sdf, c, ids, corners, n_corners, candidate, plane_normal, worst_corner, moments);
+}
+
+double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids,
+                               const Vec3* corners, int n_corners, Vec3* candidate, const Vec3* plane_normal,
+                               int* worst_corner, TranslatedDepthBound* moments) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   if (moments) moments->n = 0;
-  sdf.triangles_within(c, radius, 48, ids);  // a partial set is still valid
   if (ids.empty()) return kInf;
   const TriangleMesh& m = sdf.mesh();
-  const std::size_t n = ids.size();
+  std::size_t n = ids.size();
   // Per-thread scratch: this runs for every deep cell of every branch and bound.
   thread_local std::vector<Vec3> g, nearest, points;
   thread_local std::vector<std::pair<double, std::uint32_t>> order;
@@ -51,8 +63,11 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
   std::sort(order.begin(), order.end(), [&](const auto& x, const auto& y) {
     return x.first < y.first || (x.first == y.first && ids[x.second] < ids[y.second]);
   });
+  n = std::min(n, kMaxTriangles);
+  g.resize(n);
   for (std::size_t j = 0; j < n; ++j) nearest[j] = points[order[j].second];
   for (std::size_t j = 0; j < n; ++j) order[j].second = ids[order[j].second];
+  ids.resize(n);
   for (std::size_t j = 0; j < n; ++j) ids[j] = order[j].second;
   for (std::size_t j = 0; j < n; ++j) {
     const Vec3 v = c - nearest[j];

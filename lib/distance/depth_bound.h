@@ -46,6 +46,13 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
                          std::vector<std::uint32_t>& scratch, Vec3* candidate = nullptr,
                          const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
                          TranslatedDepthBound* moments = nullptr);
+// The same bound from the triangles `ids` (any set; it should hold the nearest ones of the cell's
+// points to be tight), of which the nearest kMaxTriangles (49) to c are kept: `ids` is reordered
+// nearest first and cut to those used. depth_upper_bound is triangles_within then this.
+double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids,
+                               const Vec3* corners, int n_corners, Vec3* candidate = nullptr,
+                               const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
+                               TranslatedDepthBound* moments = nullptr);
 // worst_corner (optional) receives the corner attaining the bound: where the true depth is likely
 // largest, worth certifying as a candidate (a lower bound on the maximum depth). moments (optional,
 // at most 8 corners) receives the translated form of the same bound, with the same weights.

@@ -56,6 +56,28 @@ double point_triangle_distance_lower_bound(const Vec3& p, const Vec3& a, const V
   return lo / len * (1.0 - 2e-15);
 }
 
+TrianglePlane make_triangle_plane(const Vec3& a, const Vec3& b, const Vec3& c) {
+  TrianglePlane pl;
+  const Vec3 n = (b - a).cross(c - a);
+  const double len = n.norm();
+  if (!(len > 0.0) || !std::isfinite(len)) {
+    pl.eps = std::numeric_limits<double>::infinity();
+    return pl;
+  }
+  pl.n = n / len;  // any direction is valid; the closer to the true normal, the tighter
+  pl.d = pl.n.dot(a);
+  double eps = 0.0;
+  for (const Vec3* v : {&a, &b, &c}) {
+    const double t0 = pl.n[0] * (*v)[0], t1 = pl.n[1] * (*v)[1], t2 = pl.n[2] * (*v)[2];
+    const double s = t0 + t1 + t2 - pl.d;
+    // |exact n.v - d| <= |s| + (the error of s, as in plane_distance_lower_bound)
+    eps = std::max(eps, std::abs(s) + 2e-15 * (std::abs(t0) + std::abs(t1) + std::abs(t2) + std::abs(pl.d)));
+  }
+  pl.eps = eps * (1.0 + 2e-15) + 1e-300;
+  pl.norm_up = std::sqrt(pl.n.squaredNorm()) * (1.0 + 4e-15);
+  return pl;
+}
+
 Interval point_triangle_squared_distance(const Vec3& pd, const Vec3& ad, const Vec3& bd, const Vec3& cd) {
   CGAL::Protect_FPU_rounding<true> guard;  // round upward for the interval operations below
   const V p = vec(pd), a = vec(ad), b = vec(bd), c = vec(cd);

@@ -4,6 +4,7 @@
 #include "mesh/triangle_mesh.h"
 #include "util/interval.h"
 
+#include <cmath>
 #include <vector>
 
 namespace cdbench {
@@ -18,6 +19,29 @@ Interval point_triangle_squared_distance(const Vec3& p, const Vec3& a, const Vec
 // Tight when u points from p to the triangle's closest point. Plain doubles with an explicit error
 // bound (valid in any rounding mode): about a third of the certified enclosure's cost.
 double point_triangle_distance_lower_bound(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& u);
+
+// A triangle's plane stored once, for the cheapest rigorous lower bound of dist(p, abc): the
+// distance to the stored plane {x : n.x = d} less `eps`, a bound of |n.v - d| at the three vertices
+// (hence on the whole triangle, n.x - d being affine), divided by |n| rounded up. Degenerate
+// triangles get eps = +inf (the bound is then 0). Used to skip a triangle before its closest point
+// is estimated: most triangles a deep query visits lie far off their own plane's distance.
+struct TrianglePlane {
+  Vec3 n = Vec3::Zero();  // about unit
+  double d = 0.0;
+  double eps = 0.0;
+  double norm_up = 1.0;  // >= |n| (exact)
+};
+TrianglePlane make_triangle_plane(const Vec3& a, const Vec3& b, const Vec3& c);
+
+// Plain doubles with an explicit error bound (any rounding mode), like the slab bound below.
+inline double plane_distance_lower_bound(const TrianglePlane& pl, const Vec3& p) {
+  // s is within gamma_4 T of the exact n.p - d (T the sum of the absolute terms; doubled for
+  // directed rounding): 2e-15 T covers it with margin.
+  const double t0 = pl.n[0] * p[0], t1 = pl.n[1] * p[1], t2 = pl.n[2] * p[2];
+  const double s = t0 + t1 + t2 - pl.d;
+  const double lo = std::abs(s) - 2e-15 * (std::abs(t0) + std::abs(t1) + std::abs(t2) + std::abs(pl.d)) - pl.eps - 1e-300;
+  return lo > 0.0 ? lo / pl.norm_up * (1.0 - 2e-15) : 0.0;
+}
 
 // [sqrt(lo), sqrt(hi)] rounded outward.
 Interval sqrt_interval(const Interval& squared);

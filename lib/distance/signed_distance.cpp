@@ -75,6 +75,7 @@ double slab_lower_bound_sq(const Vec3& p, const Vec3& a, const Vec3& b, const Ve
 // NearestPolicy's. Otherwise the query is redone with NearestPolicy.
 struct FastNearestPolicy {
   const TriangleMesh& mesh;
+  const std::vector<TrianglePlane>& planes;
   Vec3 p;
   double margin_sq;
   std::vector<std::pair<double, std::uint32_t>>& near;  // (slab bound squared, face) below the threshold
@@ -85,6 +86,9 @@ struct FastNearestPolicy {
   double prune_bound() const { return threshold_sq; }
   bool done() const { return false; }
   void leaf(std::uint32_t f) {
+    // Farther than the threshold by its plane alone: neither the best nor near it (see the caller).
+    const double pl = plane_distance_lower_bound(planes[f], p);
+    if (pl > 0.0 && round_down(pl * pl) >= threshold_sq) return;
     const Face& t = mesh.faces[f];
     const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
     double e2 = 0.0;
@@ -103,6 +107,7 @@ struct FastNearestPolicy {
 // cost of enclosing each.
 struct WithinPolicy {
   const TriangleMesh& mesh;
+  const std::vector<TrianglePlane>& planes;
   Vec3 p;
   double radius_sq;
   std::size_t max_count;
@@ -112,6 +117,8 @@ struct WithinPolicy {
   double prune_bound() const { return radius_sq; }
   bool done() const { return overflow; }
   void leaf(std::uint32_t f) {
+    const double pl = plane_distance_lower_bound(planes[f], p);
+    if (pl > 0.0 && round_down(pl * pl) > radius_sq) return;
     const Face& t = mesh.faces[f];
     double e2 = 0.0;
     if (slab_lower_bound_sq(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], &e2) > radius_sq) return;
@@ -159,41 +166,82 @@ struct ParityPolicy {
 SignedDistance::SignedDistance(TriangleMesh mesh) : mesh_(std::move(mesh)), bbox_(mesh_.bbox()) {
   // Boxes of double vertices are exact.
   tree_ = build_triangle_bvh<Aabb>(mesh_.vertices, mesh_.faces, [](int n, const auto& p) { return bounding_box(n, p); });
+  planes_.reserve(mesh_.faces.size());
+  for (const Face& f : mesh_.faces)
+    planes_.push_back(make_triangle_plane(mesh_.vertices[f[0]], mesh_.vertices[f[1]], mesh_.vertices[f[2]]));
 }
+
+namespace {
+
+// The fast query's result from the leaves it visited (tree or candidate list): the best triangle
+// enclosed rigorously, and the lower end from the leaves kept near it; false when the best does not
+// lie at or below the final pruning threshold (false: the caller runs the rigorous query).
+template <class Enclose>
+bool finish_fast(const FastNearestPolicy& fast, const std::vector<std::pair<double, std::uint32_t>>& near,
+                 const Enclose& enclose, Interval* out, std::uint32_t* nearest) {
+  if (!(fast.best_est_sq < kInf)) return false;
+  const Interval best = enclose(fast.best_face);
+  if (!(best.hi <= fast.threshold_sq)) return false;
+  Interval d2 = best;
+  std::uint32_t face = fast.best_face;
+  for (const auto& [lb_sq, f] : near)
+    if (lb_sq < best.hi && f != fast.best_face) {
+      const Interval x = enclose(f);
+      d2.lo = std::min(d2.lo, x.lo);
+      if (x.hi < d2.hi) {
+        d2.hi = x.hi;
+        face = f;
+      }
+    }
+  if (nearest) *nearest = face;
+  *out = sqrt_interval(d2);
+  return true;
+}
+
+}  // namespace
 
 Interval SignedDistance::unsigned_distance(const Vec3& p, std::uint32_t* nearest) const {
   // Margin of the estimate: far above its rounding near the surface (scale: the box and p).
   const double scale = bbox_.lo.cwiseAbs().maxCoeff() + bbox_.hi.cwiseAbs().maxCoeff() + p.cwiseAbs().maxCoeff();
   thread_local std::vector<std::pair<double, std::uint32_t>> near;
   near.clear();
-  FastNearestPolicy fast{mesh_, p, (1e-10 * scale) * (1e-10 * scale), near};
+  FastNearestPolicy fast{mesh_, planes_, p, (1e-10 * scale) * (1e-10 * scale), near};
   traverse_nearest_first(tree_, fast);
-  if (fast.best_est_sq < kInf) {
-    const auto enclose = [&](std::uint32_t f) {
-      const Face& t = mesh_.faces[f];
-      return point_triangle_squared_distance(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
-    };
-    const Interval best = enclose(fast.best_face);
-    if (best.hi <= fast.threshold_sq) {
-      Interval d2 = best;
-      std::uint32_t face = fast.best_face;
-      for (const auto& [lb_sq, f] : near)
-        if (lb_sq < best.hi && f != fast.best_face) {
-          const Interval x = enclose(f);
-          d2.lo = std::min(d2.lo, x.lo);
-          if (x.hi < d2.hi) {
-            d2.hi = x.hi;
-            face = f;
-          }
-        }
-      if (nearest) *nearest = face;
-      return sqrt_interval(d2);
-    }
-  }
+  Interval d;
+  if (finish_fast(fast, near, [&](std::uint32_t f) { return enclose_squared(p, f); }, &d, nearest)) return d;
   NearestPolicy q{mesh_, p};
   traverse_nearest_first(tree_, q);
   if (nearest) *nearest = q.best_face;
   return sqrt_interval({q.min_lo_sq, q.best_hi_sq});
+}
+
+Interval SignedDistance::unsigned_distance_among(const Vec3& p, const std::vector<std::uint32_t>& candidates,
+                                                 std::uint32_t* nearest) const {
+  // The same leaves as the tree query, without the tree: every triangle left out is farther than
+  // the nearest, as a pruned subtree is.
+  const double scale = bbox_.lo.cwiseAbs().maxCoeff() + bbox_.hi.cwiseAbs().maxCoeff() + p.cwiseAbs().maxCoeff();
+  thread_local std::vector<std::pair<double, std::uint32_t>> near;
+  near.clear();
+  FastNearestPolicy fast{mesh_, planes_, p, (1e-10 * scale) * (1e-10 * scale), near};
+  for (std::uint32_t f : candidates) fast.leaf(f);
+  Interval d;
+  if (finish_fast(fast, near, [&](std::uint32_t f) { return enclose_squared(p, f); }, &d, nearest)) return d;
+  NearestPolicy q{mesh_, p};
+  for (std::uint32_t f : candidates) q.leaf(f);
+  if (nearest) *nearest = q.best_face;
+  return sqrt_interval({q.min_lo_sq, q.best_hi_sq});
+}
+
+void SignedDistance::triangles_within_among(const Vec3& p, double radius, const std::vector<std::uint32_t>& candidates,
+                                            std::vector<std::uint32_t>& out) const {
+  out.clear();
+  WithinPolicy q{mesh_, planes_, p, radius * radius * (1.0 + kRoundingSlack), candidates.size(), out};
+  for (std::uint32_t f : candidates) q.leaf(f);
+}
+
+Interval SignedDistance::enclose_squared(const Vec3& p, std::uint32_t f) const {
+  const Face& t = mesh_.faces[f];
+  return point_triangle_squared_distance(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
 }
 
 std::uint32_t SignedDistance::nearest_face(const Vec3& p) const {
@@ -216,7 +264,7 @@ bool SignedDistance::triangles_within(const Vec3& p, double radius, std::size_t 
                                       std::vector<std::uint32_t>& out) const {
   out.clear();
   // radius^2 rounded up, so that no triangle within the radius is pruned.
-  WithinPolicy q{mesh_, p, radius * radius * (1.0 + kRoundingSlack), max_count, out};
+  WithinPolicy q{mesh_, planes_, p, radius * radius * (1.0 + kRoundingSlack), max_count, out};
   traverse_nearest_first(tree_, q);
   return !q.overflow;
 }

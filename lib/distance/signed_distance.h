@@ -9,6 +9,7 @@
 
 #include "bvh/aabb.h"
 #include "bvh/bvh.h"
+#include "distance/point_triangle_distance.h"
 #include "mesh/triangle_mesh.h"
 #include "util/interval.h"
 
@@ -27,6 +28,12 @@ class SignedDistance {
   // [lo, hi] containing dist(p, F) >= 0; `nearest` (if given) receives a triangle at the upper end.
   Interval unsigned_distance(const Vec3& p, std::uint32_t* nearest = nullptr) const;
 
+  // The same, the triangles searched being `candidates` only: they must include every triangle
+  // within dist(p, F) of p (e.g. all within a radius known to exceed it), and then the result is
+  // that of unsigned_distance, without a tree traversal.
+  Interval unsigned_distance_among(const Vec3& p, const std::vector<std::uint32_t>& candidates,
+                                   std::uint32_t* nearest = nullptr) const;
+
   // True when dist(p, F) <= bound is proven; may stop at the first triangle that proves it.
   // False means the full query ran; then `*full` (if given) receives the enclosure of dist(p, F).
   bool distance_at_most(const Vec3& p, double bound, Interval* full = nullptr) const;
@@ -38,6 +45,11 @@ class SignedDistance {
   // Ids of all triangles whose distance to p may be <= radius (certified superset: every triangle
   // within radius is listed). Returns false, leaving `out` partial, once more than `max_count` qualify.
   bool triangles_within(const Vec3& p, double radius, std::size_t max_count, std::vector<std::uint32_t>& out) const;
+
+  // triangles_within restricted to `candidates`, which must include every triangle within radius
+  // of p (then `out` is a certified superset too). No cap.
+  void triangles_within_among(const Vec3& p, double radius, const std::vector<std::uint32_t>& candidates,
+                              std::vector<std::uint32_t>& out) const;
 
   // Exact side: -1 strictly inside the solid, 0 on the surface, +1 strictly outside.
   int side(const Vec3& p) const;
@@ -52,11 +64,13 @@ class SignedDistance {
 
  private:
   bool on_surface(const Vec3& p) const;
+  Interval enclose_squared(const Vec3& p, std::uint32_t face) const;  // rigorous dist(p, face)^2
   int side_off_surface(const Vec3& p) const;  // ray parity; p must not lie on F
 
   TriangleMesh mesh_;
   Aabb bbox_;
   Bvh<Aabb> tree_;
+  std::vector<TrianglePlane> planes_;  // per face: skips a visited triangle before its closest point
 };
 
 }  // namespace cdbench

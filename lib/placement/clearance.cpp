@@ -108,6 +108,19 @@ struct Cell {
   bool stale = false;  // a warm-start cell: its bound is shifted, not evaluated at this pose
   SideBall ball = {};  // from its evaluation (or, for a stale cell, from the previous pose's)
   std::int32_t depth = -1;  // its translated depth bound (index into BranchAndBound::depth_), if any
+  double ud_hi = std::numeric_limits<double>::infinity();  // upper end of dist(centre, F) when evaluated
+};
+
+// Triangles of F listed once for the four children of a split cell: every triangle within `radius`
+// of the parent's centre m (certified superset). A child query that provably cannot reach a
+// triangle outside that ball is answered from the list, without a tree traversal.
+struct ParentCandidates {
+  Vec3 m;
+  double ud_hi = 0.0;   // upper end of dist(m, F)
+  double radius = 0.0;
+  std::vector<std::uint32_t> ids;
+  // Every triangle within `reach` of x (x's distance to m added, rounded up) is listed.
+  bool covers(const Vec3& x, double reach) const { return up(reach + up((x - m).norm() * (1.0 + 1e-12))) <= radius; }
 };
 
 // A lower bound of s on a cell's points placed in doubles at the pose t (rounding `rounding_t`), from
@@ -189,7 +202,8 @@ class BranchAndBound {
         const std::array<double, 2> m20{0.5 * (b[2][0] + b[0][0]), 0.5 * (b[2][1] + b[0][1])};
         const std::array<std::array<std::array<double, 2>, 3>, 4> kids{
             {{{b[0], m01, m20}}, {{m01, b[1], m12}}, {{m20, m12, b[2]}}, {{m01, m12, m20}}}};
-        for (const auto& k : kids) push(evaluate_face(Cell{0, 0, false, c.id, c.level + 1, k}, &c.ball));
+        const ParentCandidates* parent = list_candidates(c);
+        for (const auto& k : kids) push(evaluate_face(Cell{0, 0, false, c.id, c.level + 1, k}, &c.ball, parent));
       }
     }
     double lower = min_discarded_;
@@ -276,11 +290,18 @@ class BranchAndBound {
     return c;
   }
 
-  Cell evaluate_face(Cell c, const SideBall* parent = nullptr) {
+  // A (sub)triangle cell placed at this pose: corners v, centre m, radius r (every exact cell point
+  // within r of m), eta (the corners' distance from the exact sub-triangle's), eta_m (m's).
+  struct FaceGeometry {
+    std::array<Vec3, 3> v;
+    Vec3 m;
+    double r = 0.0, eta = 0.0, eta_m = 0.0;
+  };
+  FaceGeometry geometry(const Cell& c) const {
+    FaceGeometry g;
     const Face& f = (*o_.faces)[c.id];
     const Vec3 &p0 = P_[f[0]], &p1 = P_[f[1]], &p2 = P_[f[2]];
-    std::array<Vec3, 3> v;
-    double eta = 0.0;  // how far the computed corners may be from the exact sub-triangle's
+    auto& v = g.v;
     if (c.level == 0) {
       v = {p0, p1, p2};
     } else {
@@ -288,17 +309,51 @@ class BranchAndBound {
       for (int k = 0; k < 3; ++k) v[k] = p0 + c.bary[k][0] * e1 + c.bary[k][1] * e2;
       // Each coordinate: a few roundings, each at most u times a magnitude below
       // |p0| + |p1 - p0| + |p2 - p0|; 1e-14 covers them (u = 1.1e-16) with margin.
-      eta = 1e-14 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) * 1.7320508075688774;
+      g.eta = 1e-14 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) *
+              1.7320508075688774;
     }
-    const Vec3 m = (v[0] + v[1] + v[2]) / 3.0;
+    g.m = (v[0] + v[1] + v[2]) / 3.0;
     // m lies within a few ulps (of the corners' magnitude) of the computed triangle; eta_m covers it.
     const double mag = std::max({v[0].cwiseAbs().maxCoeff(), v[1].cwiseAbs().maxCoeff(), v[2].cwiseAbs().maxCoeff()});
-    const double eta_m = eta + 2e-15 * mag * 1.7320508075688774 + 1e-300;
-    double r = 0.0;
-    for (const Vec3& x : v) r = std::max(r, (x - m).norm());
-    r = up(r * (1.0 + 1e-12));
+    g.eta_m = g.eta + 2e-15 * mag * 1.7320508075688774 + 1e-300;
+    for (const Vec3& x : v) g.r = std::max(g.r, (x - g.m).norm());
+    g.r = up(g.r * (1.0 + 1e-12));
+    return g;
+  }
+
+  // The candidate list for the children of a face cell about to be split: the triangles within
+  // dist(m, F) + 2.5 r of its centre. A child's centre x lies within r/2 of m (dyadic split), so its
+  // nearest triangles lie within dist(x, F) + |x - m| <= dist(m, F) + 2 |x - m| of m, and its depth
+  // candidates (within dist(x, F) + 2 r/2 of x) within dist(m, F) + 2 r; the margin covers rounding.
+  // nullptr when the list would be long (a traversal per child is then cheaper).
+  const ParentCandidates* list_candidates(const Cell& c) {
+    if (!(c.ud_hi < kInf)) return nullptr;
+    const FaceGeometry g = geometry(c);
+    parent_.m = g.m;
+    parent_.ud_hi = c.ud_hi;
+    parent_.radius = up(c.ud_hi + up(2.5 * g.r));
+    if (!fixed_.triangles_within(g.m, parent_.radius, kMaxParentCandidates, parent_.ids)) return nullptr;
+    return &parent_;
+  }
+  static constexpr std::size_t kMaxParentCandidates = 1024;
+
+  // dist(x, F) from the parent's list when it provably holds x's nearest triangles: they lie within
+  // dist(x, F) <= `ud_bound` of x.
+  Interval distance_at(const Vec3& x, const ParentCandidates* parent, double ud_bound) const {
+    if (parent && parent->covers(x, ud_bound)) return fixed_.unsigned_distance_among(x, parent->ids);
+    return fixed_.unsigned_distance(x);
+  }
+
+  Cell evaluate_face(Cell c, const SideBall* parent = nullptr, const ParentCandidates* list = nullptr) {
+    const FaceGeometry geo = geometry(c);
+    const auto& v = geo.v;
+    const Vec3& m = geo.m;
+    const double r = geo.r, eta = geo.eta, eta_m = geo.eta_m;
     ++queries_;
-    const Interval ud = fixed_.unsigned_distance(m);
+    // dist(m, F) <= dist(parent centre, F) + |m - parent centre|.
+    const Interval ud =
+        distance_at(m, list, list ? up(list->ud_hi + up((m - list->m).norm() * (1.0 + 1e-12))) : kInf);
+    c.ud_hi = ud.hi;
     const Interval s = signed_at(m, ud, parent, &c.ball);
     offer_upper(up(s.hi + eta_m), c.id,
                 {(c.bary[0][0] + c.bary[1][0] + c.bary[2][0]) / 3, (c.bary[0][1] + c.bary[1][1] + c.bary[2][1]) / 3});
@@ -308,8 +363,11 @@ class BranchAndBound {
       // Lipschitz bound already proves it disjoint): the nearest triangles of any cell point lie
       // within ud + 2r of m.
       double dlo = down(down(ud.lo - r) - eta_m);
+      const double reach = up(ud.hi + 2 * r);
+      const bool listed = list && list->covers(m, reach);
+      if (listed) fixed_.triangles_within_among(m, reach, list->ids, ids_);
       if (!(dlo > 0.0)) {
-        fixed_.triangles_within(m, up(ud.hi + 2 * r), std::numeric_limits<std::size_t>::max(), ids_);
+        if (!listed) fixed_.triangles_within(m, reach, std::numeric_limits<std::size_t>::max(), ids_);
         double d2lo = kInf;
         for (std::uint32_t j : ids_) {
           const Face& g = fixed_.mesh().faces[j];
@@ -328,8 +386,11 @@ class BranchAndBound {
         int corner = 0;
         if (len > 0.0) normal /= len;
         TranslatedDepthBound moments;
-        const double depth = depth_upper_bound(fixed_, m, up(ud.hi + 2 * r), v.data(), 3, ids_, nullptr,
-                                               len > 0.0 ? &normal : nullptr, &corner, &moments);
+        const double depth =
+            listed ? depth_upper_bound_among(fixed_, m, ids_, v.data(), 3, nullptr, len > 0.0 ? &normal : nullptr,
+                                             &corner, &moments)
+                   : depth_upper_bound(fixed_, m, reach, v.data(), 3, ids_, nullptr, len > 0.0 ? &normal : nullptr,
+                                       &corner, &moments);
         c.depth = keep_depth(moments, eta);
         // The deepest point of a cell is often a corner (a mover vertex or edge): certify it, so
         // that the upper end meets the convexity bound without subdividing towards that corner.
@@ -337,7 +398,8 @@ class BranchAndBound {
         // at least that, so it could not lower the upper end.)
         if (depth < kInf && down(-depth - eta) < upper_) {
           ++queries_;
-          const Interval s_corner = signed_at(v[corner], fixed_.unsigned_distance(v[corner]), &c.ball, nullptr);
+          // dist(corner, F) <= dist(m, F) + |corner - m| <= ud.hi + r.
+          const Interval s_corner = signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r)), &c.ball, nullptr);
           offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
         }
         lower = std::max(lower, down(-depth - eta));
@@ -378,6 +440,7 @@ class BranchAndBound {
   std::vector<CellDepthBound> depth_;
   std::uint64_t seq_ = 0, queries_ = 0;
   std::vector<std::uint32_t> ids_;
+  ParentCandidates parent_;
   std::priority_queue<Cell, std::vector<Cell>, CellOrder> queue_;
 };
 

@@ -120,11 +120,67 @@ TEST(SignedDistance, TrianglesWithinListEveryTriangleWithinTheRadius) {
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
       const Face& t = mesh.faces[f];
       const Epeck::FT d2 = testing::exact_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
-      if (d2 <= r2) ASSERT_TRUE(in[f]) << "face " << f << " within the radius but not listed";
-      if (in[f]) EXPECT_TRUE(d2 <= Epeck::FT(loose) * Epeck::FT(loose)) << "face " << f << " listed far beyond the radius";
+      if (d2 <= r2) {
+        ASSERT_TRUE(in[f]) << "face " << f << " within the radius but not listed";
+      }
+      if (in[f]) {
+        EXPECT_TRUE(d2 <= Epeck::FT(loose) * Epeck::FT(loose)) << "face " << f << " listed far beyond the radius";
+      }
     }
   }
   EXPECT_GT(listed, 1000);
+}
+
+// A query answered from a candidate list (the branch and bound lists a split cell's triangles once
+// for its children) encloses the exact distance whenever the list holds every triangle within a
+// radius at least the distance: lists from triangles_within at radii from the distance itself to
+// twice it, on a torus and a sphere, against exact rationals; and within_among keeps every triangle
+// within its radius. A list that leaves out the nearest triangle must give a wrong answer somewhere
+// (the control: the test can fail).
+TEST(SignedDistance, DistanceAmongCandidatesEnclosesTheExactDistance) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (const TriangleMesh& mesh : {make_torus(2.0, 0.6, 24, 12), make_icosphere(1.0, 3)}) {
+    const SignedDistance sdf(mesh);
+    std::vector<std::uint32_t> ids, within;
+    int wrong_without_nearest = 0, checked = 0;
+    for (const Vec3& p : sample_points(mesh, 19)) {
+      std::uint32_t nearest = 0;
+      const Interval d = sdf.unsigned_distance(p, &nearest);
+      const double radius = d.hi * (1.0 + u(rng)) + 1e-300;
+      ASSERT_TRUE(sdf.triangles_within(p, radius, mesh.faces.size(), ids));
+      const Epeck::FT exact = testing::exact_squared_distance(p, mesh);
+      const Interval among = sdf.unsigned_distance_among(p, ids);
+      EXPECT_TRUE(contains_sqrt(among, exact)) << std::setprecision(17) << "p = (" << p.transpose() << ") ["
+                                               << among.lo << ", " << among.hi << "] exact^2 " << CGAL::to_double(exact);
+      EXPECT_LE(among.width(), 1e-12 * (1.0 + among.lo));
+      ++checked;
+      // Triangles within a smaller radius about p, from the list: all of them, as from the tree.
+      const double r2 = 0.5 * radius;
+      sdf.triangles_within_among(p, r2, ids, within);
+      std::vector<bool> in(mesh.faces.size(), false);
+      for (std::uint32_t f : within) in[f] = true;
+      for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        const Face& t = mesh.faces[f];
+        if (testing::exact_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]) <=
+            Epeck::FT(r2) * Epeck::FT(r2)) {
+          ASSERT_TRUE(in[f]) << "face " << f << " within " << r2 << " but not kept";
+        }
+      }
+      // Control: without the nearest triangle (and its ties) the list no longer satisfies the
+      // precondition, and the answer is usually too large.
+      std::vector<std::uint32_t> short_list;
+      for (std::uint32_t f : ids) {
+        const Face& t = mesh.faces[f];
+        if (!(testing::exact_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]) <=
+              Epeck::FT(d.hi) * Epeck::FT(d.hi)))
+          short_list.push_back(f);
+      }
+      if (!short_list.empty() && !contains_sqrt(sdf.unsigned_distance_among(p, short_list), exact)) ++wrong_without_nearest;
+    }
+    EXPECT_GT(checked, 300);
+    EXPECT_GT(wrong_without_nearest, 100);
+  }
 }
 
 TEST(SignedDistance, DistanceAtMostStopsEarlyButIsRigorous) {
