@@ -34,6 +34,9 @@ class SignedDistance {
   Interval unsigned_distance_among(const Vec3& p, const std::vector<std::uint32_t>& candidates,
                                    std::uint32_t* nearest = nullptr) const;
 
+  // Rigorous enclosure of the squared distance from p to one face (an upper bound of dist(p, F)^2).
+  Interval face_squared_distance(const Vec3& p, std::uint32_t face) const { return enclose_squared(p, face); }
+
   // True when dist(p, F) <= bound is proven; may stop at the first triangle that proves it.
   // False means the full query ran; then `*full` (if given) receives the enclosure of dist(p, F).
   bool distance_at_most(const Vec3& p, double bound, Interval* full = nullptr) const;

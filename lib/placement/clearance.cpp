@@ -109,6 +109,7 @@ struct Cell {
   SideBall ball = {};  // from its evaluation (or, for a stale cell, from the previous pose's)
   std::int32_t depth = -1;  // its translated depth bound (index into BranchAndBound::depth_), if any
   double ud_hi = std::numeric_limits<double>::infinity();  // upper end of dist(centre, F) when evaluated
+  std::int64_t near_face = -1;  // a triangle of F at that upper end
 };
 
 // Triangles of F listed once for the four children of a split cell: every triangle within `radius`
@@ -168,7 +169,9 @@ class BranchAndBound {
       for (const ClearanceFrontier::Cell& w : warm->cells) {
         double lower = down(w.lower - shift);
         if (w.depth >= 0) lower = std::max(lower, translated_lower(depth_[w.depth], t_, rounding));
-        push(Cell{lower, 0, w.is_node, w.id, w.level, w.bary, true, w.ball, w.depth});
+        Cell c{lower, 0, w.is_node, w.id, w.level, w.bary, true, w.ball, w.depth};
+        c.near_face = w.near_face;
+        push(c);
       }
     } else {
       push(evaluate_node(0));
@@ -180,7 +183,16 @@ class BranchAndBound {
       queue_.pop();
       ++r.cells;
       if (c.stale) {  // evaluate it at this pose before splitting it
-        push(c.is_node ? evaluate_node(c.id, &c.ball) : evaluate_face(Cell{0, 0, false, c.id, c.level, c.bary}, &c.ball));
+        // First the convexity bound from the triangles it used before, at its corners now: no tree
+        // query, and it often sets the cell aside for good.
+        Cell q = restale(c);
+        if (q.lower >= threshold()) {
+          push(q);
+          continue;
+        }
+        Cell e = c.is_node ? evaluate_node(c.id, &c.ball) : evaluate_face(Cell{0, 0, false, c.id, c.level, c.bary}, &c.ball);
+        if (q.lower > e.lower) e.lower = q.lower;  // both valid at this pose
+        push(e);
         continue;
       }
       if (c.is_node) {
@@ -230,7 +242,7 @@ class BranchAndBound {
         }
         d = renumber[c.depth];
       }
-      f.cells.push_back({c.lower, c.is_node, c.id, c.level, c.bary, c.ball, d});
+      f.cells.push_back({c.lower, c.is_node, c.id, c.level, c.bary, c.ball, d, c.near_face});
     };
     for (const Cell& c : discarded_) keep(c);
     while (!queue_.empty()) {
@@ -274,7 +286,10 @@ class BranchAndBound {
     // Half diagonal, plus the rounding of the centre, rounded up.
     const double r = up(up(0.5 * box.diagonal()) * (1.0 + 1e-12));
     ++queries_;
-    const Interval ud = fixed_.unsigned_distance(centre);
+    std::uint32_t nearest = 0;
+    const Interval ud = fixed_.unsigned_distance(centre, &nearest);
+    c.near_face = nearest;
+    c.ud_hi = ud.hi;
     const Interval s = signed_at(centre, ud, parent, &c.ball);
     double lower = down(s.lo - r);
     if (lower < threshold() && s.hi < 0.0) {
@@ -339,9 +354,10 @@ class BranchAndBound {
 
   // dist(x, F) from the parent's list when it provably holds x's nearest triangles: they lie within
   // dist(x, F) <= `ud_bound` of x.
-  Interval distance_at(const Vec3& x, const ParentCandidates* parent, double ud_bound) const {
-    if (parent && parent->covers(x, ud_bound)) return fixed_.unsigned_distance_among(x, parent->ids);
-    return fixed_.unsigned_distance(x);
+  Interval distance_at(const Vec3& x, const ParentCandidates* parent, double ud_bound,
+                       std::uint32_t* nearest = nullptr) const {
+    if (parent && parent->covers(x, ud_bound)) return fixed_.unsigned_distance_among(x, parent->ids, nearest);
+    return fixed_.unsigned_distance(x, nearest);
   }
 
   Cell evaluate_face(Cell c, const SideBall* parent = nullptr, const ParentCandidates* list = nullptr) {
@@ -351,13 +367,22 @@ class BranchAndBound {
     const double r = geo.r, eta = geo.eta, eta_m = geo.eta_m;
     ++queries_;
     // dist(m, F) <= dist(parent centre, F) + |m - parent centre|.
+    std::uint32_t nearest = 0;
     const Interval ud =
-        distance_at(m, list, list ? up(list->ud_hi + up((m - list->m).norm() * (1.0 + 1e-12))) : kInf);
+        distance_at(m, list, list ? up(list->ud_hi + up((m - list->m).norm() * (1.0 + 1e-12))) : kInf, &nearest);
     c.ud_hi = ud.hi;
+    c.near_face = nearest;
     const Interval s = signed_at(m, ud, parent, &c.ball);
     offer_upper(up(s.hi + eta_m), c.id,
                 {(c.bary[0][0] + c.bary[1][0] + c.bary[2][0]) / 3, (c.bary[0][1] + c.bary[1][1] + c.bary[2][1]) / 3});
     double lower = down(down(s.lo - r) - eta_m);
+    if (lower < threshold() && s.hi < 0.0) {
+      // Deep: first the convexity bound of the nearest triangle alone (three enclosures; see
+      // restale), which often sets the cell aside before the candidate list is gathered.
+      double worst = 0.0;
+      for (const Vec3& x : v) worst = std::max(worst, sqrt_interval(fixed_.face_squared_distance(x, nearest)).hi);
+      lower = std::max(lower, down(-worst - eta));
+    }
     if (lower < threshold()) {
       // Distance from the cell to F, needed only where the cell may reach F (otherwise the
       // Lipschitz bound already proves it disjoint): the nearest triangles of any cell point lie
@@ -416,6 +441,36 @@ class BranchAndBound {
     depth_.push_back(CellDepthBound{b, t_, o_.transform_error(t_)});
     return static_cast<std::int32_t>(depth_.size() - 1);
   }
+
+  // A stale cell's bound at this pose with no tree query (lower = -inf when there is none), from
+  // the triangle f nearest to its centre at its last evaluation: s >= -dist(., F) >= -d_f
+  // everywhere (inside s = -dist, outside s >= 0), and d_f is 1-Lipschitz and convex, so on the
+  // cell s >= -(d_f(m) + r) and s >= -(max over the corners of d_f) (the corners' rounding added).
+  // Both are what a fresh evaluation gives when f is still the nearest, minus the tree query.
+  Cell restale(const Cell& c) {
+    Cell q{-kInf, 0, c.is_node, c.id, c.level, c.bary};
+    q.ball = c.ball;
+    q.near_face = c.near_face;
+    if (c.near_face < 0) return q;
+    const auto f = static_cast<std::uint32_t>(c.near_face);
+    const auto dist_hi = [&](const Vec3& x) { return sqrt_interval(fixed_.face_squared_distance(x, f)).hi; };
+    double centre = 0.0, corners = 0.0;
+    if (c.is_node) {
+      const Aabb box = moved(o_.boxes.nodes[c.id].bv, t_);
+      const double r = up(up(0.5 * box.diagonal()) * (1.0 + 1e-12));
+      centre = down(-dist_hi(box.center()) - r);
+      for (int k = 0; k < 8; ++k) corners = std::max(corners, dist_hi(box.corner(k)));
+      corners = down(-corners);
+    } else {
+      const FaceGeometry geo = geometry(c);
+      centre = down(down(-dist_hi(geo.m) - geo.r) - geo.eta_m);
+      for (const Vec3& v : geo.v) corners = std::max(corners, dist_hi(v));
+      corners = down(-corners - geo.eta);
+    }
+    q.lower = std::max(centre, corners);
+    return q;
+  }
+
 
   // A certified value of s at a mover surface point (face, barycentrics): the upper end so far.
   void offer_upper(double value, std::uint32_t face, const std::array<double, 2>& bary) {

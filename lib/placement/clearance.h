@@ -54,6 +54,7 @@ struct ClearanceFrontier {
     std::array<std::array<double, 2>, 3> bary;
     SideBall ball;  // at the frontier's pose: a ball free of F around the cell's centre, and its side
     std::int32_t depth = -1;  // index into `depth`, or -1 (no translated depth bound)
+    std::int64_t near_face = -1;  // a triangle of F nearest to its centre when evaluated, or -1
   };
   bool valid = false;
   Vec3 t = Vec3::Zero();
