@@ -43,6 +43,23 @@ inline double plane_distance_lower_bound(const TrianglePlane& pl, const Vec3& p)
   return lo > 0.0 ? lo / pl.norm_up * (1.0 - 2e-15) : 0.0;
 }
 
+// The same bound for a second triangle xyz against the plane's triangle: when xyz lies strictly on
+// one side (every vertex's n.v - d, less its error, beyond eps), n.(x - y) for x in xyz and y in the
+// plane's triangle is at least that least margin (n.x - d is affine: least at a vertex), so the
+// two triangles are at least (margin - eps) / |n| apart. 0 when they straddle.
+inline double plane_pair_lower_bound(const TrianglePlane& pl, const Vec3& x, const Vec3& y, const Vec3& z) {
+  double above = HUGE_VAL, below = HUGE_VAL;
+  for (const Vec3* v : {&x, &y, &z}) {
+    const double t0 = pl.n[0] * (*v)[0], t1 = pl.n[1] * (*v)[1], t2 = pl.n[2] * (*v)[2];
+    const double s = t0 + t1 + t2 - pl.d;
+    const double err = 2e-15 * (std::abs(t0) + std::abs(t1) + std::abs(t2) + std::abs(pl.d)) + 1e-300;
+    above = std::min(above, s - err);
+    below = std::min(below, -s - err);
+  }
+  const double lo = std::max(above, below) - pl.eps;
+  return lo > 0.0 ? lo / pl.norm_up * (1.0 - 2e-15) : 0.0;
+}
+
 // [sqrt(lo), sqrt(hi)] rounded outward.
 Interval sqrt_interval(const Interval& squared);
 

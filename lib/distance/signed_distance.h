@@ -24,6 +24,7 @@ class SignedDistance {
   const TriangleMesh& mesh() const { return mesh_; }
   const Aabb& bbox() const { return bbox_; }
   const Bvh<Aabb>& tree() const { return tree_; }
+  const std::vector<TrianglePlane>& planes() const { return planes_; }  // per face
 
   // [lo, hi] containing dist(p, F) >= 0; `nearest` (if given) receives a triangle at the upper end.
   Interval unsigned_distance(const Vec3& p, std::uint32_t* nearest = nullptr) const;

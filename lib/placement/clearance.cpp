@@ -43,6 +43,7 @@ inline double relaxed_threshold(double upper, double tol, double rel, double tar
 // verifies afterwards, rigorously, that the margin held (else it reruns in the rigorous mode).
 struct DistancePolicy {
   const TriangleMesh& F;
+  const std::vector<TrianglePlane>& planes;
   const std::vector<Vec3>& P;
   const std::vector<Face>& faces;
   const Vec3& t;
@@ -67,6 +68,9 @@ struct DistancePolicy {
     const Vec3 &A0 = F.vertices[a[0]], &A1 = F.vertices[a[1]], &A2 = F.vertices[a[2]];
     const Vec3 &B0 = P[b[0]], &B1 = P[b[1]], &B2 = P[b[2]];
     if (fast) {
+      // Beyond the threshold by the fixed triangle's plane alone: as a pruned pair (below).
+      const double pl = plane_pair_lower_bound(planes[fi], B0, B1, B2);
+      if (pl > 0.0 && pl * pl * (1.0 - 1e-15) >= threshold_sq) return;
       Vec3 p, q;
       const double e2 = triangle_triangle_closest_points(A0, A1, A2, B0, B1, B2, &p, &q);
       const double lb = e2 > tiny_sq ? triangle_distance_lower_bound(A0, A1, A2, B0, B1, B2, q - p) : 0.0;
@@ -506,7 +510,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
                                   const Vec3& t, const ClearanceOptions& options) {
   ClearanceResult r;
   const std::vector<Vec3> P = orientation.placed(t);
-  DistancePolicy dist{fixed.mesh(), P, mover.faces, t};
+  DistancePolicy dist{fixed.mesh(), fixed.planes(), P, mover.faces, t};
   double scale = fixed.bbox().lo.cwiseAbs().maxCoeff() + fixed.bbox().hi.cwiseAbs().maxCoeff();
   // The mover's root box, moved, bounds every placed vertex (and its extremes are vertices).
   const Aabb mover_box = moved(orientation.boxes.nodes[0].bv, t);
@@ -529,7 +533,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     dist.min_lo_sq = std::min({dist.min_lo_sq, best.lo, dist.threshold_sq});
     dist.best_hi_sq = best.hi;
     if (!(best.hi <= dist.threshold_sq) && !(dist.rel > 0.0)) {
-      DistancePolicy rigorous{fixed.mesh(), P, mover.faces, t};
+      DistancePolicy rigorous{fixed.mesh(), fixed.planes(), P, mover.faces, t};
       rigorous.fast = false;
       traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, rigorous);
       r.pair_tests += rigorous.tests;

@@ -2,6 +2,7 @@
 
 #include <random>
 
+#include "distance/point_triangle_distance.h"
 #include "distance/triangle_distance.h"
 #include "exact_reference.h"
 
@@ -92,6 +93,45 @@ TEST(TriangleDistance, ProjectionLowerBoundAgainstExactRationals) {
     }
   }
   EXPECT_GT(tight, 1000);
+}
+
+// The stored-plane bound for a pair (it lets the pair-distance path skip pairs before their closest
+// points) never exceeds the exact distance: random pairs, some with the second triangle just above
+// the first's plane (where it is tight), some straddling (bound 0), slivers, at two offsets from the
+// origin; its control without eps exceeds the exact distance somewhere.
+TEST(TriangleDistance, PlanePairLowerBoundAgainstExactRationals) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(-1, 1), w(0, 1);
+  int positive = 0, over_without_eps = 0;
+  for (double offset : {0.0, 1e3}) {
+    const Vec3 o(offset, 0.5 * offset, -offset);
+    for (int k = 0; k < 3000; ++k) {
+      const Vec3 a = o + Vec3(u(rng), u(rng), u(rng)), b = o + Vec3(u(rng), u(rng), u(rng));
+      const Vec3 c = k % 10 == 3 ? Vec3(a + w(rng) * (b - a) + 1e-10 * Vec3(u(rng), u(rng), u(rng)))
+                                 : Vec3(o + Vec3(u(rng), u(rng), u(rng)));
+      const TrianglePlane pl = make_triangle_plane(a, b, c);
+      const Vec3 n = (b - a).cross(c - a).normalized();
+      const double h = k % 2 ? std::ldexp(1.0, -static_cast<int>(w(rng) * 40)) : u(rng);
+      const Vec3 base = a + 0.3 * (b - a) + 0.3 * (c - a) + h * n;
+      const Vec3 d = base + 0.5 * Vec3(u(rng), u(rng), u(rng)).cross(n), e = base + 0.5 * Vec3(u(rng), u(rng), u(rng)).cross(n),
+                 f = base + 0.5 * Vec3(u(rng), u(rng), u(rng)).cross(n) + 0.01 * u(rng) * n;
+      const Epeck::FT exact = CGAL::squared_distance(Epeck::Triangle_3(exact_point(a), exact_point(b), exact_point(c)),
+                                                     Epeck::Triangle_3(exact_point(d), exact_point(e), exact_point(f)));
+      const double lb = plane_pair_lower_bound(pl, d, e, f);
+      ASSERT_GE(lb, 0.0);
+      ASSERT_TRUE(Epeck::FT(lb) * Epeck::FT(lb) <= exact)
+          << std::setprecision(17) << "a=(" << a.transpose() << ") b=(" << b.transpose() << ") c=(" << c.transpose()
+          << ") d=(" << d.transpose() << ") e=(" << e.transpose() << ") f=(" << f.transpose() << ") bound " << lb;
+      positive += lb > 0.0;
+      TrianglePlane no_eps = pl;
+      no_eps.eps = -1e-300;
+      no_eps.norm_up = std::sqrt(pl.n.squaredNorm());
+      const double wrong = plane_pair_lower_bound(no_eps, d, e, f) / (1.0 - 2e-15);
+      if (pl.eps < HUGE_VAL && !(Epeck::FT(wrong) * Epeck::FT(wrong) <= exact)) ++over_without_eps;
+    }
+  }
+  EXPECT_GT(positive, 1000);
+  EXPECT_GT(over_without_eps, 10);
 }
 
 }  // namespace
