@@ -19,6 +19,7 @@
 // split_first(const BVA&, const BVB&) (true: split the node of the first hierarchy).
 // First contact along a line (sphere trees), minimum distance and overlap (boxes) are policies.
 #include <Eigen/Core>
+#include <tbb/parallel_for.h>
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -45,7 +46,64 @@ struct Bvh {
   bool empty() const { return nodes.empty(); }
 };
 
+namespace detail {
+
+struct BuildTask {
+  std::uint32_t node, begin, end;
+};
+
+// Builds the subtree of `task` (its node already allocated in `nodes`): median split of the
+// centroids along the longest axis of their box, children allocated in pairs as they are split.
+// Subtrees with at most `defer` primitives (and more than a leaf's) are left unbuilt and listed in
+// `deferred`, in the order met.
+template <class BV, class Fit>
+void build_subtree(std::vector<typename Bvh<BV>::Node>& nodes, std::vector<std::uint32_t>& order,
+                   const std::vector<Eigen::Vector3d>& centroids, const Fit& fit, std::uint32_t leaf_size,
+                   BuildTask root, std::uint32_t defer, std::vector<BuildTask>* deferred) {
+  std::vector<BuildTask> stack{root};
+  while (!stack.empty()) {
+    const BuildTask task = stack.back();
+    stack.pop_back();
+    const std::uint32_t count = task.end - task.begin;
+    if (deferred && count <= defer && count > leaf_size) {
+      deferred->push_back(task);
+      continue;
+    }
+    nodes[task.node].bv = fit(order.data() + task.begin, count);
+    if (count <= leaf_size) {
+      nodes[task.node].first = task.begin;
+      nodes[task.node].count = count;
+      continue;
+    }
+    Eigen::Vector3d lo = centroids[order[task.begin]], hi = lo;
+    for (std::uint32_t i = task.begin; i < task.end; ++i) {
+      lo = lo.cwiseMin(centroids[order[i]]);
+      hi = hi.cwiseMax(centroids[order[i]]);
+    }
+    int axis = 0;
+    (hi - lo).maxCoeff(&axis);
+    const std::uint32_t mid = task.begin + count / 2;
+    std::nth_element(order.begin() + task.begin, order.begin() + mid, order.begin() + task.end,
+                     [&](std::uint32_t a, std::uint32_t b) {
+                       const double ca = centroids[a][axis], cb = centroids[b][axis];
+                       return ca < cb || (ca == cb && a < b);
+                     });
+    const std::uint32_t left = static_cast<std::uint32_t>(nodes.size());
+    nodes.emplace_back();
+    nodes.emplace_back();
+    nodes[task.node].first = left;
+    nodes[task.node].count = 0;
+    stack.push_back({left + 1, mid, task.end});
+    stack.push_back({left, task.begin, mid});
+  }
+}
+
+}  // namespace detail
+
 // fit(ids, n) returns the bounding volume of the n primitives ids[0..n).
+// Large hierarchies are built in parallel (TBB): the top is split first, then the subtrees of at
+// most 8,192 primitives are built on all threads and appended in a fixed order, so the tree (its
+// shape and its node numbering) depends only on the input, never on the thread count.
 template <class BV, class Fit>
 Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit, const BvhBuildOptions& options = {}) {
   Bvh<BV> bvh;
@@ -56,40 +114,30 @@ Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit,
   std::iota(bvh.order.begin(), bvh.order.end(), 0u);
   bvh.nodes.reserve(2 * n);
   bvh.nodes.emplace_back();
-  struct Task {
-    std::uint32_t node, begin, end;
-  };
-  std::vector<Task> stack{{0, 0, n}};
-  while (!stack.empty()) {
-    const Task task = stack.back();
-    stack.pop_back();
-    const std::uint32_t count = task.end - task.begin;
-    bvh.nodes[task.node].bv = fit(bvh.order.data() + task.begin, count);
-    if (count <= leaf_size) {
-      bvh.nodes[task.node].first = task.begin;
-      bvh.nodes[task.node].count = count;
-      continue;
-    }
-    Eigen::Vector3d lo = centroids[bvh.order[task.begin]], hi = lo;
-    for (std::uint32_t i = task.begin; i < task.end; ++i) {
-      lo = lo.cwiseMin(centroids[bvh.order[i]]);
-      hi = hi.cwiseMax(centroids[bvh.order[i]]);
-    }
-    int axis = 0;
-    (hi - lo).maxCoeff(&axis);
-    const std::uint32_t mid = task.begin + count / 2;
-    std::nth_element(bvh.order.begin() + task.begin, bvh.order.begin() + mid, bvh.order.begin() + task.end,
-                     [&](std::uint32_t a, std::uint32_t b) {
-                       const double ca = centroids[a][axis], cb = centroids[b][axis];
-                       return ca < cb || (ca == cb && a < b);
-                     });
-    const std::uint32_t left = static_cast<std::uint32_t>(bvh.nodes.size());
-    bvh.nodes.emplace_back();
-    bvh.nodes.emplace_back();
-    bvh.nodes[task.node].first = left;
-    bvh.nodes[task.node].count = 0;
-    stack.push_back({left + 1, mid, task.end});
-    stack.push_back({left, task.begin, mid});
+  constexpr std::uint32_t kDefer = 8192;
+  if (n <= kDefer) {
+    detail::build_subtree<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, {0, 0, n}, 0, nullptr);
+    return bvh;
+  }
+  std::vector<detail::BuildTask> deferred;
+  detail::build_subtree<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, {0, 0, n}, kDefer, &deferred);
+  // Each deferred subtree into its own array (its root at local index 0; disjoint ranges of order).
+  std::vector<std::vector<typename Bvh<BV>::Node>> parts(deferred.size());
+  tbb::parallel_for(std::size_t(0), deferred.size(), [&](std::size_t i) {
+    const detail::BuildTask& d = deferred[i];
+    parts[i].reserve(2 * (d.end - d.begin));
+    parts[i].emplace_back();
+    detail::build_subtree<BV>(parts[i], bvh.order, centroids, fit, leaf_size, {0, d.begin, d.end}, 0, nullptr);
+  });
+  for (std::size_t i = 0; i < deferred.size(); ++i) {
+    // Local node k >= 1 goes to base + k - 1; the local root replaces the reserved global node.
+    const std::uint32_t base = static_cast<std::uint32_t>(bvh.nodes.size());
+    const auto remap = [&](typename Bvh<BV>::Node nd) {
+      if (nd.count == 0) nd.first = base + nd.first - 1;
+      return nd;
+    };
+    bvh.nodes[deferred[i].node] = remap(parts[i][0]);
+    for (std::size_t k = 1; k < parts[i].size(); ++k) bvh.nodes.push_back(remap(parts[i][k]));
   }
   return bvh;
 }

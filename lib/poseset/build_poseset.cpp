@@ -14,6 +14,8 @@
 #include <set>
 #include <sstream>
 
+#include <tbb/collaborative_call_once.h>
+
 #include "distance/max_penetration.h"
 #include "mesh/read_mesh.h"
 #include "offset/level_list.h"
@@ -213,7 +215,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     std::cerr << "cdbench poses: resuming: " << (last - first - pending.size()) << " of " << (last - first)
               << " approaches already certified" << std::endl;
   struct LazyFrame {
-    std::once_flag once;
+    tbb::collaborative_once_flag once;  // threads waiting for a frame help build its trees
     std::unique_ptr<OrientationFrame> frame;
     std::atomic<std::uint64_t> left{0};
   };
@@ -228,7 +230,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   parallel_for_dynamic(pending.size(), [&](std::size_t i) {
     const std::uint64_t a = pending[i], o = a / N;
     LazyFrame& lazy = frames[o];
-    std::call_once(lazy.once, [&] {
+    tbb::collaborative_call_once(lazy.once, [&] {
       lazy.frame = std::make_unique<OrientationFrame>(make_orientation_frame(setup, rots[o].toRotationMatrix()));
     });
     const OrientationFrame& frame = *lazy.frame;

@@ -11,6 +11,7 @@
 #include "bvh/sphere.h"
 
 #include <Eigen/Geometry>
+#include <tbb/task_arena.h>
 
 namespace cdbench {
 namespace {
@@ -65,6 +66,51 @@ TEST(Bvh, EveryPrimitiveInOneLeafAndBoxesNest) {
       }
     }
     for (int s : seen) EXPECT_EQ(s, 1);
+  }
+}
+
+// Above 8,192 primitives the subtrees are built in parallel and appended in a fixed order: every
+// node reachable once from the root, boxes nested, every primitive in one leaf, and the same node
+// arrays (numbering included) in a one-thread arena as on all threads.
+TEST(Bvh, ParallelBuildIsValidAndIndependentOfTheThreadCount) {
+  for (std::uint32_t leaf_size : {1u, 4u}) {
+    const int n = 30000;
+    const RandomBoxes rb(n, 13);
+    const Bvh<Aabb> bvh = rb.build(leaf_size);
+    Bvh<Aabb> serial;
+    tbb::task_arena one(1);
+    one.execute([&] { serial = rb.build(leaf_size); });
+    ASSERT_EQ(bvh.nodes.size(), serial.nodes.size());
+    EXPECT_EQ(bvh.order, serial.order);
+    for (std::size_t k = 0; k < bvh.nodes.size(); ++k) {
+      ASSERT_EQ(bvh.nodes[k].first, serial.nodes[k].first) << k;
+      ASSERT_EQ(bvh.nodes[k].count, serial.nodes[k].count) << k;
+      ASSERT_TRUE(bvh.nodes[k].bv.lo == serial.nodes[k].bv.lo && bvh.nodes[k].bv.hi == serial.nodes[k].bv.hi) << k;
+    }
+    std::vector<int> reached(bvh.nodes.size(), 0), seen(n, 0);
+    std::vector<std::uint32_t> stack{0};
+    while (!stack.empty()) {
+      const std::uint32_t k = stack.back();
+      stack.pop_back();
+      ++reached[k];
+      const auto& node = bvh.nodes[k];
+      if (node.count > 0) {
+        ASSERT_LE(node.count, leaf_size);
+        for (std::uint32_t i = 0; i < node.count; ++i) {
+          const std::uint32_t id = bvh.order[node.first + i];
+          ++seen[id];
+          ASSERT_TRUE(contains(node.bv, rb.boxes[id]));
+        }
+      } else {
+        ASSERT_LT(node.first + 1, bvh.nodes.size());
+        ASSERT_TRUE(contains(node.bv, bvh.nodes[node.first].bv));
+        ASSERT_TRUE(contains(node.bv, bvh.nodes[node.first + 1].bv));
+        stack.push_back(node.first);
+        stack.push_back(node.first + 1);
+      }
+    }
+    for (int r : reached) ASSERT_EQ(r, 1);
+    for (int c : seen) ASSERT_EQ(c, 1);
   }
 }
 
