@@ -44,7 +44,7 @@ inline double relaxed_threshold(double upper, double tol, double rel, double tar
 struct DistancePolicy {
   const TriangleMesh& F;
   const std::vector<TrianglePlane>& planes;
-  const std::vector<Vec3>& P;
+  const PlacedView P;
   const std::vector<Face>& faces;
   const Vec3& t;
   bool fast = true;
@@ -152,7 +152,7 @@ struct CellOrder {
 class BranchAndBound {
  public:
   // keep_frontier: remember discarded cells too, for export_frontier().
-  BranchAndBound(const SignedDistance& fixed, const MoverOrientation& o, const std::vector<Vec3>& P, const Vec3& t,
+  BranchAndBound(const SignedDistance& fixed, const MoverOrientation& o, const PlacedView& P, const Vec3& t,
                  const ClearanceOptions& opt, bool keep_frontier)
       : fixed_(fixed), o_(o), P_(P), t_(t), tol_(opt.tolerance), rel_(opt.relative_tolerance),
         target_(opt.target), keep_discarded_(keep_frontier) {}
@@ -487,7 +487,7 @@ class BranchAndBound {
 
   const SignedDistance& fixed_;
   const MoverOrientation& o_;
-  const std::vector<Vec3>& P_;
+  const PlacedView P_;
   const Vec3& t_;
   double tol_, rel_, target_;
   double upper_ = kInf;
@@ -509,7 +509,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
                                   const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
                                   const Vec3& t, const ClearanceOptions& options) {
   ClearanceResult r;
-  const std::vector<Vec3> P = orientation.placed(t);
+  const PlacedView P = orientation.placed_view(t);
   DistancePolicy dist{fixed.mesh(), fixed.planes(), P, mover.faces, t};
   double scale = fixed.bbox().lo.cwiseAbs().maxCoeff() + fixed.bbox().hi.cwiseAbs().maxCoeff();
   // The mover's root box, moved, bounds every placed vertex (and its extremes are vertices).

@@ -29,6 +29,18 @@ inline Vec3 place_point(const Eigen::Matrix3d& R, const Vec3& t, const Vec3& x) 
   return Vec3(r[0] + t[0], r[1] + t[1], r[2] + t[2]);
 }
 
+// The placed vertices fl(rotated[k] + t) of one pose, each computed when read, exactly as
+// MoverOrientation::placed computes it: a certificate reads only the vertices near the contact,
+// so it need not place all of them (O(n) per certificate on large movers).
+struct PlacedView {
+  const std::vector<Vec3>* rotated = nullptr;
+  Vec3 t = Vec3::Zero();
+  Vec3 operator[](std::size_t k) const {
+    const Vec3& r = (*rotated)[k];
+    return Vec3(r[0] + t[0], r[1] + t[1], r[2] + t[2]);
+  }
+};
+
 struct MoverOrientation {
   Eigen::Matrix3d R;             // the stored rotation (row-major in files)
   std::vector<Vec3> rotated;     // fl(R x) per vertex
@@ -38,6 +50,7 @@ struct MoverOrientation {
 
   // fl(rotated + t): the placed vertices of the pose (R, t).
   std::vector<Vec3> placed(const Vec3& t) const;
+  PlacedView placed_view(const Vec3& t) const { return PlacedView{&rotated, t}; }
   // Euclidean bound on |fl-evaluated R x + t - exact R x + t| for any vertex and any evaluation.
   double transform_error(const Vec3& t) const;
 };
