@@ -174,19 +174,18 @@ SignedDistance::SignedDistance(TriangleMesh mesh) : mesh_(std::move(mesh)), bbox
 namespace {
 
 // The fast query's result from the leaves it visited (tree or candidate list): the best triangle
-// enclosed rigorously, and the lower end from the leaves kept near it; false when the best does not
-// lie at or below the final pruning threshold (false: the caller runs the rigorous query).
-template <class Enclose>
-bool finish_fast(const FastNearestPolicy& fast, const std::vector<std::pair<double, std::uint32_t>>& near,
-                 const Enclose& enclose, Interval* out, std::uint32_t* nearest) {
+// enclosed rigorously, and the lower end from the leaves kept near it. False when the best does
+// not lie at or below the final pruning threshold (the caller then runs the rigorous query).
+bool finish_fast(const SignedDistance& sd, const FastNearestPolicy& fast,
+                 const std::vector<std::pair<double, std::uint32_t>>& near, Interval* out, std::uint32_t* nearest) {
   if (!(fast.best_est_sq < kInf)) return false;
-  const Interval best = enclose(fast.best_face);
+  const Interval best = sd.face_squared_distance(fast.p, fast.best_face);
   if (!(best.hi <= fast.threshold_sq)) return false;
   Interval d2 = best;
   std::uint32_t face = fast.best_face;
   for (const auto& [lb_sq, f] : near)
     if (lb_sq < best.hi && f != fast.best_face) {
-      const Interval x = enclose(f);
+      const Interval x = sd.face_squared_distance(fast.p, f);
       d2.lo = std::min(d2.lo, x.lo);
       if (x.hi < d2.hi) {
         d2.hi = x.hi;
@@ -198,38 +197,35 @@ bool finish_fast(const FastNearestPolicy& fast, const std::vector<std::pair<doub
   return true;
 }
 
+// The nearest-triangle query over the leaves `visit` hands to a policy (the tree's, or a list's):
+// the fast policy first, the rigorous one when the fast result cannot be confirmed.
+template <class Visit>
+Interval nearest_distance(const SignedDistance& sd, const Vec3& p, const Visit& visit, std::uint32_t* nearest) {
+  // Margin of the estimate: far above its rounding near the surface (scale: the box and p).
+  const double scale = sd.bbox().lo.cwiseAbs().maxCoeff() + sd.bbox().hi.cwiseAbs().maxCoeff() + p.cwiseAbs().maxCoeff();
+  thread_local std::vector<std::pair<double, std::uint32_t>> near;
+  near.clear();
+  FastNearestPolicy fast{sd.mesh(), sd.planes(), p, (1e-10 * scale) * (1e-10 * scale), near};
+  visit(fast);
+  Interval d;
+  if (finish_fast(sd, fast, near, &d, nearest)) return d;
+  NearestPolicy q{sd.mesh(), p};
+  visit(q);
+  if (nearest) *nearest = q.best_face;
+  return sqrt_interval({q.min_lo_sq, q.best_hi_sq});
+}
+
 }  // namespace
 
 Interval SignedDistance::unsigned_distance(const Vec3& p, std::uint32_t* nearest) const {
-  // Margin of the estimate: far above its rounding near the surface (scale: the box and p).
-  const double scale = bbox_.lo.cwiseAbs().maxCoeff() + bbox_.hi.cwiseAbs().maxCoeff() + p.cwiseAbs().maxCoeff();
-  thread_local std::vector<std::pair<double, std::uint32_t>> near;
-  near.clear();
-  FastNearestPolicy fast{mesh_, planes_, p, (1e-10 * scale) * (1e-10 * scale), near};
-  traverse_nearest_first(tree_, fast);
-  Interval d;
-  if (finish_fast(fast, near, [&](std::uint32_t f) { return enclose_squared(p, f); }, &d, nearest)) return d;
-  NearestPolicy q{mesh_, p};
-  traverse_nearest_first(tree_, q);
-  if (nearest) *nearest = q.best_face;
-  return sqrt_interval({q.min_lo_sq, q.best_hi_sq});
+  return nearest_distance(*this, p, [&](auto& policy) { traverse_nearest_first(tree_, policy); }, nearest);
 }
 
 Interval SignedDistance::unsigned_distance_among(const Vec3& p, const std::vector<std::uint32_t>& candidates,
                                                  std::uint32_t* nearest) const {
   // The same leaves as the tree query, without the tree: every triangle left out is farther than
   // the nearest, as a pruned subtree is.
-  const double scale = bbox_.lo.cwiseAbs().maxCoeff() + bbox_.hi.cwiseAbs().maxCoeff() + p.cwiseAbs().maxCoeff();
-  thread_local std::vector<std::pair<double, std::uint32_t>> near;
-  near.clear();
-  FastNearestPolicy fast{mesh_, planes_, p, (1e-10 * scale) * (1e-10 * scale), near};
-  for (std::uint32_t f : candidates) fast.leaf(f);
-  Interval d;
-  if (finish_fast(fast, near, [&](std::uint32_t f) { return enclose_squared(p, f); }, &d, nearest)) return d;
-  NearestPolicy q{mesh_, p};
-  for (std::uint32_t f : candidates) q.leaf(f);
-  if (nearest) *nearest = q.best_face;
-  return sqrt_interval({q.min_lo_sq, q.best_hi_sq});
+  return nearest_distance(*this, p, [&](auto& policy) { for (std::uint32_t f : candidates) policy.leaf(f); }, nearest);
 }
 
 void SignedDistance::triangles_within_among(const Vec3& p, double radius, const std::vector<std::uint32_t>& candidates,
@@ -239,7 +235,7 @@ void SignedDistance::triangles_within_among(const Vec3& p, double radius, const 
   for (std::uint32_t f : candidates) q.leaf(f);
 }
 
-Interval SignedDistance::enclose_squared(const Vec3& p, std::uint32_t f) const {
+Interval SignedDistance::face_squared_distance(const Vec3& p, std::uint32_t f) const {
   const Face& t = mesh_.faces[f];
   return point_triangle_squared_distance(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
 }

@@ -36,7 +36,7 @@ class SignedDistance {
                                    std::uint32_t* nearest = nullptr) const;
 
   // Rigorous enclosure of the squared distance from p to one face (an upper bound of dist(p, F)^2).
-  Interval face_squared_distance(const Vec3& p, std::uint32_t face) const { return enclose_squared(p, face); }
+  Interval face_squared_distance(const Vec3& p, std::uint32_t face) const;
 
   // True when dist(p, F) <= bound is proven; may stop at the first triangle that proves it.
   // False means the full query ran; then `*full` (if given) receives the enclosure of dist(p, F).
@@ -68,7 +68,6 @@ class SignedDistance {
 
  private:
   bool on_surface(const Vec3& p) const;
-  Interval enclose_squared(const Vec3& p, std::uint32_t face) const;  // rigorous dist(p, face)^2
   int side_off_surface(const Vec3& p) const;  // ray parity; p must not lie on F
 
   TriangleMesh mesh_;

@@ -187,8 +187,8 @@ class BranchAndBound {
       queue_.pop();
       ++r.cells;
       if (c.stale) {  // evaluate it at this pose before splitting it
-        // First the convexity bound from the triangles it used before, at its corners now: no tree
-        // query, and it often sets the cell aside for good.
+        // First the bounds from its last nearest triangle (no tree query), which often set the
+        // cell aside for good.
         Cell q = restale(c);
         if (q.lower >= threshold()) {
           push(q);
@@ -293,7 +293,6 @@ class BranchAndBound {
     std::uint32_t nearest = 0;
     const Interval ud = fixed_.unsigned_distance(centre, &nearest);
     c.near_face = nearest;
-    c.ud_hi = ud.hi;
     const Interval s = signed_at(centre, ud, parent, &c.ball);
     double lower = down(s.lo - r);
     if (lower < threshold() && s.hi < 0.0) {
@@ -383,9 +382,7 @@ class BranchAndBound {
     if (lower < threshold() && s.hi < 0.0) {
       // Deep: first the convexity bound of the nearest triangle alone (three enclosures; see
       // restale), which often sets the cell aside before the candidate list is gathered.
-      double worst = 0.0;
-      for (const Vec3& x : v) worst = std::max(worst, sqrt_interval(fixed_.face_squared_distance(x, nearest)).hi);
-      lower = std::max(lower, down(-worst - eta));
+      lower = std::max(lower, face_corner_lower(nearest, v.data(), 3, eta));
     }
     if (lower < threshold()) {
       // Distance from the cell to F, needed only where the cell may reach F (otherwise the
@@ -458,23 +455,26 @@ class BranchAndBound {
     if (c.near_face < 0) return q;
     const auto f = static_cast<std::uint32_t>(c.near_face);
     const auto dist_hi = [&](const Vec3& x) { return sqrt_interval(fixed_.face_squared_distance(x, f)).hi; };
-    double centre = 0.0, corners = 0.0;
     if (c.is_node) {
       const Aabb box = moved(o_.boxes.nodes[c.id].bv, t_);
       const double r = up(up(0.5 * box.diagonal()) * (1.0 + 1e-12));
-      centre = down(-dist_hi(box.center()) - r);
-      for (int k = 0; k < 8; ++k) corners = std::max(corners, dist_hi(box.corner(k)));
-      corners = down(-corners);
+      std::array<Vec3, 8> corners;
+      for (int k = 0; k < 8; ++k) corners[k] = box.corner(k);
+      q.lower = std::max(down(-dist_hi(box.center()) - r), face_corner_lower(f, corners.data(), 8, 0.0));
     } else {
       const FaceGeometry geo = geometry(c);
-      centre = down(down(-dist_hi(geo.m) - geo.r) - geo.eta_m);
-      for (const Vec3& v : geo.v) corners = std::max(corners, dist_hi(v));
-      corners = down(-corners - geo.eta);
+      q.lower = std::max(down(down(-dist_hi(geo.m) - geo.r) - geo.eta_m), face_corner_lower(f, geo.v.data(), 3, geo.eta));
     }
-    q.lower = std::max(centre, corners);
     return q;
   }
 
+  // -(max over the corners of d_f) - eta: a lower bound of s on their convex hull (d_f is convex,
+  // s >= -d_f everywhere), eta the corners' distance from the exact cell's.
+  double face_corner_lower(std::uint32_t f, const Vec3* corners, int n, double eta) const {
+    double worst = 0.0;
+    for (int k = 0; k < n; ++k) worst = std::max(worst, sqrt_interval(fixed_.face_squared_distance(corners[k], f)).hi);
+    return down(-worst - eta);
+  }
 
   // A certified value of s at a mover surface point (face, barycentrics): the upper end so far.
   void offer_upper(double value, std::uint32_t face, const std::array<double, 2>& bary) {

@@ -6,6 +6,12 @@
 namespace cdbench {
 
 MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::Matrix3d& R) {
+  MoverOrientation o = rotate_mover(mover, R);
+  build_mover_boxes(o);
+  return o;
+}
+
+MoverOrientation rotate_mover(const TriangleMesh& mover, const Eigen::Matrix3d& R) {
   MoverOrientation o;
   o.R = R;
   o.faces = &mover.faces;
@@ -16,8 +22,11 @@ MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::
     o.rotated[k] = rotate_point(R, x);
     o.abs_max = o.abs_max.cwiseMax(absR * x.cwiseAbs());
   }
-  o.boxes = build_triangle_bvh<Aabb>(o.rotated, mover.faces, [](int n, const auto& p) { return bounding_box(n, p); });
   return o;
+}
+
+void build_mover_boxes(MoverOrientation& o) {
+  o.boxes = build_triangle_bvh<Aabb>(o.rotated, *o.faces, [](int n, const auto& p) { return bounding_box(n, p); });
 }
 
 std::vector<Vec3> MoverOrientation::placed(const Vec3& t) const {

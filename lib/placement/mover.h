@@ -56,6 +56,10 @@ struct MoverOrientation {
 };
 
 MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::Matrix3d& R);
+// The same in two steps (rotated vertices first, then the box tree), for callers that build other
+// trees from the rotated vertices at the same time.
+MoverOrientation rotate_mover(const TriangleMesh& mover, const Eigen::Matrix3d& R);
+void build_mover_boxes(MoverOrientation& o);
 
 // One vertex index per connected component (faces sharing vertices) of a mesh, ascending.
 std::vector<std::uint32_t> component_representatives(const TriangleMesh& mesh);

@@ -44,18 +44,10 @@ OrientationFrame make_orientation_frame(const ApproachSetup& setup, const Eigen:
   OrientationFrame f;
   const Vec3 rc = R * setup.mover_ref;
   f.t0 = setup.fixed_ref - rc;
-  // The two trees at once (each also builds in parallel when large); the swept vertices are
-  // orientation.placed(t0), computed the same way.
-  tbb::parallel_invoke([&] { f.orientation = make_mover_orientation(*setup.mover, R); },
-                       [&] {
-                         const std::vector<Vec3>& x = setup.mover->vertices;
-                         std::vector<Vec3> P(x.size());
-                         for (std::size_t k = 0; k < x.size(); ++k) {
-                           const Vec3 r = rotate_point(R, x[k]);
-                           P[k] = Vec3(r[0] + f.t0[0], r[1] + f.t0[1], r[2] + f.t0[2]);
-                         }
-                         f.swept = make_sweep_mesh(std::move(P), setup.mover->faces);
-                       });
+  // The two trees at once (each also builds in parallel when large).
+  f.orientation = rotate_mover(*setup.mover, R);
+  tbb::parallel_invoke([&] { build_mover_boxes(f.orientation); },
+                       [&] { f.swept = make_sweep_mesh(f.orientation.placed(f.t0), setup.mover->faces); });
   return f;
 }
 
