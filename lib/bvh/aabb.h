@@ -3,6 +3,7 @@
 // round); query-side bounds below are rounded so that they never exceed the true value.
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <limits>
 
 namespace cdbench {
@@ -28,6 +29,11 @@ struct Aabb {
   // Corner k (0..7): bit 0 selects hi.x, bit 1 hi.y, bit 2 hi.z.
   Eigen::Vector3d corner(int k) const {
     return {(k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z()};
+  }
+  std::array<Eigen::Vector3d, 8> corners() const {
+    std::array<Eigen::Vector3d, 8> c;
+    for (int k = 0; k < 8; ++k) c[k] = corner(k);
+    return c;
   }
   bool contains(const Eigen::Vector3d& p) const {
     return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();

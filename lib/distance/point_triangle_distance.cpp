@@ -68,10 +68,8 @@ TrianglePlane make_triangle_plane(const Vec3& a, const Vec3& b, const Vec3& c) {
   pl.d = pl.n.dot(a);
   double eps = 0.0;
   for (const Vec3* v : {&a, &b, &c}) {
-    const double t0 = pl.n[0] * (*v)[0], t1 = pl.n[1] * (*v)[1], t2 = pl.n[2] * (*v)[2];
-    const double s = t0 + t1 + t2 - pl.d;
-    // |exact n.v - d| <= |s| + (the error of s, as in plane_distance_lower_bound)
-    eps = std::max(eps, std::abs(s) + 2e-15 * (std::abs(t0) + std::abs(t1) + std::abs(t2) + std::abs(pl.d)));
+    const PlaneOffset o = plane_offset(pl.n, pl.d, *v);  // |exact n.v - d| <= |value| + error
+    eps = std::max(eps, std::abs(o.value) + o.error);
   }
   pl.eps = eps * (1.0 + 2e-15) + 1e-300;
   pl.norm_up = std::sqrt(pl.n.squaredNorm()) * (1.0 + 4e-15);

@@ -33,13 +33,21 @@ struct TrianglePlane {
 };
 TrianglePlane make_triangle_plane(const Vec3& a, const Vec3& b, const Vec3& c);
 
+// n.p - d in plain doubles and a bound of its error against the exact value of the same
+// expression, valid in any rounding mode: the value is within gamma_4 T of the exact one (T the sum
+// of the absolute terms; doubled for directed rounding), and 2e-15 T covers it with margin.
+struct PlaneOffset {
+  double value, error;
+};
+inline PlaneOffset plane_offset(const Vec3& n, double d, const Vec3& p) {
+  const double t0 = n[0] * p[0], t1 = n[1] * p[1], t2 = n[2] * p[2];
+  return {t0 + t1 + t2 - d, 2e-15 * (std::abs(t0) + std::abs(t1) + std::abs(t2) + std::abs(d))};
+}
+
 // Plain doubles with an explicit error bound (any rounding mode), like the slab bound below.
 inline double plane_distance_lower_bound(const TrianglePlane& pl, const Vec3& p) {
-  // s is within gamma_4 T of the exact n.p - d (T the sum of the absolute terms; doubled for
-  // directed rounding): 2e-15 T covers it with margin.
-  const double t0 = pl.n[0] * p[0], t1 = pl.n[1] * p[1], t2 = pl.n[2] * p[2];
-  const double s = t0 + t1 + t2 - pl.d;
-  const double lo = std::abs(s) - 2e-15 * (std::abs(t0) + std::abs(t1) + std::abs(t2) + std::abs(pl.d)) - pl.eps - 1e-300;
+  const PlaneOffset o = plane_offset(pl.n, pl.d, p);
+  const double lo = std::abs(o.value) - o.error - pl.eps - 1e-300;
   return lo > 0.0 ? lo / pl.norm_up * (1.0 - 2e-15) : 0.0;
 }
 
@@ -50,11 +58,10 @@ inline double plane_distance_lower_bound(const TrianglePlane& pl, const Vec3& p)
 inline double plane_pair_lower_bound(const TrianglePlane& pl, const Vec3& x, const Vec3& y, const Vec3& z) {
   double above = HUGE_VAL, below = HUGE_VAL;
   for (const Vec3* v : {&x, &y, &z}) {
-    const double t0 = pl.n[0] * (*v)[0], t1 = pl.n[1] * (*v)[1], t2 = pl.n[2] * (*v)[2];
-    const double s = t0 + t1 + t2 - pl.d;
-    const double err = 2e-15 * (std::abs(t0) + std::abs(t1) + std::abs(t2) + std::abs(pl.d)) + 1e-300;
-    above = std::min(above, s - err);
-    below = std::min(below, -s - err);
+    const PlaneOffset o = plane_offset(pl.n, pl.d, *v);
+    const double err = o.error + 1e-300;
+    above = std::min(above, o.value - err);
+    below = std::min(below, -o.value - err);
   }
   const double lo = std::max(above, below) - pl.eps;
   return lo > 0.0 ? lo / pl.norm_up * (1.0 - 2e-15) : 0.0;

@@ -296,8 +296,7 @@ class BranchAndBound {
     const Interval s = signed_at(centre, ud, parent, &c.ball);
     double lower = down(s.lo - r);
     if (lower < threshold() && s.hi < 0.0) {
-      std::array<Vec3, 8> corners;
-      for (int k = 0; k < 8; ++k) corners[k] = box.corner(k);
+      const std::array<Vec3, 8> corners = box.corners();
       TranslatedDepthBound moments;
       const double depth = depth_upper_bound(fixed_, centre, up(ud.hi + 2 * r), corners.data(), 8, ids_, nullptr,
                                              nullptr, nullptr, &moments);
@@ -458,8 +457,7 @@ class BranchAndBound {
     if (c.is_node) {
       const Aabb box = moved(o_.boxes.nodes[c.id].bv, t_);
       const double r = up(up(0.5 * box.diagonal()) * (1.0 + 1e-12));
-      std::array<Vec3, 8> corners;
-      for (int k = 0; k < 8; ++k) corners[k] = box.corner(k);
+      const std::array<Vec3, 8> corners = box.corners();
       q.lower = std::max(down(-dist_hi(box.center()) - r), face_corner_lower(f, corners.data(), 8, 0.0));
     } else {
       const FaceGeometry geo = geometry(c);

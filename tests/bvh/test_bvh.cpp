@@ -47,25 +47,40 @@ bool contains(const Aabb& outer, const Aabb& inner) {
   return (outer.lo.array() <= inner.lo.array()).all() && (outer.hi.array() >= inner.hi.array()).all();
 }
 
+// Walks the tree from the root: every node reached exactly once, children's boxes inside their
+// parent's, leaves of at most leaf_size primitives, each primitive in exactly one leaf and inside
+// its leaf's box.
+void expect_valid_tree(const RandomBoxes& rb, const Bvh<Aabb>& bvh, std::uint32_t leaf_size) {
+  std::vector<int> reached(bvh.nodes.size(), 0), seen(rb.boxes.size(), 0);
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const std::uint32_t k = stack.back();
+    stack.pop_back();
+    ++reached[k];
+    const auto& node = bvh.nodes[k];
+    if (node.count > 0) {
+      ASSERT_LE(node.count, leaf_size);
+      for (std::uint32_t i = 0; i < node.count; ++i) {
+        const std::uint32_t id = bvh.order[node.first + i];
+        ++seen[id];
+        ASSERT_TRUE(contains(node.bv, rb.boxes[id]));
+      }
+    } else {
+      ASSERT_LT(node.first + 1, bvh.nodes.size());
+      ASSERT_TRUE(contains(node.bv, bvh.nodes[node.first].bv));
+      ASSERT_TRUE(contains(node.bv, bvh.nodes[node.first + 1].bv));
+      stack.push_back(node.first);
+      stack.push_back(node.first + 1);
+    }
+  }
+  for (int r : reached) ASSERT_EQ(r, 1);
+  for (int c : seen) ASSERT_EQ(c, 1);
+}
+
 TEST(Bvh, EveryPrimitiveInOneLeafAndBoxesNest) {
   for (std::uint32_t leaf_size : {1u, 3u}) {
     const RandomBoxes rb(1000, 7);
-    const Bvh<Aabb> bvh = rb.build(leaf_size);
-    std::vector<int> seen(1000, 0);
-    for (const auto& node : bvh.nodes) {
-      if (node.count > 0) {
-        EXPECT_LE(node.count, leaf_size);
-        for (std::uint32_t i = 0; i < node.count; ++i) {
-          const std::uint32_t id = bvh.order[node.first + i];
-          ++seen[id];
-          EXPECT_TRUE(contains(node.bv, rb.boxes[id]));
-        }
-      } else {
-        EXPECT_TRUE(contains(node.bv, bvh.nodes[node.first].bv));
-        EXPECT_TRUE(contains(node.bv, bvh.nodes[node.first + 1].bv));
-      }
-    }
-    for (int s : seen) EXPECT_EQ(s, 1);
+    expect_valid_tree(rb, rb.build(leaf_size), leaf_size);
   }
 }
 
@@ -87,30 +102,7 @@ TEST(Bvh, ParallelBuildIsValidAndIndependentOfTheThreadCount) {
       ASSERT_EQ(bvh.nodes[k].count, serial.nodes[k].count) << k;
       ASSERT_TRUE(bvh.nodes[k].bv.lo == serial.nodes[k].bv.lo && bvh.nodes[k].bv.hi == serial.nodes[k].bv.hi) << k;
     }
-    std::vector<int> reached(bvh.nodes.size(), 0), seen(n, 0);
-    std::vector<std::uint32_t> stack{0};
-    while (!stack.empty()) {
-      const std::uint32_t k = stack.back();
-      stack.pop_back();
-      ++reached[k];
-      const auto& node = bvh.nodes[k];
-      if (node.count > 0) {
-        ASSERT_LE(node.count, leaf_size);
-        for (std::uint32_t i = 0; i < node.count; ++i) {
-          const std::uint32_t id = bvh.order[node.first + i];
-          ++seen[id];
-          ASSERT_TRUE(contains(node.bv, rb.boxes[id]));
-        }
-      } else {
-        ASSERT_LT(node.first + 1, bvh.nodes.size());
-        ASSERT_TRUE(contains(node.bv, bvh.nodes[node.first].bv));
-        ASSERT_TRUE(contains(node.bv, bvh.nodes[node.first + 1].bv));
-        stack.push_back(node.first);
-        stack.push_back(node.first + 1);
-      }
-    }
-    for (int r : reached) ASSERT_EQ(r, 1);
-    for (int c : seen) ASSERT_EQ(c, 1);
+    expect_valid_tree(rb, bvh, leaf_size);
   }
 }
 
