@@ -8,6 +8,7 @@
 #include "offset/certify_completeness.h"
 #include "offset/fast_signed_distance.h"
 #include "offset/mesh_level_set.h"
+#include "offset/refine_offset.h"
 #include "util/timer.h"
 
 namespace cdbench {
@@ -39,6 +40,73 @@ bool seed_near(const FastSignedDistance& fast, double d, const Vec3& x, Vec3& se
     return true;
   }
   return false;
+}
+
+// Local repair of a candidate whose band misses the tolerance on few faces (refine_offset.h):
+// rounds of splitting the faces above the tolerance, each new vertex moved onto the level set by
+// the fast distance; the new faces' bands are certified, the kept faces keep theirs (the band is a
+// per-face certificate). Gives up, leaving `v` and `band` as they were, when too many faces are
+// wide (a finer re-mesh is then the better candidate) or the refined mesh is not valid.
+bool repair_band(const SignedDistance& sdf, const FastSignedDistance& fast, double d, double tol, const BandOptions& bo,
+                 ValidatedMesh& v, BandResult& band, OffsetLevel& level,
+                 const std::function<void(const std::string&)>& log) {
+  constexpr int kRounds = 4;
+  const auto place = [&](const Vec3& a, const Vec3& b) {
+    const Vec3 m = 0.5 * (a + b);
+    Vec3 on;
+    return seed_near(fast, d, m, on) ? on : m;
+  };
+  ValidatedMesh current = v;
+  BandResult current_band = band;
+  for (int round = 1; round <= kRounds; ++round) {
+    const std::size_t n = current.mesh.faces.size();
+    std::vector<char> wide(n, 0);
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < n; ++i) count += wide[i] = current_band.face_epsilon[i] > tol;
+    if (count == 0) break;
+    if (count > std::max<std::size_t>(2000, n / 10)) {
+      log("repair: " + std::to_string(count) + " faces above the tolerance, too many to split locally");
+      return false;
+    }
+    Timer t_split;
+    RefinedMesh r = refine_faces(current.mesh, wide, place);
+    ValidatedMesh rv = validate_mesh(r.mesh);
+    level.seconds_mesh += t_split.seconds();
+    // Validation must accept the refined mesh as it is (no welding, reorientation or reordering),
+    // so that the kept faces' bands still belong to the same faces.
+    if (!rv.report.valid() || rv.mesh.faces != r.mesh.faces || rv.mesh.vertices != r.mesh.vertices) {
+      log("repair round " + std::to_string(round) + ": the refined mesh is not valid" +
+          (rv.report.valid() ? std::string() : ": " + rv.report.errors[0].message));
+      return false;
+    }
+    Timer t_band;
+    TriangleMesh fresh;
+    fresh.vertices = r.mesh.vertices;
+    for (std::size_t i = 0; i < r.mesh.faces.size(); ++i)
+      if (r.is_new[i]) fresh.faces.push_back(r.mesh.faces[i]);
+    const BandResult nb = certify_band(sdf, fresh, d, bo);
+    BandResult merged;
+    merged.face_epsilon.resize(r.mesh.faces.size());
+    merged.pieces = nb.pieces;
+    for (std::size_t i = 0, j = 0; i < r.mesh.faces.size(); ++i) {
+      merged.face_epsilon[i] = r.is_new[i] ? nb.face_epsilon[j++] : current_band.face_epsilon[r.kept_from[i]];
+      if (merged.face_epsilon[i] > merged.epsilon) {
+        merged.epsilon = merged.face_epsilon[i];
+        merged.worst_face = i;
+      }
+    }
+    level.seconds_band += t_band.seconds();
+    level.band_pieces += nb.pieces;
+    log("repair round " + std::to_string(round) + ": split " + std::to_string(count) + " faces (" +
+        std::to_string(r.split_edges) + " edges, " + std::to_string(r.mesh.faces.size()) + " faces now), band " +
+        num(merged.epsilon / sdf.bbox().diagonal()) + " x diagonal");
+    current = std::move(rv);
+    current_band = std::move(merged);
+  }
+  if (current_band.epsilon > tol) return false;
+  v = std::move(current);
+  band = std::move(current_band);
+  return true;
 }
 
 }  // namespace
@@ -111,11 +179,15 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
       BandOptions bo;
       bo.target = 0.75 * tol;  // split a face only as far as acceptance needs, with a margin
       bo.second_pass_above = tol;
-      const BandResult band = certify_band(sdf, v.mesh, d, bo);
+      BandResult band = certify_band(sdf, v.mesh, d, bo);
       level.seconds_band += t_band.seconds();
       level.band_pieces += band.pieces;
+      const auto wide = std::count_if(band.face_epsilon.begin(), band.face_epsilon.end(), [&](double e) { return e > tol; });
+      log("band " + num(band.epsilon / diag) + " x diagonal in " + num(t_band.seconds()) + " s (" +
+          std::to_string(wide) + " faces above the tolerance)");
+      if (options.local_repair && band.epsilon > tol && band.faces_touching == 0 && repair_band(sdf, fast, d, tol, bo, v, band, level, log))
+        ++level.repairs;
       eps = band.epsilon;
-      log("band " + num(eps / diag) + " x diagonal in " + num(t_band.seconds()) + " s");
       if (eps > tol) {
         const Face& w = v.mesh.faces[band.worst_face];
         const Vec3 at = (v.mesh.vertices[w[0]] + v.mesh.vertices[w[1]] + v.mesh.vertices[w[2]]) / 3.0;

@@ -79,7 +79,7 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
   std::ostringstream option_key;
   option_key << CDBENCH_VERSION << "|" << number_text(oo.tolerance_relative) << "|" << number_text(oo.radius_relative) << "|"
              << number_text(oo.distance_over_tolerance) << "|" << oo.max_attempts << "|" << oo.seeds << "|"
-             << number_text(r.max_penetration_tolerance);
+             << number_text(r.max_penetration_tolerance) << (oo.local_repair ? "|repair" : "");
 
   // Reuse: levels of an earlier run with the same input, level and options, whose file is intact.
   const std::string manifest_path = r.out_dir + "/manifest.json";
@@ -104,6 +104,7 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
                      {"mesher_radius_relative", oo.radius_relative},
                      {"mesher_distance_over_tolerance", oo.distance_over_tolerance},
                      {"max_attempts", oo.max_attempts},
+                     {"local_repair", oo.local_repair},
                      {"seeds", oo.seeds}};
   // The manifest is rewritten after each computed level (levels done so far, "finished": false), so
   // that an interrupted run's levels are reused by the next one; the last write has them all.
@@ -158,6 +159,7 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
     e["epsilon_over_diagonal"] = level.epsilon / diag;
     e["complete"] = level.complete;
     e["attempts"] = level.attempts;
+    e["local_repairs"] = level.repairs;
     e["mesher_distance_bound"] = level.distance_bound;
     e["file"] = nullptr;
     e["sha256"] = nullptr;

@@ -114,5 +114,29 @@ TEST(OffsetLevel, DumbbellSplitsInwards) {
   EXPECT_TRUE(l.complete);
 }
 
+// A coarse first candidate (distance bound 3x the tolerance) misses the band on some faces; the
+// local repair splits only those and certifies the level in one attempt. Control: without the
+// repair the same single attempt fails.
+TEST(OffsetLevel, WideFacesAreRepairedLocally) {
+  const Solid s(make_torus(2.0, 0.5, 32, 16));
+  OffsetOptions o = coarse();
+  o.distance_over_tolerance = 3.0;
+  o.max_attempts = 1;
+  for (double d : {-0.2, 0.3}) {
+    o.local_repair = false;
+    const OffsetLevel plain = compute_offset_level(s.sdf, s.mp, d, o);
+    ASSERT_EQ(plain.status, OffsetStatus::Failed) << "the control must need the repair (d = " << d << ")";
+    o.local_repair = true;
+    const OffsetLevel l = compute_offset_level(s.sdf, s.mp, d, o);
+    ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
+    EXPECT_EQ(l.repairs, 1);
+    EXPECT_TRUE(l.complete);
+    EXPECT_LE(l.epsilon, o.tolerance_relative * s.sdf.bbox().diagonal());
+    EXPECT_EQ(l.report.genus, 1);
+    EXPECT_GT(l.mesh.faces.size(), plain.mesh.faces.size());
+    expect_band_holds(s, l);
+  }
+}
+
 }  // namespace
 }  // namespace cdbench

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <random>
 
@@ -10,6 +11,7 @@
 #include "offset/level_list.h"
 #include "offset/offset_manifest.h"
 #include "offset/mesh_level_set.h"
+#include "offset/refine_offset.h"
 #include "util/error.h"
 
 namespace cdbench {
@@ -120,6 +122,42 @@ TEST(MeshLevelSet, SphereOffsetsAreValidAndNearTheLevel) {
     EXPECT_EQ(v.report.genus, 0);
     EXPECT_GT(m.faces.size(), 100u);
     for (const Vec3& p : m.vertices) EXPECT_NEAR(fast(p), d, 1e-6);
+  }
+}
+
+// Red-green refinement: the split mesh is conforming (a T-junction would leave boundary edges, which
+// validation reports), oriented like the input (volume unchanged for flat midpoints), and keeps
+// the unmarked faces that have no split edge exactly.
+TEST(RefineFaces, ConformingOrientedAndKeepsTheRest) {
+  const TriangleMesh sphere = make_icosphere(1.0, 2);
+  const ValidatedMesh before = validate_mesh(sphere);
+  ASSERT_TRUE(before.report.valid());
+  for (std::size_t stride : {1u, 2u, 7u, 50u}) {
+    std::vector<char> wide(sphere.faces.size(), 0);
+    for (std::size_t i = 0; i < wide.size(); i += stride) wide[i] = 1;
+    const RefinedMesh r = refine_faces(sphere, wide, [](const Vec3& a, const Vec3& b) { return 0.5 * (a + b); });
+    const ValidatedMesh after = validate_mesh(r.mesh);
+    ASSERT_TRUE(after.report.valid()) << "stride " << stride << ": " << after.report.errors[0].message;
+    EXPECT_EQ(after.report.genus, 0);
+    EXPECT_EQ(after.mesh.faces, r.mesh.faces) << "validation had to change the refined mesh";
+    EXPECT_NEAR(after.report.volume_lo, before.report.volume_lo, 1e-12);
+    ASSERT_EQ(r.is_new.size(), r.mesh.faces.size());
+    std::size_t kept = 0, added = 0;
+    for (std::size_t i = 0; i < r.mesh.faces.size(); ++i) {
+      if (r.is_new[i]) { ++added; continue; }
+      ++kept;
+      EXPECT_FALSE(wide[r.kept_from[i]]);
+      EXPECT_EQ(r.mesh.faces[i], sphere.faces[r.kept_from[i]]);
+    }
+    // Each split face becomes 4 or 2, each split edge adds one vertex: V - E + F stays 2.
+    EXPECT_EQ(r.mesh.vertices.size(), sphere.vertices.size() + r.split_edges);
+    EXPECT_GE(added, 4 * static_cast<std::size_t>(std::count(wide.begin(), wide.end(), 1)));
+    if (stride == 1) {
+      EXPECT_EQ(kept, 0u);
+    }
+    if (stride == 50) {
+      EXPECT_GT(kept, sphere.faces.size() / 2);
+    }
   }
 }
 
