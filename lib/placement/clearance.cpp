@@ -391,16 +391,11 @@ class BranchAndBound {
       const double reach = up(ud.hi + 2 * r);
       const bool listed = list && list->covers(m, reach);
       if (listed) fixed_.triangles_within_among(m, reach, list->ids, ids_);
-      if (!(dlo > 0.0)) {
+      // Only an outside centre can prove the cell disjoint (the first branch below); otherwise
+      // the depth bound is taken whatever dlo is (and gathers its own triangles when unlisted).
+      if (!(dlo > 0.0) && s.lo > 0.0) {
         if (!listed) fixed_.triangles_within(m, reach, std::numeric_limits<std::size_t>::max(), ids_);
-        double d2lo = kInf;
-        for (std::uint32_t j : ids_) {
-          const Face& g = fixed_.mesh().faces[j];
-          const auto& fv = fixed_.mesh().vertices;
-          d2lo = std::min(d2lo, triangle_triangle_squared_distance(fv[g[0]], fv[g[1]], fv[g[2]], v[0], v[1], v[2]).lo);
-          if (d2lo == 0.0) break;
-        }
-        dlo = down(sqrt_interval({d2lo, d2lo}).lo - eta);
+        dlo = cell_distance_lower(v, eta, eta_m);
       }
       if (dlo > eta_m && s.lo > 0.0) {
         // The exact cell is disjoint from F and on m's side (outside).
@@ -433,6 +428,42 @@ class BranchAndBound {
     c.lower = lower;
     return c;
   }
+
+  // A lower bound of the distance from the cell (corners v, within eta of the exact cell) to the
+  // triangles ids_ (those that can be nearest to any of its points), or -inf once it is certain
+  // to be at most eta_m (the cell may touch F: its value is then not used). Per triangle, the
+  // cheap rigorous bounds first (each triangle's plane against the other's vertices, both ways);
+  // for triangles those cannot place beyond the least so far, the projection gap on the estimated
+  // closest-point direction, and the certified pair distance only when that gap is 0.
+  double cell_distance_lower(const std::array<Vec3, 3>& v, double eta, double eta_m) {
+    const auto& fv = fixed_.mesh().vertices;
+    const TrianglePlane cell_plane = make_triangle_plane(v[0], v[1], v[2]);
+    cheap_.clear();
+    for (std::uint32_t j : ids_) {
+      const Face& g = fixed_.mesh().faces[j];
+      const double lb = std::max(plane_pair_lower_bound(fixed_.planes()[j], v[0], v[1], v[2]),
+                                 plane_pair_lower_bound(cell_plane, fv[g[0]], fv[g[1]], fv[g[2]]));
+      cheap_.push_back({down(lb * lb), j});
+    }
+    std::sort(cheap_.begin(), cheap_.end());  // (bound, index): deterministic
+    // Below this squared distance the cell may touch F (dlo <= eta_m whatever the rest gives).
+    const double touch_sq = down(down(eta_m + eta) * down(eta_m + eta));
+    double d2lo = kInf;
+    for (const auto& [lb_sq, j] : cheap_) {
+      if (lb_sq >= d2lo) break;  // sorted: no remaining triangle can lower the minimum
+      const Face& g = fixed_.mesh().faces[j];
+      const Vec3 &a = fv[g[0]], &b = fv[g[1]], &c = fv[g[2]];
+      // The gap of the projections on the estimated closest-point direction (rigorous for any
+      // direction, tight for the right one) before the certified pair distance.
+      Vec3 p, q;
+      const double e2 = triangle_triangle_closest_points(a, b, c, v[0], v[1], v[2], &p, &q);
+      const double gap = e2 > 0.0 ? triangle_distance_lower_bound(a, b, c, v[0], v[1], v[2], q - p) : 0.0;
+      d2lo = std::min(d2lo, gap > 0.0 ? down(gap * gap) : triangle_triangle_squared_distance(a, b, c, v[0], v[1], v[2]).lo);
+      if (d2lo <= touch_sq) return -kInf;
+    }
+    return down(sqrt_interval({d2lo, d2lo}).lo - eta);
+  }
+  std::vector<std::pair<double, std::uint32_t>> cheap_;
 
   // Stores a cell's translated depth bound at this pose (eta: its corners' rounding); its index.
   std::int32_t keep_depth(TranslatedDepthBound& b, double eta) {
