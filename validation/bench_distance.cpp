@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 
 #include <cstdio>
+#include <exception>
 #include <iostream>
 #include <memory>
 #include <random>
@@ -33,7 +34,7 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   using namespace cdbench;
   std::size_t queries = 20000;
   std::vector<std::string> meshes;
@@ -117,4 +118,14 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
   return 0;
+}
+
+// A bad path or file ends with a message and exit code 2, never an uncaught exception.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_distance: error: %s\n", e.what());
+    return 2;
+  }
 }

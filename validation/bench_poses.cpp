@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -37,7 +38,7 @@ TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_s
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: bench_poses POSESET_DIR [--approaches M]\n");
     return 2;
@@ -190,4 +191,14 @@ int main(int argc, char** argv) {
               "c > 0 just before): %zu; FCL pose past the contact certified penetrating: %zu\n",
               checked, exact_confirmed, fcl_penetrating);
   return 0;
+}
+
+// A bad path or file ends with a message and exit code 2, never an uncaught exception.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_poses: error: %s\n", e.what());
+    return 2;
+  }
 }

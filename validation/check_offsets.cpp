@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -55,7 +56,7 @@ bool load(const std::string& path, Mesh& out) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: check_offsets OFFSET_DIR [--grid n] [--points N]\n");
     return 2;
@@ -148,4 +149,14 @@ int main(int argc, char** argv) {
                 misplaced, ok ? "confirmed" : "NOT CONFIRMED");
   }
   return all_ok ? 0 : 1;
+}
+
+// A bad path or file ends with a message and exit code 2, never an uncaught exception.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "check_offsets: error: %s\n", e.what());
+    return 2;
+  }
 }

@@ -16,6 +16,7 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <cmath>
+#include <exception>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -50,7 +51,7 @@ Mesh to_cgal(const cdbench::TriangleMesh& m) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: check_poses POSESET_DIR [--poses K] [--grid n] [--intervals VALIDATION.csv]\n");
     return 2;
@@ -141,4 +142,14 @@ int main(int argc, char** argv) {
   std::printf("%s: %zu of %zu sampled certificates confirmed by dense sampling with CGAL (grid %d per triangle)\n",
               dir.c_str(), confirmed, M, n);
   return confirmed == M ? 0 : 1;
+}
+
+// A bad path or file ends with a message and exit code 2, never an uncaught exception.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "check_poses: error: %s\n", e.what());
+    return 2;
+  }
 }

@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -35,7 +36,7 @@ Mesh to_cgal(const cdbench::PolygonSoup& soup) {
   return m;
 }
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   if (argc < 4) {
     std::cerr << "usage: check_repair INPUT OUTPUT.off OUTPUT.repair.json [relative error bound, default 1e-4]\n";
     return 2;
@@ -64,4 +65,14 @@ int main(int argc, char** argv) {
   }
   std::printf("error bound e = %.3g (%.0e x input diagonal)\n", e, rel);
   return bad ? 1 : 0;
+}
+
+// A bad path or file ends with a message and exit code 2, never an uncaught exception.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "check_repair: error: %s\n", e.what());
+    return 2;
+  }
 }
