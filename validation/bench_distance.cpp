@@ -11,7 +11,6 @@
 #include <tbb/global_control.h>
 
 #include <cstdio>
-#include <exception>
 #include <iostream>
 #include <memory>
 #include <random>
@@ -23,6 +22,7 @@
 #include "mesh/read_mesh.h"
 #include "mesh/validate_mesh.h"
 #include "util/timer.h"
+#include "guarded_main.h"
 
 namespace {
 
@@ -120,12 +120,4 @@ static int run(int argc, char** argv) {
   return 0;
 }
 
-// A bad path or file ends with a message and exit code 2, never an uncaught exception.
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_distance: error: %s\n", e.what());
-    return 2;
-  }
-}
+int main(int argc, char** argv) { return guarded_main("bench_distance", run, argc, argv); }

@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <exception>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -26,6 +25,7 @@
 #include "mesh/validate_mesh.h"
 #include "placement/place_pose.h"
 #include "sampling/sampling.h"
+#include "guarded_main.h"
 
 using namespace cdbench;
 using Clock = std::chrono::steady_clock;
@@ -193,12 +193,4 @@ static int run(int argc, char** argv) {
   return 0;
 }
 
-// A bad path or file ends with a message and exit code 2, never an uncaught exception.
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_poses: error: %s\n", e.what());
-    return 2;
-  }
-}
+int main(int argc, char** argv) { return guarded_main("bench_poses", run, argc, argv); }

@@ -23,7 +23,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -33,6 +32,7 @@
 #include <vector>
 
 #include "mesh/read_mesh.h"
+#include "guarded_main.h"
 
 namespace {
 
@@ -151,12 +151,4 @@ static int run(int argc, char** argv) {
   return all_ok ? 0 : 1;
 }
 
-// A bad path or file ends with a message and exit code 2, never an uncaught exception.
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "check_offsets: error: %s\n", e.what());
-    return 2;
-  }
-}
+int main(int argc, char** argv) { return guarded_main("check_offsets", run, argc, argv); }

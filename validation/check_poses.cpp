@@ -16,7 +16,6 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <cmath>
-#include <exception>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -29,6 +28,7 @@
 #include "mesh/read_mesh.h"
 #include "mesh/validate_mesh.h"
 #include "poseset/pose_csv.h"
+#include "guarded_main.h"
 
 namespace {
 
@@ -144,12 +144,4 @@ static int run(int argc, char** argv) {
   return confirmed == M ? 0 : 1;
 }
 
-// A bad path or file ends with a message and exit code 2, never an uncaught exception.
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "check_poses: error: %s\n", e.what());
-    return 2;
-  }
-}
+int main(int argc, char** argv) { return guarded_main("check_poses", run, argc, argv); }

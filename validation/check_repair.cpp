@@ -11,12 +11,12 @@
 
 #include <chrono>
 #include <cstdio>
-#include <exception>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "mesh/read_mesh.h"
+#include "guarded_main.h"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -67,12 +67,4 @@ static int run(int argc, char** argv) {
   return bad ? 1 : 0;
 }
 
-// A bad path or file ends with a message and exit code 2, never an uncaught exception.
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "check_repair: error: %s\n", e.what());
-    return 2;
-  }
-}
+int main(int argc, char** argv) { return guarded_main("check_repair", run, argc, argv); }
