@@ -21,9 +21,17 @@ struct Best {
   MeshContact result;
   LineContact best_lc;
 
+  // A pair that cannot meet, or only after the best contact's latest time, is not swept (the
+  // brute force, the tests' reference, offers every pair unfiltered).
+  void offer_if_possible(std::uint32_t f, std::uint32_t m) {
+    if (sweep_pair_may_meet(fixed.triangle(f), moving.triangle(m), v,
+                    result.hit ? result.t.hi : std::numeric_limits<double>::infinity()))
+      offer(f, m);
+  }
+
   void offer(std::uint32_t f, std::uint32_t m) {
-    ++result.triangle_sweeps;
     const Triangle A = fixed.triangle(f), B = moving.triangle(m);
+    ++result.triangle_sweeps;
     const LineContact lc = line_contact(A, B, v);
     if (!lc.hit) return;
     result.exact_fallbacks += lc.exact_path;
@@ -66,7 +74,7 @@ struct SweepPolicy {
   }
   double prune_bound() const { return best.result.hit ? best.result.t.hi : std::numeric_limits<double>::infinity(); }
   bool split_first(const Sphere& f, const Sphere& m) const { return f.radius >= m.radius; }
-  void leaf(std::uint32_t f, std::uint32_t m) { best.offer(f, m); }
+  void leaf(std::uint32_t f, std::uint32_t m) { best.offer_if_possible(f, m); }
   bool done() const { return false; }
 };
 
@@ -141,6 +149,35 @@ struct FloatSweepPolicy {
 };
 
 }  // namespace
+
+// (mesh_sweep.h) For e exactly perpendicular to v — (-v_y, v_x, 0), (0, -v_z, v_y) and
+// (v_z, 0, -v_x): their dot products with v cancel exactly — a = b + t v gives a.e = b.e, so the
+// two triangles' ranges on e must meet; and t = (a - b).v / v.v >= (min a.v - max b.v) / v.v.
+// Interval arithmetic throughout: rounding can keep a pair that could be dropped, never the reverse.
+bool sweep_pair_may_meet(const Triangle& A, const Triangle& B, const Vec3& v, double t_max) {
+  CGAL::Protect_FPU_rounding<true> guard;
+  const auto range = [](const Triangle& T, double x, double y, double z, double* lo, double* hi) {
+    *lo = std::numeric_limits<double>::infinity();
+    *hi = -*lo;
+    for (const Vec3& p : T) {
+      const I d = I(p.x()) * x + I(p.y()) * y + I(p.z()) * z;
+      *lo = std::min(*lo, d.inf());
+      *hi = std::max(*hi, d.sup());
+    }
+  };
+  const double e[3][3] = {{-v.y(), v.x(), 0.0}, {0.0, -v.z(), v.y()}, {v.z(), 0.0, -v.x()}};
+  double alo, ahi, blo, bhi;
+  for (const auto& d : e) {
+    range(A, d[0], d[1], d[2], &alo, &ahi);
+    range(B, d[0], d[1], d[2], &blo, &bhi);
+    if (ahi < blo || bhi < alo) return false;
+  }
+  if (!(t_max < std::numeric_limits<double>::infinity())) return true;
+  range(A, v.x(), v.y(), v.z(), &alo, &ahi);
+  range(B, v.x(), v.y(), v.z(), &blo, &bhi);
+  const I vv = I(v.x()) * v.x() + I(v.y()) * v.y() + I(v.z()) * v.z();
+  return !(((I(alo) - bhi) / vv).inf() > t_max);
+}
 
 FloatMeshContact first_contact_along_line_float(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v) {
   FloatSweepPolicy policy(fixed, moving, v);

@@ -44,6 +44,12 @@ struct MeshContact {
 // (+inf when it never does), rigorous: interval arithmetic with outward rounding.
 double sphere_entry_time_lower_bound(const Sphere& fixed, const Sphere& moving, const Vec3& v);
 
+// A rigorous necessary condition, cheaper than the sweep, for triangles A and B + t v to meet at
+// some t <= t_max (t_max = +inf: at any t): false only when they cannot. The exact traversal skips
+// pairs for which it is false; their shadows on the plane normal to v are disjoint, or they could
+// meet only after the best contact so far.
+bool sweep_pair_may_meet(const Triangle& A, const Triangle& B, const Vec3& v, double t_max);
+
 // The least t in R at which `moving` translated by t v touches `fixed`: the first contact of the
 // mover coming from far away on the side of -v. v must be nonzero.
 MeshContact first_contact_along_line(const SweepMesh& fixed, const SweepMesh& moving, const Vec3& v);

@@ -8,9 +8,11 @@
 
 #include <cstdlib>
 #include <sstream>
+#include <limits>
 #include <random>
 #include <string>
 
+#include "sweep/mesh_sweep.h"
 #include "sweep/triangle_sweep.h"
 
 namespace cdbench {
@@ -271,6 +273,11 @@ TEST(TriangleSweep, RandomCasesAgainstMinkowskiReference) {
     if (::testing::Test::HasFatalFailure()) return;
     if (v != Vec3::Zero()) {
       const LineContact lc = line_contact(A, B, v);
+      // The traversal's filter must keep every pair that meets, at its entry time's upper end.
+      ASSERT_TRUE(sweep_pair_may_meet(A, B, v, std::numeric_limits<double>::infinity()) || !lc.hit);
+      if (lc.hit) {
+        ASSERT_TRUE(sweep_pair_may_meet(A, B, v, lc.t_in.hi)) << "case " << k;
+      }
       hits += lc.hit;
       exact_paths += lc.exact_path;
       if (lc.hit) ++entry_kind[lc.in.kind];
