@@ -463,7 +463,6 @@ class BranchAndBound {
     }
     return down(sqrt_interval({d2lo, d2lo}).lo - eta);
   }
-  std::vector<std::pair<double, std::uint32_t>> cheap_;
 
   // Stores a cell's translated depth bound at this pose (eta: its corners' rounding); its index.
   std::int32_t keep_depth(TranslatedDepthBound& b, double eta) {
@@ -528,6 +527,7 @@ class BranchAndBound {
   std::vector<CellDepthBound> depth_;
   std::uint64_t seq_ = 0, queries_ = 0;
   std::vector<std::uint32_t> ids_;
+  std::vector<std::pair<double, std::uint32_t>> cheap_;  // cell_distance_lower's (plane bound^2, triangle)
   ParentCandidates parent_;
   std::priority_queue<Cell, std::vector<Cell>, CellOrder> queue_;
 };

@@ -24,13 +24,14 @@ struct Best {
   // A pair that cannot meet, or only after the best contact's latest time, is not swept (the
   // brute force, the tests' reference, offers every pair unfiltered).
   void offer_if_possible(std::uint32_t f, std::uint32_t m) {
-    if (sweep_pair_may_meet(fixed.triangle(f), moving.triangle(m), v,
-                    result.hit ? result.t.hi : std::numeric_limits<double>::infinity()))
-      offer(f, m);
+    const Triangle A = fixed.triangle(f), B = moving.triangle(m);
+    if (sweep_pair_may_meet(A, B, v, result.hit ? result.t.hi : std::numeric_limits<double>::infinity()))
+      offer(f, m, A, B);
   }
 
-  void offer(std::uint32_t f, std::uint32_t m) {
-    const Triangle A = fixed.triangle(f), B = moving.triangle(m);
+  void offer(std::uint32_t f, std::uint32_t m) { offer(f, m, fixed.triangle(f), moving.triangle(m)); }
+
+  void offer(std::uint32_t f, std::uint32_t m, const Triangle& A, const Triangle& B) {
     ++result.triangle_sweeps;
     const LineContact lc = line_contact(A, B, v);
     if (!lc.hit) return;
