@@ -84,7 +84,7 @@ double max_penetration_tolerance_for(const std::vector<LevelSpec>& levels, doubl
   double p = 0.0;
   for (const LevelSpec& l : levels)
     if (l.percent) p = std::max(p, std::abs(l.value) / 100.0);
-  return p > 0.0 ? std::max(floor, tolerance / p) : floor;
+  return std::max(floor, p > 0.0 ? tolerance / p : kReportedMaxPenetrationWidth);
 }
 
 void check_distinct_levels(const std::vector<LevelSpec>& levels) {

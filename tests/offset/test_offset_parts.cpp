@@ -37,8 +37,10 @@ TEST(LevelList, MaxPenetrationToleranceFollowsTheDeepestPercentage) {
   EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-20%,5%"), 1e-6, 1e-6), 5e-6);
   EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-80%:0%:10%"), 1e-6, 1e-6), 1.25e-6);
   EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-200%,0"), 1e-6, 1e-6), 1e-6);
-  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-0.5,0,0.2"), 1e-6, 1e-6), 1e-6);
-  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("0"), 1e-5, 1e-6), 1e-6);
+  // No percentage: no target depends on M, which is only reported, at a coarser width.
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-0.5,0,0.2"), 1e-6, 1e-6), kReportedMaxPenetrationWidth);
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("0"), 1e-5, 1e-6), kReportedMaxPenetrationWidth);
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("0"), 1e-5, 1e-3), 1e-3);
   EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-50%,0.3"), 1e-5, 1e-6), 2e-5);
 }
 
