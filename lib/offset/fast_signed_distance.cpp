@@ -101,4 +101,23 @@ double FastSignedDistance::value_and_gradient(const Vec3& p, Vec3& gradient) con
   return sign * dist;
 }
 
+bool point_on_level_near(const FastSignedDistance& fast, double d, const Vec3& x, Vec3& on) {
+  Vec3 g;
+  const double fx = fast.value_and_gradient(x, g) - d;
+  for (double scale : {1.5, 3.0, 6.0}) {
+    const Vec3 y = x - scale * fx * g;
+    const double fy = fast(y) - d;
+    if ((fx < 0) == (fy < 0)) continue;
+    Vec3 a = x, b = y;
+    for (int it = 0; it < 200; ++it) {
+      const Vec3 m = 0.5 * (a + b);
+      if (m == a || m == b) break;
+      ((fast(m) - d < 0) == (fx < 0) ? a : b) = m;
+    }
+    on = b;
+    return true;
+  }
+  return false;
+}
+
 }  // namespace cdbench

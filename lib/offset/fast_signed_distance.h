@@ -25,4 +25,9 @@ class FastSignedDistance {
   std::vector<std::array<Vec3, 3>> edge_normal_;  // per face, edge k = (v_k, v_{k+1}): sum of both faces' normals
 };
 
+// A point of {fast = d} near a point x where fast - d has a known sign: Newton overshoot along the
+// fast gradient, then bisection to the last double (uncertified; seeds and new vertices of offset
+// candidates). False when the three overshoots do not change the sign.
+bool point_on_level_near(const FastSignedDistance& fast, double d, const Vec3& x, Vec3& on);
+
 }  // namespace cdbench

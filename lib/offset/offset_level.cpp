@@ -21,27 +21,6 @@ std::string num(double x) {
   return os.str();
 }
 
-// A point of {f = 0} near a point x where f has a known sign: Newton overshoot along the fast
-// gradient, then bisection (uncertified; only a seed for the mesher).
-bool seed_near(const FastSignedDistance& fast, double d, const Vec3& x, Vec3& seed) {
-  Vec3 g;
-  const double fx = fast.value_and_gradient(x, g) - d;
-  for (double scale : {1.5, 3.0, 6.0}) {
-    const Vec3 y = x - scale * fx * g;
-    const double fy = fast(y) - d;
-    if ((fx < 0) == (fy < 0)) continue;
-    Vec3 a = x, b = y;
-    for (int it = 0; it < 200; ++it) {
-      const Vec3 m = 0.5 * (a + b);
-      if (m == a || m == b) break;
-      ((fast(m) - d < 0) == (fx < 0) ? a : b) = m;
-    }
-    seed = b;
-    return true;
-  }
-  return false;
-}
-
 // Local repair of a candidate whose band misses the tolerance on few faces (refine_offset.h):
 // rounds of splitting the faces above the tolerance, each new vertex moved onto the level set by
 // the fast distance; the new faces' bands are certified, the kept faces keep theirs (the band is a
@@ -54,7 +33,7 @@ bool repair_band(const SignedDistance& sdf, const FastSignedDistance& fast, doub
   const auto place = [&](const Vec3& a, const Vec3& b) {
     const Vec3 m = 0.5 * (a + b);
     Vec3 on;
-    return seed_near(fast, d, m, on) ? on : m;
+    return point_on_level_near(fast, d, m, on) ? on : m;
   };
   ValidatedMesh current = v;
   BandResult current_band = band;
@@ -214,7 +193,7 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
       std::size_t added = 0;
       for (const Vec3& x : comp.missed) {
         Vec3 s;
-        if (seed_near(fast, d, x, s)) {
+        if (point_on_level_near(fast, d, x, s)) {
           seeds.push_back(s);
           ++added;
         }
