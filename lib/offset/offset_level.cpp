@@ -90,6 +90,13 @@ bool repair_band(const SignedDistance& sdf, const FastSignedDistance& fast, doub
 
 }  // namespace
 
+BandOptions offset_band_options(double tol) {
+  BandOptions bo;
+  bo.target = 0.75 * tol;
+  bo.second_pass_above = tol;
+  return bo;
+}
+
 const char* to_string(OffsetStatus status) {
   switch (status) {
     case OffsetStatus::Certified: return "certified";
@@ -155,9 +162,7 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
     double eps = 0.0;
     if (!v.mesh.faces.empty()) {
       Timer t_band;
-      BandOptions bo;
-      bo.target = 0.75 * tol;  // split a face only as far as acceptance needs, with a margin
-      bo.second_pass_above = tol;
+      const BandOptions bo = offset_band_options(tol);
       BandResult band = certify_band(sdf, v.mesh, d, bo);
       level.seconds_band += t_band.seconds();
       level.band_pieces += band.pieces;

@@ -8,6 +8,7 @@
 
 #include "distance/max_penetration.h"
 #include "mesh/validate_mesh.h"
+#include "offset/certify_band.h"
 
 namespace cdbench {
 
@@ -43,6 +44,10 @@ struct OffsetLevel {
   std::uint64_t completeness_cells = 0;
   double seconds_mesh = 0.0, seconds_band = 0.0, seconds_completeness = 0.0;
 };
+
+// The band certificate's options for a level of tolerance `tol` (absolute): faces are split only
+// as far as acceptance needs, with a margin, and a few loose faces get a second, deeper pass.
+BandOptions offset_band_options(double tol);
 
 OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetrationResult& max_penetration, double d,
                                  const OffsetOptions& options);
