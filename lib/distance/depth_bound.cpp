@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "distance/planar_patch.h"
 #include "distance/point_triangle_distance.h"
 
 namespace cdbench {
@@ -29,18 +30,151 @@ namespace {
 // The most triangles a bound combines: a partial set is still valid, and the nearest ones make it
 // tight (the first found by the tree's nearest-first order, or the nearest of a candidate list).
 constexpr std::size_t kMaxTriangles = 49;
+// Planes tried for patches: those of the nearest triangles (the cell's nearest face is among them).
+constexpr std::size_t kPatchPlanes = 4;
+
+// A corner's weighted sum of member bounds, divided by the weights and rounded up. Positive terms
+// only: the relative rounding error of at most ~50 additions and one product each is below 1e-13;
+// the factors cover it with margin.
+inline double weighted_mean_up(double sum, double weights) {
+  return sum * (1.0 + 1e-12) / (weights * (1.0 - 1e-12));
+}
+
+// The convexity bound with near-coplanar triangles merged into planar patches where they provably
+// cover the cell (distance/planar_patch.h): each patch alone, and every member weighted at the
+// min-norm point of the gradients at c, a patch's gradient being its plane's normal. +inf when no
+// patch of two or more triangles covers the cell. ids and nearest: the candidates nearest first.
+double patched_depth_bound(const SignedDistance& sdf, const Vec3& c, const std::vector<std::uint32_t>& ids,
+                           const std::vector<Vec3>& nearest, const Vec3* corners, int n_corners,
+                           const Vec3* plane_normal, double slack, int* worst_corner) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const TriangleMesh& m = sdf.mesh();
+  const std::size_t n = ids.size();
+  struct Patch {
+    const TrianglePlane* plane;
+    double eta;
+  };
+  thread_local std::vector<int> group_of;
+  thread_local std::vector<Patch> patches;
+  thread_local std::vector<std::uint32_t> members;
+  thread_local std::vector<std::size_t> at;
+  group_of.assign(n, -1);
+  patches.clear();
+  std::size_t tried = 0;
+  for (std::size_t j = 0; j < n && tried < kPatchPlanes; ++j) {
+    if (group_of[j] >= 0) continue;
+    const TrianglePlane& pl = sdf.planes()[ids[j]];
+    if (!(pl.eps <= slack)) continue;
+    ++tried;
+    double eta = pl.eps;
+    at.assign(1, j);
+    for (std::size_t k = j + 1; k < n; ++k) {
+      if (group_of[k] >= 0) continue;
+      const Face& f = m.faces[ids[k]];
+      double e = 0.0;
+      for (int q = 0; q < 3 && e <= slack; ++q) {
+        const PlaneOffset o = plane_offset(pl.n, pl.d, m.vertices[f[q]]);  // |exact n.w - d| <= this
+        e = std::max(e, std::abs(o.value) + o.error);
+      }
+      if (e <= slack) {
+        at.push_back(k);
+        eta = std::max(eta, e);
+      }
+    }
+    if (at.size() < 2) continue;
+    members.clear();
+    for (std::size_t k : at) members.push_back(ids[k]);
+    if (!patch_covers_cell(m, members, pl.n, corners, n_corners)) continue;
+    for (std::size_t k : at) group_of[k] = static_cast<int>(patches.size());
+    patches.push_back({&pl, round_up(eta * (1.0 + 2e-15))});
+  }
+  if (patches.empty()) return kInf;
+  double best = kInf;
+  int best_corner = 0;
+  const auto offer = [&](double bound, int corner) {
+    if (bound < best) {
+      best = bound;
+      best_corner = corner;
+    }
+  };
+  // Each patch alone (the touching case: one plane decides).
+  for (const Patch& p : patches) {
+    double worst = 0.0;
+    int wc = 0;
+    for (int k = 0; k < n_corners; ++k) {
+      const double b = patch_distance_bound(*p.plane, p.eta, corners[k]);
+      if (b > worst || k == 0) {
+        worst = std::max(worst, b);
+        wc = k;
+      }
+    }
+    offer(worst, wc);
+  }
+  // Every member weighted (a cell between parallel patches, or a patch beside a crease).
+  thread_local std::vector<Vec3> g;
+  thread_local std::vector<long> who;  // >= 0: a patch; < 0: -(j + 1), the triangle ids[j]
+  thread_local std::vector<double> lambda;
+  g.clear();
+  who.clear();
+  for (std::size_t p = 0; p < patches.size(); ++p) {
+    const TrianglePlane& pl = *patches[p].plane;
+    const double side = plane_offset(pl.n, pl.d, c).value;
+    g.push_back((side < 0.0 ? -pl.n : pl.n).normalized());
+    who.push_back(static_cast<long>(p));
+  }
+  for (std::size_t j = 0; j < n; ++j) {
+    if (group_of[j] >= 0) continue;
+    const Vec3 v = c - nearest[j];
+    const double len = v.norm();
+    if (!(len > 0.0)) return round_up(best);
+    g.push_back(v / len);
+    who.push_back(-static_cast<long>(j) - 1);
+  }
+  if (plane_normal)
+    for (Vec3& x : g) x -= x.dot(*plane_normal) * *plane_normal;
+  min_norm_combination(g, lambda, 100);
+  double worst = 0.0;
+  int wc = 0;
+  for (int k = 0; k < n_corners; ++k) {
+    const Vec3& v = corners[k];
+    double sum = 0.0, weights = 0.0;
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      if (lambda[i] <= 0.0) continue;
+      double d;
+      if (who[i] >= 0) {
+        const Patch& p = patches[static_cast<std::size_t>(who[i])];
+        d = patch_distance_bound(*p.plane, p.eta, v);
+      } else {
+        const Face& f = m.faces[ids[static_cast<std::size_t>(-who[i] - 1)]];
+        d = round_up(std::sqrt(point_triangle_squared_distance(v, m.vertices[f[0]], m.vertices[f[1]],
+                                                               m.vertices[f[2]]).hi));
+      }
+      sum += lambda[i] * d;
+      weights += lambda[i];
+    }
+    const double bound = weighted_mean_up(sum, weights);
+    if (bound > worst || k == 0) {
+      worst = std::max(worst, bound);
+      wc = k;
+    }
+  }
+  offer(worst, wc);
+  if (worst_corner) *worst_corner = best_corner;
+  return round_up(best);
+}
 }  // namespace
 
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
                          std::vector<std::uint32_t>& ids, Vec3* candidate, const Vec3* plane_normal, int* worst_corner,
-                         TranslatedDepthBound* moments) {
+                         TranslatedDepthBound* moments, double coplanar_slack) {
   sdf.triangles_within(c, radius, kMaxTriangles - 1, ids);  // stops after kMaxTriangles
-  return depth_upper_bound_among(sdf, c, ids, corners, n_corners, candidate, plane_normal, worst_corner, moments);
+  return depth_upper_bound_among(sdf, c, ids, corners, n_corners, candidate, plane_normal, worst_corner, moments,
+                                 coplanar_slack);
 }
 
 double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids,
                                const Vec3* corners, int n_corners, Vec3* candidate, const Vec3* plane_normal,
-                               int* worst_corner, TranslatedDepthBound* moments) {
+                               int* worst_corner, TranslatedDepthBound* moments, double coplanar_slack) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   if (moments) moments->n = 0;
   if (ids.empty()) return kInf;
@@ -111,15 +245,22 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
       cm.w /= weights;
       moments->corners[moments->n++] = cm;
     }
-    // Positive terms only: the relative rounding error of at most ~50 additions and one product each
-    // is below 1e-13; the factor covers it with margin.
-    const double bound = sum * (1.0 + 1e-12) / (weights * (1.0 - 1e-12));
+    const double bound = weighted_mean_up(sum, weights);
     if (bound > worst || corner == 0) {
       worst = std::max(worst, bound);
       if (worst_corner) *worst_corner = corner;
     }
   }
   if (moments && moments->n != n_corners) moments->n = 0;  // every corner or none
+  if (coplanar_slack > 0.0 && n_corners <= 3 && n >= 2) {
+    int corner = 0;
+    const double patched = patched_depth_bound(sdf, c, ids, nearest, corners, n_corners, plane_normal, coplanar_slack,
+                                               &corner);
+    if (patched < worst) {
+      if (worst_corner) *worst_corner = corner;
+      return patched;
+    }
+  }
   return round_up(worst);
 }
 

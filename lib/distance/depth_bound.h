@@ -45,14 +45,19 @@ double translated_depth(const TranslatedDepthBound& b, const Vec3& D);
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
                          std::vector<std::uint32_t>& scratch, Vec3* candidate = nullptr,
                          const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
-                         TranslatedDepthBound* moments = nullptr);
+                         TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0);
 // The same bound from the triangles `ids` (any set; it should hold the nearest ones of the cell's
 // points to be tight), of which the nearest kMaxTriangles (49) to c are kept: `ids` is reordered
 // nearest first and cut to those used. depth_upper_bound is triangles_within then this.
 double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids,
                                const Vec3* corners, int n_corners, Vec3* candidate = nullptr,
                                const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
-                               TranslatedDepthBound* moments = nullptr);
+                               TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0);
+// coplanar_slack > 0 (flat cells of at most 3 corners): triangles within that distance of a
+// common plane that provably cover the cell's projection form one member, a planar patch
+// (distance/planar_patch.h), whose bound is exact on its plane across the triangles' shared edges.
+// The result is the smaller of the bounds with and without patches; moments and candidate come
+// from the triangle-wise bound.
 // worst_corner (optional) receives the corner attaining the bound: where the true depth is likely
 // largest, worth certifying as a candidate (a lower bound on the maximum depth). moments (optional,
 // at most 8 corners) receives the translated form of the same bound, with the same weights.

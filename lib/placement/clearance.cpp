@@ -259,6 +259,11 @@ class BranchAndBound {
   }
 
  private:
+  // How far from a common plane the triangles of a planar patch may lie (distance/planar_patch.h):
+  // the patch's bound exceeds the plane's distance by at most that, a fraction of the tolerance.
+  // A quarter: pinion's faces, coplanar only to its six printed digits, still form patches.
+  double coplanar_slack() const { return 0.25 * tol_; }
+
   // Cells with a lower bound at or above this need no refinement (relaxed_threshold: a cell set
   // aside earlier never falls below a later threshold, so the result's lower end stays consistent).
   double threshold() const { return upper_ < kInf ? relaxed_threshold(upper_, tol_, rel_, target_) : kInf; }
@@ -295,7 +300,9 @@ class BranchAndBound {
     c.near_face = nearest;
     const Interval s = signed_at(centre, ud, parent, &c.ball);
     double lower = down(s.lo - r);
-    if (lower < threshold() && s.hi < 0.0) {
+    // The depth bound only when it can set the node aside: never when its centre lies below the
+    // threshold (every bound of the node is at most s there), e.g. a large box across F at a contact.
+    if (lower < threshold() && s.hi < 0.0 && !(s.hi < threshold())) {
       const std::array<Vec3, 8> corners = box.corners();
       TranslatedDepthBound moments;
       const double depth = depth_upper_bound(fixed_, centre, up(ud.hi + 2 * r), corners.data(), 8, ids_, nullptr,
@@ -393,14 +400,27 @@ class BranchAndBound {
       if (listed) fixed_.triangles_within_among(m, reach, list->ids, ids_);
       // Only an outside centre can prove the cell disjoint (the first branch below); otherwise
       // the depth bound is taken whatever dlo is (and gathers its own triangles when unlisted).
-      if (!(dlo > 0.0) && s.lo > 0.0) {
-        if (!listed) fixed_.triangles_within(m, reach, std::numeric_limits<std::size_t>::max(), ids_);
-        dlo = cell_distance_lower(v, eta, eta_m);
-      }
+      if (!(dlo > 0.0) && s.lo > 0.0) dlo = cell_distance_lower(v, eta, eta_m);
       if (dlo > eta_m && s.lo > 0.0) {
         // The exact cell is disjoint from F and on m's side (outside).
         lower = std::max(lower, dlo);
-      } else if (s.hi < 0.0 || !(dlo > eta_m)) {
+      } else if (s.lo > 0.0 && lower < threshold()) {
+        // A cell touching F from outside (a contact): a plane separating it from F nearby, from
+        // every triangle within reach.
+        if (!listed) fixed_.triangles_within(m, reach, std::numeric_limits<std::size_t>::max(), ids_);
+        int corner = 0;
+        const double sep = separating_plane_lower(v, m, r, eta_m, ud.lo, &corner);
+        if (sep > -kInf) {
+          lower = std::max(lower, down(sep - eta));
+          // The corner nearest the plane is where the contact is: certify it for the upper end.
+          if (lower < upper_) {
+            ++queries_;
+            const Interval s_corner = signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r)), &c.ball, nullptr);
+            offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
+          }
+        }
+      }
+      if (lower < threshold() && (s.hi < 0.0 || !(dlo > eta_m))) {
         Vec3 normal = (v[1] - v[0]).cross(v[2] - v[0]);
         const double len = normal.norm();
         int corner = 0;
@@ -408,9 +428,9 @@ class BranchAndBound {
         TranslatedDepthBound moments;
         const double depth =
             listed ? depth_upper_bound_among(fixed_, m, ids_, v.data(), 3, nullptr, len > 0.0 ? &normal : nullptr,
-                                             &corner, &moments)
+                                             &corner, &moments, coplanar_slack())
                    : depth_upper_bound(fixed_, m, reach, v.data(), 3, ids_, nullptr, len > 0.0 ? &normal : nullptr,
-                                       &corner, &moments);
+                                       &corner, &moments, coplanar_slack());
         c.depth = keep_depth(moments, eta);
         // The deepest point of a cell is often a corner (a mover vertex or edge): certify it, so
         // that the upper end meets the convexity bound without subdividing towards that corner.
@@ -429,39 +449,118 @@ class BranchAndBound {
     return c;
   }
 
-  // A lower bound of the distance from the cell (corners v, within eta of the exact cell) to the
-  // triangles ids_ (those that can be nearest to any of its points), or -inf once it is certain
-  // to be at most eta_m (the cell may touch F: its value is then not used). Per triangle, the
-  // cheap rigorous bounds first (each triangle's plane against the other's vertices, both ways);
-  // for triangles those cannot place beyond the least so far, the projection gap on the estimated
-  // closest-point direction, and the certified pair distance only when that gap is 0.
+  // A lower bound of s over a face cell K (corners v, centre m certainly outside F with
+  // dist(m, F) >= ud_lo, radius r) that may touch F, from an axis n separating it from F nearby (a
+  // contact seen from outside). With h = max n.w over the vertices w of ids_ (every triangle within
+  // reach of m, hence every one that meets a point within r of K) and l = min n.v over K's corners:
+  // the region R = {y : dist(y, K) < r, n.y > h} is convex and free of F, and it holds y0 = m +
+  // lift n (in m's free ball, so outside F): R lies outside F. A point x of K inside F has n.x <= h,
+  // and x + delta n/|n| lies in R for any delta > (h - n.x)/|n|, delta <= (h - l)/|n| < r/2, so
+  // dist(x, F) <= (h - l)/|n|: s >= -max(0, h - l)/|n| on K. Axes tried: the nearest triangle's
+  // normal (a mover vertex on a face of F), the cell's normal both ways (a vertex of F on a mover
+  // face), the direction from F's nearest point to m, and the cross products of the cell's edges
+  // with the nearest triangle's (edge on edge). -inf when none separates; `corner` receives the
+  // corner of K lowest along the best axis (where the contact is likely).
+  double separating_plane_lower(const std::array<Vec3, 3>& v, const Vec3& m, double r, double eta_m, double ud_lo,
+                                int* corner) {
+    if (!(ud_lo > 0.0) || !(r > 4 * eta_m) || ids_.empty()) return -kInf;
+    const auto& F = fixed_.mesh();
+    std::uint32_t near = 0;
+    fixed_.unsigned_distance_among(m, ids_, &near);
+    const Face& nf = F.faces[near];
+    const Vec3 &a = F.vertices[nf[0]], &b = F.vertices[nf[1]], &cc = F.vertices[nf[2]];
+    const Vec3 g = m - closest_point_on_triangle(m, a, b, cc);  // from F towards m
+    std::array<Vec3, 14> axes;
+    int n_axes = 0;
+    axes[n_axes++] = fixed_.planes()[near].n;
+    const Vec3 cell_normal = (v[1] - v[0]).cross(v[2] - v[0]);
+    axes[n_axes++] = cell_normal;
+    axes[n_axes++] = -cell_normal;
+    axes[n_axes++] = g;
+    const std::array<Vec3, 3> fe{b - a, cc - b, a - cc}, ke{v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+    for (const Vec3& x : ke)
+      for (const Vec3& y : fe) {
+        const Vec3 n = x.cross(y);
+        axes[n_axes++] = n.dot(g) < 0.0 ? Vec3(-n) : n;
+      }
+    double best = -kInf;
+    for (int i = 0; i < n_axes; ++i) {
+      const double len = axes[i].norm();
+      if (!(len > 0.0) || !std::isfinite(len)) continue;
+      const Vec3 n = axes[i] / len;
+      // l: a lower bound of n.v over the corners; the lowest corner.
+      double l = kInf, lowest_value = kInf;
+      int lowest = 0;
+      for (int k = 0; k < 3; ++k) {
+        const PlaneOffset o = plane_offset(n, 0.0, v[k]);
+        l = std::min(l, o.value - o.error);
+        if (o.value < lowest_value) lowest_value = o.value, lowest = k;
+      }
+      const double lift = 0.25 * std::min(r, ud_lo);
+      const Vec3 y0 = m + lift * n;
+      // y0 within m's free ball (outside F) and within r/2 of K (m is within eta_m < r/4 of it).
+      if (!(up((y0 - m).norm() * (1.0 + 1e-12)) < std::min(0.5 * r, ud_lo))) continue;
+      const PlaneOffset oy = plane_offset(n, 0.0, y0);
+      const double y0_at = oy.value - oy.error;  // n.y0 >= this
+      double h = -kInf;
+      for (std::uint32_t j : ids_) {
+        for (std::uint32_t w : F.faces[j]) {
+          const PlaneOffset o = plane_offset(n, 0.0, F.vertices[w]);
+          h = std::max(h, o.value + o.error);
+        }
+        if (!(h < y0_at)) break;
+      }
+      if (!(h < y0_at)) continue;
+      // |n| >= sqrt(fl(n.n)) (1 - 4e-15); h - l rounded up.
+      const double bound = h > l ? up(up(h - l) / (std::sqrt(n.squaredNorm()) * (1.0 - 4e-15)) * (1.0 + 1e-15)) : 0.0;
+      if (-bound > best && bound < 0.5 * r) {
+        best = -bound;
+        *corner = lowest;
+      }
+    }
+    return best;
+  }
+
+  // A lower bound of the distance from the cell (corners v, within eta of the exact cell) to F, or
+  // -inf once it is certain to be at most eta_m (the cell may touch F: its value is then not used).
+  // F's tree is searched nearest first from the cell's box (a long triangle's box reaches far fewer
+  // triangles than the ball about its centre); per triangle the cheap rigorous bounds first (each
+  // triangle's plane against the other's vertices, both ways), then the projection gap on the
+  // estimated closest-point direction, and the certified pair distance only when that gap is 0.
   double cell_distance_lower(const std::array<Vec3, 3>& v, double eta, double eta_m) {
-    const auto& fv = fixed_.mesh().vertices;
-    const TrianglePlane cell_plane = make_triangle_plane(v[0], v[1], v[2]);
-    cheap_.clear();
-    for (std::uint32_t j : ids_) {
-      const Face& g = fixed_.mesh().faces[j];
-      const double lb = std::max(plane_pair_lower_bound(fixed_.planes()[j], v[0], v[1], v[2]),
-                                 plane_pair_lower_bound(cell_plane, fv[g[0]], fv[g[1]], fv[g[2]]));
-      cheap_.push_back({down(lb * lb), j});
-    }
-    std::sort(cheap_.begin(), cheap_.end());  // (bound, index): deterministic
-    // Below this squared distance the cell may touch F (dlo <= eta_m whatever the rest gives).
-    const double touch_sq = down(down(eta_m + eta) * down(eta_m + eta));
-    double d2lo = kInf;
-    for (const auto& [lb_sq, j] : cheap_) {
-      if (lb_sq >= d2lo) break;  // sorted: no remaining triangle can lower the minimum
-      const Face& g = fixed_.mesh().faces[j];
-      const Vec3 &a = fv[g[0]], &b = fv[g[1]], &c = fv[g[2]];
-      // The gap of the projections on the estimated closest-point direction (rigorous for any
-      // direction, tight for the right one) before the certified pair distance.
-      Vec3 p, q;
-      const double e2 = triangle_triangle_closest_points(a, b, c, v[0], v[1], v[2], &p, &q);
-      const double gap = e2 > 0.0 ? triangle_distance_lower_bound(a, b, c, v[0], v[1], v[2], q - p) : 0.0;
-      d2lo = std::min(d2lo, gap > 0.0 ? down(gap * gap) : triangle_triangle_squared_distance(a, b, c, v[0], v[1], v[2]).lo);
-      if (d2lo <= touch_sq) return -kInf;
-    }
-    return down(sqrt_interval({d2lo, d2lo}).lo - eta);
+    struct Policy {
+      const SignedDistance& fixed;
+      const std::array<Vec3, 3>& v;
+      TrianglePlane cell_plane;
+      Aabb box;
+      double touch_sq;  // below this squared distance the cell may touch F
+      double d2lo = kInf;
+      bool touched = false;
+      double bound(const Aabb& b) const { return squared_distance_lower_bound(b, box); }
+      double prune_bound() const { return d2lo; }
+      bool done() const { return touched; }
+      void leaf(std::uint32_t j) {
+        const auto& fv = fixed.mesh().vertices;
+        const Face& g = fixed.mesh().faces[j];
+        const Vec3 &a = fv[g[0]], &b = fv[g[1]], &c = fv[g[2]];
+        const double lb = std::max(plane_pair_lower_bound(fixed.planes()[j], v[0], v[1], v[2]),
+                                   plane_pair_lower_bound(cell_plane, a, b, c));
+        if (down(lb * lb) >= d2lo) return;  // cannot lower the minimum
+        // The gap of the projections on the estimated closest-point direction (rigorous for any
+        // direction, tight for the right one) before the certified pair distance.
+        Vec3 p, q;
+        const double e2 = triangle_triangle_closest_points(a, b, c, v[0], v[1], v[2], &p, &q);
+        const double gap = e2 > 0.0 ? triangle_distance_lower_bound(a, b, c, v[0], v[1], v[2], q - p) : 0.0;
+        d2lo = std::min(d2lo, gap > 0.0 ? down(gap * gap) : triangle_triangle_squared_distance(a, b, c, v[0], v[1], v[2]).lo);
+        if (d2lo <= touch_sq) touched = true;
+      }
+    };
+    Aabb box;
+    for (const Vec3& x : v) box.extend(x);
+    Policy policy{fixed_, v, make_triangle_plane(v[0], v[1], v[2]), box, down(down(eta_m + eta) * down(eta_m + eta))};
+    traverse_nearest_first(fixed_.tree(), policy);
+    if (policy.touched) return -kInf;
+    return down(sqrt_interval({policy.d2lo, policy.d2lo}).lo - eta);
   }
 
   // Stores a cell's translated depth bound at this pose (eta: its corners' rounding); its index.
@@ -527,7 +626,6 @@ class BranchAndBound {
   std::vector<CellDepthBound> depth_;
   std::uint64_t seq_ = 0, queries_ = 0;
   std::vector<std::uint32_t> ids_;
-  std::vector<std::pair<double, std::uint32_t>> cheap_;  // cell_distance_lower's (plane bound^2, triangle)
   ParentCandidates parent_;
   std::priority_queue<Cell, std::vector<Cell>, CellOrder> queue_;
 };

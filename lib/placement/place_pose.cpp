@@ -7,6 +7,8 @@
 
 #include <tbb/parallel_invoke.h>
 
+#include "distance/triangle_distance.h"
+
 namespace cdbench {
 namespace {
 
@@ -20,6 +22,32 @@ double max_distance(const std::vector<Vec3>& v, const Vec3& c) {
   double r = 0.0;
   for (const Vec3& p : v) r = std::max(r, (p - c).norm());
   return r * (1.0 + 1e-12);
+}
+
+// The barycentrics (beta, gamma) on the placed mover face `face` (pose t) of its point nearest to
+// the fixed triangle A: at an exact first contact of that pair, the contact point. A hint only
+// (clearance.h): any point of the face is a valid one.
+std::array<double, 2> contact_point_on_mover(const Triangle& A, const OrientationFrame& frame, std::uint32_t face,
+                                             const Vec3& t) {
+  const PlacedView P = frame.orientation.placed_view(t);
+  const Face& f = (*frame.orientation.faces)[face];
+  const Vec3 b0 = P[f[0]], e1 = P[f[1]] - b0, e2 = P[f[2]] - b0;
+  Vec3 p, q;
+  triangle_triangle_closest_points(A[0], A[1], A[2], b0, P[f[1]], P[f[2]], &p, &q);
+  // q = b0 + beta e1 + gamma e2 in the least-squares sense, clamped into the triangle.
+  const Vec3 w = q - b0;
+  const double a11 = e1.dot(e1), a12 = e1.dot(e2), a22 = e2.dot(e2), det = a11 * a22 - a12 * a12;
+  if (!(det > 0.0)) return {1.0 / 3, 1.0 / 3};
+  double beta = (a22 * e1.dot(w) - a12 * e2.dot(w)) / det, gamma = (a11 * e2.dot(w) - a12 * e1.dot(w)) / det;
+  beta = std::clamp(beta, 0.0, 1.0);
+  gamma = std::clamp(gamma, 0.0, 1.0 - beta);
+  return {beta, gamma};
+}
+
+void set_hint(ClearanceOptions& o, const std::array<double, 2>& bary, std::uint32_t face) {
+  o.hint_face = face;
+  o.hint_beta = bary[0];
+  o.hint_gamma = bary[1];
 }
 
 }  // namespace
@@ -104,11 +132,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   bool last_loose = false;
   // The state a certificate leaves for the next one of the advance.
   const auto adopt = [&](const ClearanceResult& r) {
-    if (r.argmin_face >= 0) {  // the next, nearby pose starts from this minimum
-      copt.hint_face = r.argmin_face;
-      copt.hint_beta = r.argmin_beta;
-      copt.hint_gamma = r.argmin_gamma;
-    }
+    if (r.argmin_face >= 0)  // the next, nearby pose starts from this minimum
+      set_hint(copt, {r.argmin_beta, r.argmin_gamma}, static_cast<std::uint32_t>(r.argmin_face));
     // Once the mover certainly penetrates, the next poses of the advance (deeper along the line)
     // almost surely do too: the pair-distance path would search long for an intersecting pair
     // only to hand over to the branch and bound, which decides every case on its own.
@@ -152,6 +177,12 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // The swept mover sits at t0 + t_contact v = t0 - t_contact d.
       const mpq_class lambda_exact = -exact_contact_time(*swept, frame.swept, v, mc);
       out.lambda_raw = out.lambda = lambda_exact.get_d();
+      // The contact point (the contact pair's nearest points at the pose) holds the least
+      // clearance: the certificate's upper end from the start, found without subdividing to it.
+      set_hint(copt,
+               contact_point_on_mover(swept->triangle(mc.fixed_face), frame, mc.moving_face,
+                                      pose_translation(frame, dir, out.lambda)),
+               mc.moving_face);
       c = certify(out.lambda, false);
       if (memo) {
         memo->contact->lambda = out.lambda;

@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <iomanip>
+#include <map>
 #include <random>
 
 #include "distance/depth_bound.h"
+#include "distance/planar_patch.h"
 #include "distance/point_triangle_distance.h"
 #include "exact_reference.h"
 #include "mesh/shapes.h"
@@ -143,6 +145,202 @@ TEST(PointOfTriangleNear, LiesInTheTriangleWithinItsErrorBound) {
     }
   }
   EXPECT_EQ(n, 9000);
+}
+
+
+// A solid made of unit cubes (cells (i, j, k)), its boundary squares split into two triangles each:
+// large planar faces tiled by many coplanar triangles, a non-convex face, convex and concave
+// creases. Vertices are rotated by R (identity: exactly coplanar; otherwise coplanar up to rounding).
+TriangleMesh make_cube_solid(const std::vector<std::array<int, 3>>& cells, const Eigen::Matrix3d& R) {
+  std::map<std::array<int, 3>, bool> filled;
+  for (const auto& c : cells) filled[c] = true;
+  TriangleMesh m;
+  std::map<std::array<int, 3>, std::uint32_t> index;
+  const auto vertex = [&](std::array<int, 3> p) {
+    const auto it = index.find(p);
+    if (it != index.end()) return it->second;
+    const std::uint32_t i = static_cast<std::uint32_t>(m.vertices.size());
+    m.vertices.push_back(R * Vec3(p[0], p[1], p[2]));
+    index[p] = i;
+    return i;
+  };
+  for (const auto& c : cells)
+    for (int axis = 0; axis < 3; ++axis)
+      for (int dir : {-1, 1}) {
+        std::array<int, 3> nb = c;
+        nb[axis] += dir;
+        if (filled.count(nb)) continue;
+        // The square on that side, counter-clockwise seen from outside.
+        const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+        std::array<int, 3> base = c;
+        if (dir > 0) base[axis] += 1;
+        std::array<std::array<int, 3>, 4> q{base, base, base, base};
+        q[1][u] += 1;
+        q[2][u] += 1;
+        q[2][w] += 1;
+        q[3][w] += 1;
+        if (dir < 0) std::swap(q[1], q[3]);
+        const std::uint32_t a = vertex(q[0]), b = vertex(q[1]), cc = vertex(q[2]), d = vertex(q[3]);
+        m.faces.push_back({a, b, cc});
+        m.faces.push_back({a, cc, d});
+      }
+  return m;
+}
+
+// An L-shaped slab, 3 x 3 x 1 cubes with one corner cube missing: its top and bottom faces are
+// non-convex planar regions of 16 triangles each.
+std::vector<std::array<int, 3>> l_slab() {
+  std::vector<std::array<int, 3>> cells;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (!(i == 2 && j == 2)) cells.push_back({i, j, 0});
+  return cells;
+}
+
+Eigen::Matrix3d some_rotation() {
+  return (Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()) * Eigen::AngleAxisd(0.3, Vec3(0, 1, 0))).toRotationMatrix();
+}
+
+// Random cells near the surface (often straddling the shared edges of coplanar triangles): the
+// bound with planar patches must hold at every sampled point (exact rationals). Returns how often
+// patches made the bound tighter than without.
+int check_patch_bounds(const TriangleMesh& m, std::uint64_t seed, int cells, double slack) {
+  const SignedDistance sdf(m);
+  const double diag = m.bbox().diagonal();
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
+  std::vector<std::uint32_t> scratch;
+  int tighter = 0, done = 0;
+  while (done < cells) {
+    // Near a random point of a random face: within the jitter of it, or a little inside or outside;
+    // flat or tilted.
+    const Face& f = m.faces[rng() % m.faces.size()];
+    double b = u(rng), g = u(rng);
+    if (b + g > 1) b = 1 - b, g = 1 - g;
+    const Vec3 n = (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]).normalized();
+    const Vec3 on = m.vertices[f[0]] + b * (m.vertices[f[1]] - m.vertices[f[0]]) + g * (m.vertices[f[2]] - m.vertices[f[0]]);
+    const Vec3 c = on - n * diag * (u(rng) < 0.3 ? 1e-9 * s(rng) : 0.05 * (u(rng) - 0.2));
+    const double size = diag * std::pow(10.0, -6 + 5 * u(rng));
+    std::array<Vec3, 3> v;
+    const double tilt = u(rng) < 0.5 ? 0.0 : 1.0;
+    for (Vec3& x : v) {
+      Vec3 d(s(rng), s(rng), s(rng));
+      d -= (1 - tilt) * d.dot(n) * n;
+      x = c + size * d;
+    }
+    const Vec3 centre = (v[0] + v[1] + v[2]) / 3.0;
+    double radius = 0;
+    for (const Vec3& x : v) radius = std::max(radius, (x - centre).norm());
+    const Interval ud = sdf.unsigned_distance(centre);
+    Vec3 normal = (v[1] - v[0]).cross(v[2] - v[0]).normalized();
+    const double plain = depth_upper_bound(sdf, centre, ud.hi + 2 * radius, v.data(), 3, scratch, nullptr, &normal);
+    const double bound = depth_upper_bound(sdf, centre, ud.hi + 2 * radius, v.data(), 3, scratch, nullptr, &normal,
+                                           nullptr, nullptr, slack);
+    if (!(bound < HUGE_VAL)) continue;
+    ++done;
+    EXPECT_LE(bound, plain);
+    if (bound < plain * (1 - 1e-9)) ++tighter;
+    // A sample is computed from the corners in doubles: within a few ulps of the cell, not in it.
+    const double rounding = 1e-15 * std::max({v[0].cwiseAbs().maxCoeff(), v[1].cwiseAbs().maxCoeff(),
+                                              v[2].cwiseAbs().maxCoeff()});
+    for (const Vec3& x : samples(v))
+      EXPECT_TRUE(within(exact_squared_distance(x, m), bound + rounding))
+          << std::setprecision(17) << "point (" << x.x() << ", " << x.y() << ", " << x.z() << ") is farther than "
+          << bound << "; cell (" << v[0].transpose() << ") (" << v[1].transpose() << ") (" << v[2].transpose() << ")";
+  }
+  return tighter;
+}
+
+TEST(PlanarPatch, BoundsEveryPointOfTheCellExactly) {
+  // Exactly coplanar, coplanar up to rounding, and off their planes by up to 1e-9 (within the
+  // slack: the patch's eta must carry it).
+  TriangleMesh jittered = make_cube_solid(l_slab(), some_rotation());
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> s(-1.0, 1.0);
+  for (Vec3& x : jittered.vertices) x += 1e-9 * Vec3(s(rng), s(rng), s(rng));
+  for (const auto& [name, m] : std::vector<std::pair<std::string, TriangleMesh>>{
+           {"axis-aligned", make_cube_solid(l_slab(), Eigen::Matrix3d::Identity())},
+           {"rotated", make_cube_solid(l_slab(), some_rotation())},
+           {"jittered", jittered}}) {
+    SCOPED_TRACE(name);
+    const int tighter = check_patch_bounds(m, 3, 400, 1e-9 * 3 * m.bbox().diagonal());
+    EXPECT_GT(tighter, 30) << "of 400";  // the patches matter on many of these cells (45-58)
+  }
+}
+
+TEST(PlanarPatch, ExactOnThePlaneAcrossSharedEdges) {
+  // A flat cell 0.25 below the top face of the L slab (z = 1), across the shared edges of four of
+  // its triangles: the depth there is 0.25 everywhere; triangle by triangle the bound is looser.
+  const TriangleMesh m = make_cube_solid(l_slab(), Eigen::Matrix3d::Identity());
+  const SignedDistance sdf(m);
+  const std::array<Vec3, 3> v{Vec3(0.8, 0.7, 0.75), Vec3(1.3, 0.8, 0.75), Vec3(0.9, 1.3, 0.75)};
+  const Vec3 centre = (v[0] + v[1] + v[2]) / 3.0;
+  const Vec3 normal(0, 0, 1);
+  std::vector<std::uint32_t> scratch;
+  const double plain = depth_upper_bound(sdf, centre, 1.0, v.data(), 3, scratch, nullptr, &normal);
+  const double patched = depth_upper_bound(sdf, centre, 1.0, v.data(), 3, scratch, nullptr, &normal, nullptr, nullptr,
+                                           1e-12);
+  EXPECT_NEAR(patched, 0.25, 1e-12);
+  EXPECT_GT(plain, 0.26);
+  // Over the L's missing corner (x, y > 2) the top face does not cover the cell: no patch there.
+  const std::array<Vec3, 3> w{Vec3(1.8, 1.8, 0.75), Vec3(2.3, 1.9, 0.75), Vec3(1.9, 2.3, 0.75)};
+  std::vector<std::uint32_t> top;
+  for (std::uint32_t i = 0; i < m.faces.size(); ++i) {
+    bool up = true;
+    for (std::uint32_t k : m.faces[i]) up = up && m.vertices[k].z() == 1.0;
+    if (up) top.push_back(i);
+  }
+  ASSERT_EQ(top.size(), 16u);
+  EXPECT_TRUE(patch_covers_cell(m, top, normal, v.data(), 3));
+  EXPECT_FALSE(patch_covers_cell(m, top, normal, w.data(), 3));
+}
+
+// patch_covers_cell against dense sampling: random cells over the top face of the L slab with
+// random triangles removed (holes and notches); whenever it claims coverage, every sampled point's
+// projection lies in a remaining triangle (exact 2-D predicates). It must claim it often.
+TEST(PlanarPatch, CoverageClaimsHoldUnderSampling) {
+  const TriangleMesh m = make_cube_solid(l_slab(), Eigen::Matrix3d::Identity());
+  std::vector<std::uint32_t> top;
+  for (std::uint32_t i = 0; i < m.faces.size(); ++i) {
+    bool up = true;
+    for (std::uint32_t k : m.faces[i]) up = up && m.vertices[k].z() == 1.0;
+    if (up) top.push_back(i);
+  }
+  using P2 = testing::Epick::Point_2;
+  const auto in_union = [&](const std::vector<std::uint32_t>& ids, const Vec3& x) {
+    const P2 p(x.x(), x.y());
+    for (std::uint32_t j : ids) {
+      const auto& f = m.faces[j];
+      const P2 a(m.vertices[f[0]].x(), m.vertices[f[0]].y()), b(m.vertices[f[1]].x(), m.vertices[f[1]].y()),
+          c(m.vertices[f[2]].x(), m.vertices[f[2]].y());
+      const auto o = CGAL::orientation(a, b, c);
+      if (CGAL::orientation(a, b, p) != -o && CGAL::orientation(b, c, p) != -o && CGAL::orientation(c, a, p) != -o)
+        return true;
+    }
+    return false;
+  };
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
+  const Vec3 n(0, 0, 1);
+  int claimed = 0;
+  for (int k = 0; k < 3000; ++k) {
+    std::vector<std::uint32_t> ids = top;
+    const int removed = static_cast<int>(rng() % 3);
+    for (int r = 0; r < removed; ++r) ids.erase(ids.begin() + static_cast<long>(rng() % ids.size()));
+    const Vec3 c(3 * u(rng), 3 * u(rng), 1 + s(rng));
+    const double size = 0.05 + 0.6 * u(rng);
+    std::array<Vec3, 3> v;
+    for (Vec3& x : v) x = c + size * Vec3(s(rng), s(rng), s(rng));
+    if (!patch_covers_cell(m, ids, n, v.data(), 3)) continue;
+    ++claimed;
+    for (int i = 0; i <= 20; ++i)
+      for (int j = 0; i + j <= 20; ++j) {
+        const Vec3 x = v[0] + (i / 20.0) * (v[1] - v[0]) + (j / 20.0) * (v[2] - v[0]);
+        ASSERT_TRUE(in_union(ids, x)) << std::setprecision(17) << "cell (" << v[0].transpose() << ") ("
+                                      << v[1].transpose() << ") (" << v[2].transpose() << "), point " << x.transpose();
+      }
+  }
+  EXPECT_GT(claimed, 300);
 }
 
 }  // namespace

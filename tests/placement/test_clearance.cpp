@@ -95,6 +95,49 @@ TEST(Clearance, BoxesWithKnownAnswers) {
   EXPECT_LE(r.clearance.width(), tol * 1.001);
 }
 
+// Contacts seen from outside, and the same pushed in by a little: a tetrahedron's vertex on the top
+// face and on the bottom face (from below) of a box, a rotated cube's edge across the box's top
+// edge. The exact clearance is 0 or minus the push (the deepest point is the vertex, or the edge
+// point over the face); the certificate must contain it at a tight tolerance, with few cells (the
+// touching cells are set aside by a separating plane, not by subdividing to the tolerance).
+TEST(Clearance, ContactsSeenFromOutsideWithKnownAnswers) {
+  // A regular tetrahedron with a vertex at the origin pointing down -z (its other vertices at z = 1).
+  TriangleMesh tet;
+  tet.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 1), Vec3(-0.5, 0.8660254037844386, 1), Vec3(-0.5, -0.8660254037844386, 1)};
+  tet.faces = {{0, 2, 1}, {0, 3, 2}, {0, 1, 3}, {1, 2, 3}};
+  const TriangleMesh cube = make_box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5));
+  Case down(make_box(Vec3(0, 0, 0), Vec3(2, 2, 2)), tet);
+  Case edge(make_box(Vec3(0, 0, 0), Vec3(2, 2, 2)), cube);
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d flip = Eigen::AngleAxisd(M_PI, Vec3(1, 0, 0)).toRotationMatrix();  // vertex up
+  // The cube turned 45 degrees about x (a bottom edge along x) and then 30 degrees about z.
+  const Eigen::Matrix3d turn =
+      (Eigen::AngleAxisd(0.5235987755982988, Vec3(0, 0, 1)) * Eigen::AngleAxisd(0.7853981633974483, Vec3(1, 0, 0)))
+          .toRotationMatrix();
+  const double half_diag = std::sqrt(0.5);  // the turned cube's lowest edge lies half_diag below its centre
+  const double tol = 1e-7;
+  for (double push : {0.0, 1e-5, 3e-3}) {
+    SCOPED_TRACE("push " + std::to_string(push));
+    struct Run {
+      const char* what;
+      ClearanceResult r;
+    };
+    const std::vector<Run> runs{
+        {"vertex on the top face", down.run(I, Vec3(1.2, 0.9, 2 - push), tol)},
+        {"vertex on the bottom face, from below", down.run(flip, Vec3(0.8, 1.1, push), tol)},
+        {"edge across the top edge", edge.run(turn, Vec3(2, 1.1, 2 + half_diag - push), tol)}};
+    for (const Run& run : runs) {
+      SCOPED_TRACE(run.what);
+      // The rotations are rounded: the exact answer is -push up to a few ulps.
+      EXPECT_LE(run.r.clearance.lo, -push + 1e-12) << std::setprecision(17) << run.r.clearance.lo;
+      EXPECT_GE(run.r.clearance.hi, -push - 1e-12) << std::setprecision(17) << run.r.clearance.hi;
+      EXPECT_TRUE(run.r.tolerance_reached);
+      EXPECT_LE(run.r.clearance.width(), tol * 1.001);
+      if (push == 0.0) EXPECT_LT(run.r.cells, 60u) << "a touching certificate subdivided towards the contact";
+    }
+  }
+}
+
 // Fine sampling of the mover surface: min of certified s over samples is an upper bound of c, and
 // min - h (h the sampling radius) a lower bound; the certificate must intersect that enclosure.
 Interval sampled_enclosure(const SignedDistance& fixed, const std::vector<Vec3>& P, const std::vector<Face>& faces, int n) {
