@@ -646,9 +646,17 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   dist.margin_sq = (1e-10 * scale) * (1e-10 * scale);
   dist.rel = options.relative_tolerance;
   dist.target = options.target;
-  if (options.try_distance_path) traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, dist);
+  if (options.try_distance_path) {
+    if (options.hint_pair_fixed >= 0 && options.hint_pair_mover >= 0 &&
+        static_cast<std::size_t>(options.hint_pair_fixed) < fixed.mesh().faces.size() &&
+        static_cast<std::size_t>(options.hint_pair_mover) < mover.faces.size())
+      dist.leaf(static_cast<std::uint32_t>(options.hint_pair_fixed), static_cast<std::uint32_t>(options.hint_pair_mover));
+    if (!dist.done()) traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, dist);
+  }
   r.pair_tests = dist.tests;
   if (!dist.intersect && dist.best_est_sq < kInf) {
+    r.nearest_pair_fixed = dist.best_f;
+    r.nearest_pair_mover = dist.best_m;
     // Rigorous upper end from the best pair. Pruned pairs lie beyond the final threshold (it only
     // falls), so min(leaves, threshold) is a lower end; without a relative tolerance it is the
     // leaves' own (tight) when the best pair lies at or below the threshold, else redo rigorously.

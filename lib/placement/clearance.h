@@ -79,6 +79,9 @@ struct ClearanceOptions {
   // pose's: it only speeds up the branch and bound (an early upper bound prunes more).
   std::int64_t hint_face = -1;
   double hint_beta = 1.0 / 3, hint_gamma = 1.0 / 3;
+  // A triangle pair (fixed face, mover face) likely to be nearest, e.g. the previous pose's: the
+  // pair-distance path visits it first, so that its threshold prunes from the start. Speed only.
+  std::int64_t hint_pair_fixed = -1, hint_pair_mover = -1;
   // In/out: when valid, the branch and bound starts from it; replaced by this run's frontier
   // (invalidated when the distance path decides).
   ClearanceFrontier* frontier = nullptr;
@@ -93,6 +96,8 @@ struct ClearanceResult {
   // Where the branch and bound found its upper end (a hint for the next, nearby pose); -1 if unused.
   std::int64_t argmin_face = -1;
   double argmin_beta = 0.0, argmin_gamma = 0.0;
+  // The pair-distance path's nearest pair (fixed face, mover face), when it ran; -1 otherwise.
+  std::int64_t nearest_pair_fixed = -1, nearest_pair_mover = -1;
 };
 
 // `mover` is the mover mesh in its own coordinates, `components` its component_representatives.

@@ -134,6 +134,10 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   const auto adopt = [&](const ClearanceResult& r) {
     if (r.argmin_face >= 0)  // the next, nearby pose starts from this minimum
       set_hint(copt, {r.argmin_beta, r.argmin_gamma}, static_cast<std::uint32_t>(r.argmin_face));
+    if (r.nearest_pair_fixed >= 0) {  // and the pair-distance path from this nearest pair
+      copt.hint_pair_fixed = r.nearest_pair_fixed;
+      copt.hint_pair_mover = r.nearest_pair_mover;
+    }
     // Once the mover certainly penetrates, the next poses of the advance (deeper along the line)
     // almost surely do too: the pair-distance path would search long for an intersecting pair
     // only to hand over to the branch and bound, which decides every case on its own.

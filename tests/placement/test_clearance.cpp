@@ -133,7 +133,9 @@ TEST(Clearance, ContactsSeenFromOutsideWithKnownAnswers) {
       EXPECT_GE(run.r.clearance.hi, -push - 1e-12) << std::setprecision(17) << run.r.clearance.hi;
       EXPECT_TRUE(run.r.tolerance_reached);
       EXPECT_LE(run.r.clearance.width(), tol * 1.001);
-      if (push == 0.0) EXPECT_LT(run.r.cells, 60u) << "a touching certificate subdivided towards the contact";
+      if (push == 0.0) {
+        EXPECT_LT(run.r.cells, 60u) << "a touching certificate subdivided towards the contact";
+      }
     }
   }
 }
