@@ -84,7 +84,7 @@ double patched_depth_bound(const SignedDistance& sdf, const Vec3& c, const std::
     if (at.size() < 2) continue;
     members.clear();
     for (std::size_t k : at) members.push_back(ids[k]);
-    if (!patch_covers_cell(m, members, pl.n, corners, n_corners)) continue;
+    if (!patch_covers_cell(m, members, pl.n, pl.d, corners, n_corners)) continue;
     for (std::size_t k : at) group_of[k] = static_cast<int>(patches.size());
     patches.push_back({&pl, round_up(eta * (1.0 + 2e-15))});
   }
@@ -252,7 +252,7 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
     }
   }
   if (moments && moments->n != n_corners) moments->n = 0;  // every corner or none
-  if (coplanar_slack > 0.0 && n_corners <= 3 && n >= 2) {
+  if (coplanar_slack > 0.0 && (n_corners <= 3 || n_corners == 8) && n >= 2) {
     int corner = 0;
     const double patched = patched_depth_bound(sdf, c, ids, nearest, corners, n_corners, plane_normal, coplanar_slack,
                                                &corner);

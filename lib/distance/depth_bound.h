@@ -53,7 +53,8 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
                                const Vec3* corners, int n_corners, Vec3* candidate = nullptr,
                                const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
                                TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0);
-// coplanar_slack > 0 (flat cells of at most 3 corners): triangles within that distance of a
+// coplanar_slack > 0 (flat cells of at most 3 corners, or the 8 corners of an axis-aligned box):
+// triangles within that distance of a
 // common plane that provably cover the cell's projection form one member, a planar patch
 // (distance/planar_patch.h), whose bound is exact on its plane across the triangles' shared edges.
 // The result is the smaller of the bounds with and without patches; moments and candidate come

@@ -36,12 +36,16 @@ struct Outcome {
 };
 
 // The convexity bound over a cube: its 8 corners (see distance/depth_bound.h).
+// Near-coplanar triangles within coplanar_slack of a plane count as one planar patch where they
+// cover the cube's projection (distance/planar_patch.h): machined parts' plateaus between parallel
+// faces tiled by many triangles.
 double convexity_bound(const SignedDistance& sdf, const Vec3& c, double h, double radius,
-                       std::vector<std::uint32_t>& ids, Vec3& candidate) {
+                       std::vector<std::uint32_t>& ids, Vec3& candidate, double coplanar_slack) {
   std::array<Vec3, 8> corners;
   for (int corner = 0; corner < 8; ++corner)
     corners[corner] = c + Vec3((corner & 1) ? h : -h, (corner & 2) ? h : -h, (corner & 4) ? h : -h);
-  return depth_upper_bound(sdf, c, radius, corners.data(), 8, ids, &candidate);
+  return depth_upper_bound(sdf, c, radius, corners.data(), 8, ids, &candidate, nullptr, nullptr, nullptr,
+                           coplanar_slack);
 }
 
 // sqrt(3) rounded up to a double (the nearest double is below sqrt(3)).
@@ -114,7 +118,8 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
           if (o.upper > snapshot + eps && r <= d.lo) {
             thread_local std::vector<std::uint32_t> ids;
             Vec3 candidate;
-            o.upper = std::min(o.upper, convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate));
+            o.upper = std::min(o.upper,
+                               convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate, 0.25 * eps));
             if (((candidate - cell.center).cwiseAbs().array() <= half).all()) {
               const Interval sc = sdf.signed_distance(candidate);
               if (-sc.hi > o.lower) {

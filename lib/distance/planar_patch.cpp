@@ -21,13 +21,41 @@ int projected_side(const Vec3& a, const Vec3& b, const Vec3& x, const Vec3& n) {
 
 namespace {
 
+// The functional m.x with m = e x n, evaluated on the projections along n of the points x (the
+// plane {n.x = d}): m.pi(x) = m.x - (n.x - d)(m.n)/|n|^2, computed as m.x with an error bound that
+// also covers the second term (m.n is a rounding away from 0). True when the projections of the
+// corners and of the segment ab are certainly separated along it.
+bool separated_along(const Vec3& e, const Vec3& n, double d, const Vec3& a, const Vec3& b, const Vec3* v, int nv) {
+  const Vec3 m = e.cross(n);
+  if (!(m.cwiseAbs().maxCoeff() > 0.0)) return false;
+  const double mn = std::abs(m.dot(n)) + 2e-15 * m.cwiseAbs().dot(n.cwiseAbs());
+  const double tilt = mn / (n.squaredNorm() * (1.0 - 1e-14));  // >= |m.n| / |n|^2
+  const auto range = [&](const Vec3& x, double& lo, double& hi) {
+    const PlaneOffset f = plane_offset(m, 0.0, x), off = plane_offset(n, d, x);
+    const double err = f.error + (std::abs(off.value) + off.error) * tilt * (1.0 + 1e-14) + 1e-300;
+    lo = std::min(lo, f.value - err);
+    hi = std::max(hi, f.value + err);
+  };
+  double klo = HUGE_VAL, khi = -HUGE_VAL, slo = HUGE_VAL, shi = -HUGE_VAL;
+  for (int k = 0; k < nv; ++k) range(v[k], klo, khi);
+  range(a, slo, shi);
+  range(b, slo, shi);
+  return khi < slo || shi < klo;
+}
+
 // pi(segment ab) and pi(conv(corners)) are disjoint, proven by a separating line parallel to the
-// segment or to an edge of the cell (the separating-axis theorem in the plane).
-bool projected_disjoint(const Vec3& a, const Vec3& b, const Vec3* v, int nv, const Vec3& n) {
+// segment or to an edge of the cell (the separating-axis theorem in the plane). A box's edges are
+// parallel to the coordinate axes; a triangle's are tested against its own edge lines.
+bool projected_disjoint(const Vec3& a, const Vec3& b, const Vec3* v, int nv, const Vec3& n, double d) {
   int first = projected_side(a, b, v[0], n);
   bool one_side = first != 0;
   for (int k = 1; k < nv && one_side; ++k) one_side = projected_side(a, b, v[k], n) == first;
   if (one_side) return true;
+  if (nv == 8) {
+    for (int axis = 0; axis < 3; ++axis)
+      if (separated_along(Vec3::Unit(axis), n, d, a, b, v, nv)) return true;
+    return false;
+  }
   if (nv < 3) {
     // A segment or a point: its own line (for a point, no line: the test above decides).
     if (nv == 2) {
@@ -54,9 +82,9 @@ bool projected_inside(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c
 
 }  // namespace
 
-bool patch_covers_cell(const TriangleMesh& mesh, const std::vector<std::uint32_t>& ids, const Vec3& n,
+bool patch_covers_cell(const TriangleMesh& mesh, const std::vector<std::uint32_t>& ids, const Vec3& n, double d,
                        const Vec3* corners, int n_corners) {
-  if (ids.empty() || n_corners < 1 || n_corners > 3) return false;
+  if (ids.empty() || n_corners < 1 || (n_corners > 3 && n_corners != 8)) return false;
   const auto& V = mesh.vertices;
   bool seeded = false;
   for (std::uint32_t j : ids) {
@@ -92,7 +120,7 @@ bool patch_covers_cell(const TriangleMesh& mesh, const std::vector<std::uint32_t
       const int s0 = projected_side(a, b, V[edges[i].third], n), s1 = projected_side(a, b, V[edges[i + 1].third], n);
       interior = s0 != 0 && s0 == -s1;
     }
-    if (!interior && !projected_disjoint(a, b, corners, n_corners, n)) return false;
+    if (!interior && !projected_disjoint(a, b, corners, n_corners, n, d)) return false;
     i = k;
   }
   return true;

@@ -34,9 +34,11 @@ namespace cdbench {
 // through a and b. +1 or -1 when certain (an error bound valid in any rounding mode), 0 otherwise.
 int projected_side(const Vec3& a, const Vec3& b, const Vec3& x, const Vec3& n);
 
-// The triangles `ids` of `mesh`: whether the projection along n of the convex hull of the corners
-// (1 to 3 points) provably lies in the union of their projections.
-bool patch_covers_cell(const TriangleMesh& mesh, const std::vector<std::uint32_t>& ids, const Vec3& n,
+// The triangles `ids` of `mesh`: whether the projection along n onto the plane {n.x = d} of the
+// convex hull of the corners provably lies in the union of their projections. The corners: 1 to 3
+// points (a flat cell), or the 8 corners of an axis-aligned box (its hull's projected edges are
+// parallel to the projected coordinate axes).
+bool patch_covers_cell(const TriangleMesh& mesh, const std::vector<std::uint32_t>& ids, const Vec3& n, double d,
                        const Vec3* corners, int n_corners);
 
 // (|n.x - d| + eta) / |n| rounded up: the patch's bound of dist(x, F) at a point x of a covered cell.

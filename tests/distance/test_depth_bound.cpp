@@ -291,8 +291,8 @@ TEST(PlanarPatch, ExactOnThePlaneAcrossSharedEdges) {
     if (up) top.push_back(i);
   }
   ASSERT_EQ(top.size(), 16u);
-  EXPECT_TRUE(patch_covers_cell(m, top, normal, v.data(), 3));
-  EXPECT_FALSE(patch_covers_cell(m, top, normal, w.data(), 3));
+  EXPECT_TRUE(patch_covers_cell(m, top, normal, 1.0, v.data(), 3));
+  EXPECT_FALSE(patch_covers_cell(m, top, normal, 1.0, w.data(), 3));
 }
 
 // patch_covers_cell against dense sampling: random cells over the top face of the L slab with
@@ -331,7 +331,7 @@ TEST(PlanarPatch, CoverageClaimsHoldUnderSampling) {
     const double size = 0.05 + 0.6 * u(rng);
     std::array<Vec3, 3> v;
     for (Vec3& x : v) x = c + size * Vec3(s(rng), s(rng), s(rng));
-    if (!patch_covers_cell(m, ids, n, v.data(), 3)) continue;
+    if (!patch_covers_cell(m, ids, n, 1.0, v.data(), 3)) continue;
     ++claimed;
     for (int i = 0; i <= 20; ++i)
       for (int j = 0; i + j <= 20; ++j) {
@@ -341,6 +341,59 @@ TEST(PlanarPatch, CoverageClaimsHoldUnderSampling) {
       }
   }
   EXPECT_GT(claimed, 300);
+}
+
+// The same for axis-aligned cubes (the maximum penetration's cells) over the top face of a rotated
+// L slab (tilted normal: the projected cube is a hexagon): whenever coverage is claimed, every
+// sampled point of the cube projects into a triangle of the face, decided exactly (the sign of
+// det[b - a, n, x - a] in rationals, for the stored n).
+TEST(PlanarPatch, BoxCoverageClaimsHoldUnderSampling) {
+  const Eigen::Matrix3d R = some_rotation();
+  const TriangleMesh m = make_cube_solid(l_slab(), R);
+  const Vec3 up = R * Vec3(0, 0, 1);
+  const SignedDistance sdf(m);
+  std::vector<std::uint32_t> top;
+  for (std::uint32_t i = 0; i < m.faces.size(); ++i) {
+    const TrianglePlane& pl = sdf.planes()[i];
+    if (pl.n.dot(up) > 0.999 && std::abs(pl.d - up.dot(R * Vec3(0, 0, 1))) < 1e-9) top.push_back(i);
+  }
+  ASSERT_EQ(top.size(), 16u);
+  const TrianglePlane& pl = sdf.planes()[top[0]];
+  using FT = Epeck::FT;
+  const auto det = [&](const Vec3& a, const Vec3& b, const Vec3& x) {
+    const FT e0 = FT(b.x()) - a.x(), e1 = FT(b.y()) - a.y(), e2 = FT(b.z()) - a.z();
+    const FT f0 = FT(x.x()) - a.x(), f1 = FT(x.y()) - a.y(), f2 = FT(x.z()) - a.z();
+    const FT n0 = pl.n.x(), n1 = pl.n.y(), n2 = pl.n.z();
+    return CGAL::sign((e1 * n2 - e2 * n1) * f0 + (e2 * n0 - e0 * n2) * f1 + (e0 * n1 - e1 * n0) * f2);
+  };
+  const auto in_union = [&](const Vec3& x) {
+    for (std::uint32_t j : top) {
+      const Face& f = m.faces[j];
+      const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &c = m.vertices[f[2]];
+      const auto o = det(a, b, c);
+      if (det(a, b, x) != -o && det(b, c, x) != -o && det(c, a, x) != -o) return true;
+    }
+    return false;
+  };
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
+  int claimed = 0;
+  for (int k = 0; k < 600; ++k) {
+    const Vec3 c = R * Vec3(3 * u(rng), 3 * u(rng), 1 + 0.5 * s(rng));
+    const double h = 0.02 + 0.4 * u(rng);
+    std::array<Vec3, 8> v;
+    for (int q = 0; q < 8; ++q) v[q] = c + Vec3((q & 1) ? h : -h, (q & 2) ? h : -h, (q & 4) ? h : -h);
+    if (!patch_covers_cell(m, top, pl.n, pl.d, v.data(), 8)) continue;
+    ++claimed;
+    for (int i = 0; i <= 4; ++i)
+      for (int j = 0; j <= 4; ++j)
+        for (int l = 0; l <= 4; ++l) {
+          const Vec3 x = c + h * Vec3(i / 2.0 - 1, j / 2.0 - 1, l / 2.0 - 1);
+          ASSERT_TRUE(in_union(x)) << std::setprecision(17) << "cube centre " << c.transpose() << " half side " << h
+                                   << ", point " << x.transpose();
+        }
+  }
+  EXPECT_GT(claimed, 60) << "of 600";
 }
 
 }  // namespace
