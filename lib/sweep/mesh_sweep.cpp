@@ -63,18 +63,45 @@ double entry_lower_bound(const Sphere& f, const Sphere& m, const I& vx, const I&
   return ((-wv - root) / vv).inf();
 }
 
+// Lower bound of the first time the moving box (+ t v) meets the fixed one; +inf if never. On axis
+// k they overlap when f.lo - m.hi <= t v_k <= f.hi - m.lo: an interval of t per axis (all of R, or
+// none, when v_k = 0); they meet at the latest entry if it precedes the earliest exit. Must run
+// under upward rounding: entries are rounded down and exits up, so a pair judged never to meet
+// cannot meet.
+double box_entry_lower_bound(const Aabb& f, const Aabb& m, const Vec3& v) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double entry = -kInf, exit = kInf;
+  for (int k = 0; k < 3; ++k) {
+    const double vk = v[k];
+    if (vk == 0.0) {
+      if (m.hi[k] < f.lo[k] || f.hi[k] < m.lo[k]) return kInf;
+      continue;
+    }
+    const I a = (I(f.lo[k]) - m.hi[k]) / vk, b = (I(f.hi[k]) - m.lo[k]) / vk;
+    entry = std::max(entry, vk > 0.0 ? a.inf() : b.inf());
+    exit = std::min(exit, vk > 0.0 ? b.sup() : a.sup());
+  }
+  return entry <= exit ? entry : kInf;
+}
+
 struct SweepPolicy {
   Best& best;
+  const Vec3& v;
   I vx, vy, vz, vv;
 
-  SweepPolicy(Best& b, const Vec3& v) : best(b), vx(v.x()), vy(v.y()), vz(v.z()) { vv = vx * vx + vy * vy + vz * vz; }
+  SweepPolicy(Best& b, const Vec3& vel) : best(b), v(vel), vx(vel.x()), vy(vel.y()), vz(vel.z()) {
+    vv = vx * vx + vy * vy + vz * vz;
+  }
 
-  double bound(const Sphere& f, const Sphere& m) {
+  // The later of the sphere and box entry times: both are lower bounds of the first meeting.
+  double bound(const SweepVolume& f, const SweepVolume& m) {
     ++best.result.sphere_tests;
-    return entry_lower_bound(f, m, vx, vy, vz, vv);
+    const double s = entry_lower_bound(f.sphere, m.sphere, vx, vy, vz, vv);
+    if (!(s < std::numeric_limits<double>::infinity())) return s;
+    return std::max(s, box_entry_lower_bound(f.box, m.box, v));
   }
   double prune_bound() const { return best.result.hit ? best.result.t.hi : std::numeric_limits<double>::infinity(); }
-  bool split_first(const Sphere& f, const Sphere& m) const { return f.radius >= m.radius; }
+  bool split_first(const SweepVolume& f, const SweepVolume& m) const { return f.sphere.radius >= m.sphere.radius; }
   void leaf(std::uint32_t f, std::uint32_t m) { best.offer_if_possible(f, m); }
   bool done() const { return false; }
 };
@@ -121,8 +148,9 @@ struct FloatSweepPolicy {
     return (alo - bhi - slack) / vv <= result.t;
   }
 
-  double bound(const Sphere& f, const Sphere& m) {
+  double bound(const SweepVolume& fv, const SweepVolume& mv) {
     ++result.sphere_tests;
+    const Sphere &f = fv.sphere, &m = mv.sphere;
     const Vec3 w = m.center - f.center;
     const double R = f.radius + m.radius;
     const double wv = w.dot(v);
@@ -131,7 +159,7 @@ struct FloatSweepPolicy {
     return (-wv - std::sqrt(disc)) / vv;
   }
   double prune_bound() const { return result.hit ? result.t : std::numeric_limits<double>::infinity(); }
-  bool split_first(const Sphere& f, const Sphere& m) const { return f.radius >= m.radius; }
+  bool split_first(const SweepVolume& f, const SweepVolume& m) const { return f.sphere.radius >= m.sphere.radius; }
   void leaf(std::uint32_t f, std::uint32_t m) {
     const Triangle A = fixed.triangle(f), B = moving.triangle(m);
     if (!may_touch(A, B)) return;
@@ -192,12 +220,18 @@ double sphere_entry_time_lower_bound(const Sphere& fixed, const Sphere& moving, 
   return entry_lower_bound(fixed, moving, vx, vy, vz, vx * vx + vy * vy + vz * vz);
 }
 
+double box_entry_time_lower_bound(const Aabb& fixed, const Aabb& moving, const Vec3& v) {
+  CGAL::Protect_FPU_rounding<true> guard;
+  return box_entry_lower_bound(fixed, moving, v);
+}
+
 SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces, const BvhBuildOptions& options) {
   SweepMesh m;
   m.vertices = std::move(vertices);
   m.faces = std::move(faces);
-  m.tree = build_triangle_bvh<Sphere>(
-      m.vertices, m.faces, [](int n, const auto& p) { return bounding_sphere(n, p); }, options);
+  m.tree = build_triangle_bvh<SweepVolume>(
+      m.vertices, m.faces, [](int n, const auto& p) { return SweepVolume{bounding_sphere(n, p), bounding_box(n, p)}; },
+      options);
   return m;
 }
 
@@ -210,7 +244,13 @@ SweepMesh translated_sweep_mesh(const SweepMesh& m, const Vec3& t) {
   r.tree = m.tree;
   const double tn = t.norm();
   for (auto& node : r.tree.nodes) {
-    Sphere& s = node.bv;
+    // Rounding to nearest is monotone: fl(lo + t) <= fl(v + t) <= fl(hi + t) for lo <= v <= hi.
+    Aabb& b = node.bv.box;
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] = b.lo[k] + t[k];
+      b.hi[k] = b.hi[k] + t[k];
+    }
+    Sphere& s = node.bv.sphere;
     if (s.radius < 0.0) continue;
     const Vec3 c = s.center;
     s.center = Vec3(c[0] + t[0], c[1] + t[1], c[2] + t[2]);

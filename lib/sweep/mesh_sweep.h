@@ -1,9 +1,10 @@
 #pragma once
 // The paper's dynamic collision query: the first contact of a translating mesh with a fixed one,
-// exact. Both meshes carry a bounding-sphere hierarchy; the traversal keeps the best contact time
-// T so far, prunes node pairs whose spheres cannot meet before T (sphere entry times computed in
-// interval arithmetic, so a pruned pair provably cannot hold an earlier contact), visits child
-// pairs in order of their sphere entry times and runs exact triangle sweeps at the leaves.
+// exact. Both meshes carry a bounding-sphere hierarchy (with a box per node too); the traversal
+// keeps the best contact time T so far, prunes node pairs whose spheres or boxes cannot meet before
+// T (entry times computed in interval arithmetic, so a pruned pair provably cannot hold an earlier
+// contact), visits child pairs in order of their entry times and runs exact triangle sweeps at the
+// leaves.
 #include <cstdint>
 #include <vector>
 
@@ -14,10 +15,18 @@
 
 namespace cdbench {
 
+// A sweep tree node's volume: its bounding sphere (the paper's) and its box. The exact traversal
+// bounds a node pair's entry time by both (the later of the two): a long, thin triangle's sphere
+// is far looser than its box. The float twin keeps the paper's spheres alone.
+struct SweepVolume {
+  Sphere sphere;
+  Aabb box;
+};
+
 struct SweepMesh {
   std::vector<Vec3> vertices;
   std::vector<Face> faces;
-  Bvh<Sphere> tree;  // one triangle per leaf unless built otherwise
+  Bvh<SweepVolume> tree;  // one triangle per leaf unless built otherwise
 
   Triangle triangle(std::uint32_t f) const {
     return {vertices[faces[f][0]], vertices[faces[f][1]], vertices[faces[f][2]]};
@@ -43,6 +52,9 @@ struct MeshContact {
 // A lower bound of the first t at which the sphere `moving` translated by t v meets `fixed`
 // (+inf when it never does), rigorous: interval arithmetic with outward rounding.
 double sphere_entry_time_lower_bound(const Sphere& fixed, const Sphere& moving, const Vec3& v);
+// The same for boxes: the latest of the three axes' entry times, +inf when some axis never overlaps
+// or the axes' overlap intervals are disjoint.
+double box_entry_time_lower_bound(const Aabb& fixed, const Aabb& moving, const Vec3& v);
 
 // A rigorous necessary condition, cheaper than the sweep, for triangles A and B + t v to meet at
 // some t <= t_max (t_max = +inf: at any t): false only when they cannot. The exact traversal skips

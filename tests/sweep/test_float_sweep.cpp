@@ -129,12 +129,15 @@ TEST(FloatSweep, TranslatedSweepMeshGivesTheRebuiltTreesContact) {
     if (a.hit) {
       EXPECT_EQ(exact_contact_time(fixed, moved, dir, a), exact_contact_time(fixed, rebuilt, dir, b));
     }
-    // Every vertex lies in its leaf's sphere.
+    // Every vertex lies in its leaf's sphere and box.
     for (const auto& node : moved.tree.nodes) {
       if (node.count == 0) continue;
       for (std::uint32_t j = 0; j < node.count; ++j) {
         const Face& f = moved.faces[moved.tree.order[node.first + j]];
-        for (int c = 0; c < 3; ++c) EXPECT_LE((moved.vertices[f[c]] - node.bv.center).norm(), node.bv.radius);
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_LE((moved.vertices[f[c]] - node.bv.sphere.center).norm(), node.bv.sphere.radius);
+          EXPECT_TRUE(node.bv.box.contains(moved.vertices[f[c]]));
+        }
       }
     }
   }

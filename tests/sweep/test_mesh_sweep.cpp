@@ -1,6 +1,8 @@
 // The sphere-tree first-contact query must give exactly the brute-force time (all triangle pairs).
 #include <gtest/gtest.h>
 
+#include <iomanip>
+
 #include <Eigen/Geometry>
 #include <random>
 
@@ -88,6 +90,58 @@ TEST(MeshSweep, MissingLineAndTranslationInvariance) {
 
 namespace cdbench {
 namespace {
+
+// The box pruning bound against exact rationals: the exact meeting interval of the moving box
+// (+ t v) with the fixed one is the intersection of the three axes' intervals; a finite bound is
+// at most its start, an infinite bound only when it is empty. Boxes that just touch, velocities
+// with zero and tiny components, and near-empty intersections are the hard cases.
+TEST(MeshSweep, BoxEntryBoundIsRigorous) {
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int finite = 0, infinite = 0;
+  const auto q = [](double x) { return mpq_class(x); };
+  for (int k = 0; k < 20000; ++k) {
+    Aabb f, m;
+    const Vec3 c = Vec3(u(rng), u(rng), u(rng)) * 10.0;
+    f.extend(c);
+    f.extend(c + Vec3(1 + u(rng), 1 + u(rng), 1 + u(rng)));
+    Vec3 d(u(rng), u(rng), u(rng));
+    if (k % 3 == 0) d[k % 2] = 0.0;            // touching faces on some axis
+    const Vec3 mc = f.hi + d;
+    m.extend(mc);
+    m.extend(mc + Vec3(0.5 + u(rng) * 0.4, 0.5 + u(rng) * 0.4, 0.5 + u(rng) * 0.4));
+    Vec3 v(-1.0 + 0.1 * u(rng), u(rng), u(rng));
+    if (k % 5 == 0) v[1] = 0.0;
+    if (k % 7 == 0) v[2] = 1e-300 * u(rng);
+    const double b = box_entry_time_lower_bound(f, m, v);
+    // The exact interval of t, or empty.
+    bool empty = false, has_lo = false, has_hi = false;
+    mpq_class lo, hi;
+    for (int a = 0; a < 3; ++a) {
+      if (v[a] == 0.0) {
+        if (m.hi[a] < f.lo[a] || f.hi[a] < m.lo[a]) empty = true;
+        continue;
+      }
+      mpq_class x = (q(f.lo[a]) - q(m.hi[a])) / q(v[a]), y = (q(f.hi[a]) - q(m.lo[a])) / q(v[a]);
+      if (v[a] < 0) std::swap(x, y);
+      if (!has_lo || x > lo) lo = x;
+      if (!has_hi || y < hi) hi = y;
+      has_lo = has_hi = true;
+    }
+    if (has_lo && lo > hi) empty = true;
+    if (std::isinf(b)) {
+      ++infinite;
+      EXPECT_TRUE(empty) << std::setprecision(17) << "case " << k;
+      continue;
+    }
+    ++finite;
+    if (!empty && has_lo) {
+      EXPECT_LE(q(b), lo) << std::setprecision(17) << "case " << k;
+    }
+  }
+  EXPECT_GT(finite, 1000);
+  EXPECT_GT(infinite, 1000);
+}
 
 // The pruning bound against exact rational arithmetic: at t = bound the spheres are still apart or
 // touching (|w + t v|^2 >= R^2) and t is before the closest approach, so t <= the entry time; an
