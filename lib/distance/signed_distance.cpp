@@ -277,6 +277,16 @@ int SignedDistance::side(const Vec3& p, const Interval& unsigned_dist) const {
   return unsigned_dist.lo > 0.0 ? side_off_surface(p) : side(p);
 }
 
+int SignedDistance::side(const Vec3& p, const Interval& unsigned_dist, const Vec3& ref, int ref_side) const {
+  if (!(unsigned_dist.lo > 0.0) || (ref_side != 1 && ref_side != -1)) return side(p, unsigned_dist);
+  // Both ends off F: each proper crossing flips the side (Jordan-Brouwer, as for the ray).
+  const double margin = 1e-9 * (bbox_.diagonal() + (p - bbox_.center()).norm() + (p - ref).norm()) + 1e-300;
+  ParityPolicy parity{mesh_, ref, p, margin};
+  traverse_nearest_first(tree_, parity);
+  if (parity.degenerate) return side_off_surface(p);
+  return parity.crossings % 2 == 1 ? -ref_side : ref_side;
+}
+
 int SignedDistance::side_off_surface(const Vec3& p) const {
   const Vec3 center = bbox_.center();
   const double reach = 2.0 * (bbox_.diagonal() + (p - center).norm()) + 1.0;

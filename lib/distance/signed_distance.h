@@ -60,6 +60,11 @@ class SignedDistance {
   // Same, when dist(p, F) is already enclosed: a positive lower end skips the on-surface test.
   int side(const Vec3& p, const Interval& unsigned_dist) const;
 
+  // The same from a point `ref` off F whose side `ref_side` (+-1) is known: the parity of the
+  // segment ref -> p's proper crossings of F (a short segment meets far fewer boxes than a ray out
+  // of the bounding box), or the ray test when that segment meets F degenerately.
+  int side(const Vec3& p, const Interval& unsigned_dist, const Vec3& ref, int ref_side) const;
+
   // [lo, hi] containing the signed distance s(p) (negative inside).
   Interval signed_distance(const Vec3& p) const;
 

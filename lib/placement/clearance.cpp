@@ -282,7 +282,8 @@ class BranchAndBound {
   // `own` receives the ball about x that this evaluation certifies.
   Interval signed_at(const Vec3& x, const Interval& ud, const SideBall* ball, SideBall* own) {
     int side = side_from_ball(ball, x);
-    if (side == 0) side = fixed_.side(x, ud);
+    // Outside the ball, the parity of the short segment from its centre (of known side).
+    if (side == 0) side = ball ? fixed_.side(x, ud, ball->centre, ball->side) : fixed_.side(x, ud);
     if (own) *own = SideBall{x, side == 0 ? 0.0 : ud.lo, side};
     if (side == 0) return {0.0, 0.0};
     return side < 0 ? Interval{-ud.hi, -ud.lo} : ud;

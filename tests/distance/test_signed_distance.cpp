@@ -3,6 +3,7 @@
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <iomanip>
 #include <random>
 
 #include "distance/signed_distance.h"
@@ -85,6 +86,36 @@ TEST(SignedDistance, SphereAgainstExactReference) {
 TEST(SignedDistance, TorusAgainstExactReference) {
   const TriangleMesh m = make_torus(2.0, 0.6, 24, 12);
   check_points(m, sample_points(m, 2));
+}
+
+// The side from a reference point of known side (a short segment's crossing parity) against CGAL's
+// inside test: random points and references near a torus, a thin slab and a sphere, the segment
+// crossing the surface 0, 1 or several times; points on the surface are left to side(p). Axis-aligned
+// segments along the box's edges are degenerate and fall back to the ray.
+TEST(SignedDistance, SideFromAReferencePointAgreesWithCgal) {
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int checked = 0, flipped = 0;
+  for (const TriangleMesh& m : {make_torus(2.0, 0.6, 24, 12), make_box(Vec3(0, 0, 0), Vec3(2, 2, 0.02)),
+                                make_icosphere(1.0, 2)}) {
+    const SignedDistance sdf(m);
+    const CgalSide cgal(m);
+    const Aabb box = m.bbox();
+    for (int k = 0; k < 1500; ++k) {
+      const Vec3 ref = box.center() + 0.7 * box.extent().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+      Vec3 p = ref + (k % 3 == 0 ? 0.05 : 0.6) * box.extent().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+      if (k % 50 == 0) p = Vec3(ref.x(), ref.y(), ref.z() + 0.5);  // axis-aligned
+      const int rs = cgal(ref), ps = cgal(p);
+      if (rs == 0 || ps == 0) continue;
+      const Interval d = sdf.unsigned_distance(p);
+      ASSERT_EQ(sdf.side(p, d, ref, rs), ps) << std::setprecision(17) << "p " << p.transpose() << " ref "
+                                            << ref.transpose();
+      ++checked;
+      flipped += rs != ps;
+    }
+  }
+  EXPECT_GT(checked, 4000);
+  EXPECT_GT(flipped, 300);
 }
 
 TEST(SignedDistance, BoxPointsExactlyOnFacesEdgesAndVertices) {
