@@ -80,6 +80,7 @@ class ArenaScope {
 #include <CGAL/Surface_mesh_default_triangulation_3.h>
 #include <CGAL/make_surface_mesh.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <unordered_map>
@@ -107,18 +108,66 @@ struct PointHash {
 };
 using Cache = std::unordered_map<std::array<double, 3>, double, PointHash>;
 
-struct Function {
+// The oracle uses only the sign of f (Implicit_surface_oracle_3 applies Sgn). During a bisection
+// the segment's ends were just evaluated, so a midpoint within |f(q)| / L of such a point q has
+// q's sign: the value returned is then the bound sign(f(q)) (|f(q)| - L |p - q|), smaller in
+// magnitude than f(p) and of the same sign, which later points may use in turn. Dual Voronoi edges
+// of a good surface sample are nearly normal to the surface, where f changes almost at rate L, so
+// most bisection steps need no evaluation. Deterministic: the answers depend only on the calls.
+struct Evaluator {
+  Evaluator(const std::function<double(const Vec3&)>& f, double lipschitz, double margin)
+      : f(&f), lipschitz(lipschitz), margin(margin) {}
   const std::function<double(const Vec3&)>* f;
-  Cache* cache;
-  FT operator()(const Point& p) const {
+  double lipschitz;
+  double margin;  // absolute: far above the rounding of f and of the distances below
+  Cache cache;
+  struct Known {
+    Vec3 p;
+    double value;
+  };
+  static constexpr int kRecent = 16;
+  std::array<Known, kRecent> recent{};
+  int recent_count = 0, recent_next = 0;
+  LevelSetMeshStats stats;
+
+  void remember(const Vec3& p, double value) {
+    recent[recent_next] = Known{p, value};
+    recent_next = (recent_next + 1) % kRecent;
+    recent_count = std::min(recent_count + 1, kRecent);
+  }
+  double operator()(const Vec3& p) {
+    ++stats.calls;
+    if (lipschitz > 0.0) {
+      double bound = 0.0;  // the largest magnitude known to keep its sign at p
+      for (int k = 0; k < recent_count; ++k) {
+        const double b = std::abs(recent[k].value) - lipschitz * (p - recent[k].p).norm() - margin;
+        if (b > std::abs(bound)) bound = std::copysign(b, recent[k].value);
+      }
+      if (bound != 0.0) {
+        ++stats.lipschitz;
+        remember(p, bound);
+        return bound;
+      }
+    }
     const std::array<double, 3> key{p.x(), p.y(), p.z()};
-    const auto it = cache->find(key);
-    if (it != cache->end()) return it->second;
-    if (cache->size() > 20000000) cache->clear();  // bound the memory (about 1.5 GB at most)
-    const double value = (*f)(Vec3(p.x(), p.y(), p.z()));
-    cache->emplace(key, value);
+    const auto it = cache.find(key);
+    double value;
+    if (it != cache.end()) {
+      value = it->second;
+    } else {
+      if (cache.size() > 20000000) cache.clear();  // bound the memory (about 1.5 GB at most)
+      value = (*f)(p);
+      ++stats.evaluations;
+      cache.emplace(key, value);
+    }
+    remember(p, value);
     return value;
   }
+};
+
+struct Function {
+  Evaluator* evaluator;
+  FT operator()(const Point& p) const { return (*evaluator)(Vec3(p.x(), p.y(), p.z())); }
 };
 
 }  // namespace
@@ -143,13 +192,14 @@ std::vector<Vec3> level_set_seeds(const std::function<double(const Vec3&)>& f, c
 }
 
 TriangleMesh mesh_level_set(const std::function<double(const Vec3&)>& f, const Vec3& center, double radius,
-                            const std::vector<Vec3>& seeds, const LevelSetMeshOptions& options) {
+                            const std::vector<Vec3>& seeds, const LevelSetMeshOptions& options,
+                            LevelSetMeshStats* stats) {
   detail::ArenaScope arena;  // declared first: every CGAL object below is gone before it is unmapped
   Tr tr;
   C2t3 c2t3(tr);
   for (const Vec3& s : seeds) tr.insert(Point(s.x(), s.y(), s.z()));
-  Cache cache;
-  CGAL::Implicit_surface_3<GT, Function> surface(Function{&f, &cache}, GT::Sphere_3(Point(center.x(), center.y(), center.z()),
+  Evaluator evaluator(f, options.lipschitz, 1e-9 * radius);
+  CGAL::Implicit_surface_3<GT, Function> surface(Function{&evaluator}, GT::Sphere_3(Point(center.x(), center.y(), center.z()),
                                                                              radius * radius),
                                                  options.bisection_relative_error);
   CGAL::Surface_mesh_default_criteria_3<Tr> criteria(options.angle_bound, options.radius_bound,
@@ -157,6 +207,7 @@ TriangleMesh mesh_level_set(const std::function<double(const Vec3&)>& f, const V
   CGAL::make_surface_mesh(c2t3, surface, criteria, CGAL::Manifold_tag(), 0);
   CGAL::Surface_mesh<Point> sm;
   if (c2t3.number_of_facets() > 0) CGAL::facets_in_complex_2_to_triangle_mesh(c2t3, sm);
+  if (stats != nullptr) *stats = evaluator.stats;
   return triangle_mesh_from(sm);
 }
 
