@@ -1,5 +1,6 @@
 #include "distance/signed_distance.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -8,6 +9,7 @@
 
 #include "distance/exact_predicates.h"
 #include "distance/point_triangle_distance.h"
+#include "distance/triangle_distance.h"
 
 namespace cdbench {
 namespace {
@@ -161,7 +163,41 @@ struct ParityPolicy {
   }
 };
 
+// Pruning on the running minimum of the lower bounds is rigorous: a node is skipped only when its
+// box bound exceeds that minimum, so none of its triangles could lower it.
+struct TriangleLowerPolicy {
+  const TriangleMesh& mesh;
+  const std::vector<TrianglePlane>& planes;
+  const std::array<Vec3, 3>& v;
+  TrianglePlane plane;  // of v
+  Aabb box;
+  double stop_sq;
+  double d2lo = kInf;
+  double bound(const Aabb& b) const { return squared_distance_lower_bound(b, box); }
+  double prune_bound() const { return d2lo; }
+  bool done() const { return d2lo <= stop_sq; }
+  void leaf(std::uint32_t j) {
+    const Face& g = mesh.faces[j];
+    const Vec3 &a = mesh.vertices[g[0]], &b = mesh.vertices[g[1]], &c = mesh.vertices[g[2]];
+    const double lb = std::max(plane_pair_lower_bound(planes[j], v[0], v[1], v[2]), plane_pair_lower_bound(plane, a, b, c));
+    if (round_down(lb * lb) >= d2lo) return;  // cannot lower the minimum
+    Vec3 p, q;
+    const double e2 = triangle_triangle_closest_points(a, b, c, v[0], v[1], v[2], &p, &q);
+    const double gap = e2 > 0.0 ? triangle_distance_lower_bound(a, b, c, v[0], v[1], v[2], q - p) : 0.0;
+    d2lo = std::min(d2lo, gap > 0.0 ? round_down(gap * gap)
+                                    : triangle_triangle_squared_distance(a, b, c, v[0], v[1], v[2]).lo);
+  }
+};
+
 }  // namespace
+
+double SignedDistance::triangle_squared_distance_lower(const std::array<Vec3, 3>& v, double stop_sq) const {
+  Aabb box;
+  for (const Vec3& x : v) box.extend(x);
+  TriangleLowerPolicy policy{mesh_, planes_, v, make_triangle_plane(v[0], v[1], v[2]), box, stop_sq};
+  traverse_nearest_first(tree_, policy);
+  return policy.d2lo;
+}
 
 SignedDistance::SignedDistance(TriangleMesh mesh) : mesh_(std::move(mesh)), bbox_(mesh_.bbox()) {
   // Boxes of double vertices are exact.

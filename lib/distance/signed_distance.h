@@ -4,6 +4,7 @@
 // geometry given by the doubles. Distances come from an AABB tree in doubles whose pruning bounds
 // are rounded down and from interval arithmetic at the leaves; the sign comes from an exact ray
 // parity test (CGAL's exact orientation predicates). See doc/distance.md.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -41,6 +42,14 @@ class SignedDistance {
   // True when dist(p, F) <= bound is proven; may stop at the first triangle that proves it.
   // False means the full query ran; then `*full` (if given) receives the enclosure of dist(p, F).
   bool distance_at_most(const Vec3& p, double bound, Interval* full = nullptr) const;
+
+  // A rigorous lower bound of dist(T, F)^2 for the triangle T = (v0, v1, v2), tight up to rounding
+  // where T and F are disjoint. F's tree is searched nearest first from T's box; per triangle the
+  // cheap bounds first (each triangle's plane against the other's vertices), then the gap of the
+  // projections on the estimated closest-point direction, and the certified pair distance (exact
+  // intersection test) only where that gap is 0. Stops as soon as the bound is at most `stop_sq`
+  // (the default never stops): the value returned is then <= stop_sq but not the minimum.
+  double triangle_squared_distance_lower(const std::array<Vec3, 3>& v, double stop_sq = -1.0) const;
 
   // Index of a triangle at the certified upper end of unsigned_distance(p) (a nearest triangle
   // up to rounding).

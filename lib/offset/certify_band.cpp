@@ -16,33 +16,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// dist(T, F): certified interval of the squared distance from triangle T to the surface.
-struct TriangleNearest {
-  const TriangleMesh& mesh;
-  Vec3 a, b, c;
-  Aabb box;
-  Vec3 centre;    // of a ball holding the triangle
-  double radius;  // rounded up
-  double best_hi_sq = kInf;
-  double min_lo_sq = kInf;
-  double bound(const Aabb& node) const { return squared_distance_lower_bound(box, node); }
-  double prune_bound() const { return best_hi_sq; }
-  bool done() const { return false; }
-  void leaf(std::uint32_t f) {
-    const Face& t = mesh.faces[f];
-    // Cheap rigorous pre-filter: dist(T, j) >= dist(centre, j) - radius. A triangle proved
-    // farther than the best upper bound is pruned like a tree node (see doc/distance.md).
-    const Interval pc =
-        sqrt_interval(point_triangle_squared_distance(centre, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
-    const double gap = pc.lo - radius;
-    if (gap > 0 && gap * gap * (1.0 - kRoundingSlack) > best_hi_sq) return;
-    const Interval d2 =
-        triangle_triangle_squared_distance(a, b, c, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
-    best_hi_sq = std::min(best_hi_sq, d2.hi);
-    min_lo_sq = std::min(min_lo_sq, d2.lo);
-  }
-};
-
 // Upper bound of dist(x, F) over triangle abc: each d_j is convex, so max over the triangle of
 // d_j is at a vertex; j = the triangle nearest to the centroid. Where that is not tight enough
 // the triangle is split into 4 (midpoints in doubles; the caller adds the slack for rounding).
@@ -86,15 +59,8 @@ BandResult certify_band(const SignedDistance& sdf, const TriangleMesh& offset, d
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const Face& f = offset.faces[i];
       const Vec3 &a = offset.vertices[f[0]], &b = offset.vertices[f[1]], &c = offset.vertices[f[2]];
-      const Vec3 centre = (a + b + c) / 3.0;
-      const double radius = round_up(std::max({(a - centre).norm(), (b - centre).norm(), (c - centre).norm()}) * (1 + 1e-12) +
-                                     4 * std::numeric_limits<double>::epsilon() * centre.cwiseAbs().maxCoeff());
-      TriangleNearest q{sdf.mesh(), a, b, c, Aabb{}, centre, radius};
-      q.box.extend(a);
-      q.box.extend(b);
-      q.box.extend(c);
-      traverse_nearest_first(sdf.tree(), q);
-      lo[i] = sqrt_interval({q.min_lo_sq, q.best_hi_sq}).lo;
+      const double d2lo = sdf.triangle_squared_distance_lower({a, b, c});
+      lo[i] = sqrt_interval({d2lo, d2lo}).lo;
       // Split points are rounded: every point of the face is within `slack` of a piece, and s is
       // 1-Lipschitz, so the slack widens the upper bound.
       const double scale = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});

@@ -524,44 +524,13 @@ class BranchAndBound {
 
   // A lower bound of the distance from the cell (corners v, within eta of the exact cell) to F, or
   // -inf once it is certain to be at most eta_m (the cell may touch F: its value is then not used).
-  // F's tree is searched nearest first from the cell's box (a long triangle's box reaches far fewer
-  // triangles than the ball about its centre); per triangle the cheap rigorous bounds first (each
-  // triangle's plane against the other's vertices, both ways), then the projection gap on the
-  // estimated closest-point direction, and the certified pair distance only when that gap is 0.
+  // F's tree is searched from the cell's box (a long triangle's box reaches far fewer triangles
+  // than the ball about its centre): SignedDistance::triangle_squared_distance_lower.
   double cell_distance_lower(const std::array<Vec3, 3>& v, double eta, double eta_m) {
-    struct Policy {
-      const SignedDistance& fixed;
-      const std::array<Vec3, 3>& v;
-      TrianglePlane cell_plane;
-      Aabb box;
-      double touch_sq;  // below this squared distance the cell may touch F
-      double d2lo = kInf;
-      bool touched = false;
-      double bound(const Aabb& b) const { return squared_distance_lower_bound(b, box); }
-      double prune_bound() const { return d2lo; }
-      bool done() const { return touched; }
-      void leaf(std::uint32_t j) {
-        const auto& fv = fixed.mesh().vertices;
-        const Face& g = fixed.mesh().faces[j];
-        const Vec3 &a = fv[g[0]], &b = fv[g[1]], &c = fv[g[2]];
-        const double lb = std::max(plane_pair_lower_bound(fixed.planes()[j], v[0], v[1], v[2]),
-                                   plane_pair_lower_bound(cell_plane, a, b, c));
-        if (down(lb * lb) >= d2lo) return;  // cannot lower the minimum
-        // The gap of the projections on the estimated closest-point direction (rigorous for any
-        // direction, tight for the right one) before the certified pair distance.
-        Vec3 p, q;
-        const double e2 = triangle_triangle_closest_points(a, b, c, v[0], v[1], v[2], &p, &q);
-        const double gap = e2 > 0.0 ? triangle_distance_lower_bound(a, b, c, v[0], v[1], v[2], q - p) : 0.0;
-        d2lo = std::min(d2lo, gap > 0.0 ? down(gap * gap) : triangle_triangle_squared_distance(a, b, c, v[0], v[1], v[2]).lo);
-        if (d2lo <= touch_sq) touched = true;
-      }
-    };
-    Aabb box;
-    for (const Vec3& x : v) box.extend(x);
-    Policy policy{fixed_, v, make_triangle_plane(v[0], v[1], v[2]), box, down(down(eta_m + eta) * down(eta_m + eta))};
-    traverse_nearest_first(fixed_.tree(), policy);
-    if (policy.touched) return -kInf;
-    return down(sqrt_interval({policy.d2lo, policy.d2lo}).lo - eta);
+    const double touch_sq = down(down(eta_m + eta) * down(eta_m + eta));
+    const double d2lo = fixed_.triangle_squared_distance_lower(v, touch_sq);
+    if (d2lo <= touch_sq) return -kInf;
+    return down(sqrt_interval({d2lo, d2lo}).lo - eta);
   }
 
   // Stores a cell's translated depth bound at this pose (eta: its corners' rounding); its index.

@@ -5,8 +5,10 @@
 
 #include <iomanip>
 #include <random>
+#include <sstream>
 
 #include "distance/signed_distance.h"
+#include "distance/triangle_distance.h"
 #include "exact_reference.h"
 #include "mesh/shapes.h"
 
@@ -234,6 +236,54 @@ TEST(SignedDistance, DistanceAtMostStopsEarlyButIsRigorous) {
       EXPECT_TRUE(proven);
     }
   }
+}
+
+// The lower bound of dist(T, F)^2 against the brute-force minimum of the certified pair enclosures
+// (tested against exact rationals in test_triangle_distance): never above the minimum's upper end
+// (rigour), never below its lower end by more than rounding (tightness), 0 for a triangle crossing
+// F, and at most stop_sq when it stops early. Small and long triangles, near and far, in and out.
+TEST(SignedDistance, TriangleLowerBoundAgainstBruteForce) {
+  const TriangleMesh torus = make_torus(1.0, 0.3, 32, 16);
+  const SignedDistance sdf(torus);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.6, 1.6), s(-1.0, 1.0);
+  int crossing = 0, disjoint = 0;
+  for (int k = 0; k < 400; ++k) {
+    const double size = k % 4 == 0 ? 1.0 : (k % 4 == 1 ? 0.1 : 0.01);
+    const Vec3 c(u(rng), u(rng), 0.5 * u(rng));
+    const std::array<Vec3, 3> v{c + size * Vec3(s(rng), s(rng), s(rng)), c + size * Vec3(s(rng), s(rng), s(rng)),
+                                c + size * Vec3(s(rng), s(rng), s(rng))};
+    double min_lo = HUGE_VAL, min_hi = HUGE_VAL;
+    for (const Face& f : torus.faces) {
+      const Interval d2 = triangle_triangle_squared_distance(v[0], v[1], v[2], torus.vertices[f[0]], torus.vertices[f[1]],
+                                                             torus.vertices[f[2]]);
+      min_lo = std::min(min_lo, d2.lo);
+      min_hi = std::min(min_hi, d2.hi);
+    }
+    const double lower = sdf.triangle_squared_distance_lower(v);
+    const auto where = [&] {
+      std::ostringstream os;
+      os << std::setprecision(17) << "triangle (" << v[0].transpose() << ") (" << v[1].transpose() << ") ("
+         << v[2].transpose() << "): lower " << lower << ", brute force [" << min_lo << ", " << min_hi << "]";
+      return os.str();
+    };
+    EXPECT_LE(lower, min_hi) << where();
+    EXPECT_GE(lower, min_lo * (1.0 - 1e-9)) << where();
+    if (min_hi == 0.0) {
+      ++crossing;
+      EXPECT_EQ(lower, 0.0) << where();
+    } else {
+      ++disjoint;
+    }
+    // Stopping early: a threshold above the minimum stops at or below it; one below never stops.
+    const double stop = 1.5 * min_hi + 1e-6;
+    EXPECT_LE(sdf.triangle_squared_distance_lower(v, stop), stop) << where();
+    if (min_lo > 0.0) {
+      EXPECT_EQ(sdf.triangle_squared_distance_lower(v, 0.5 * min_lo), lower) << where();
+    }
+  }
+  EXPECT_GT(crossing, 20);
+  EXPECT_GT(disjoint, 200);
 }
 
 }  // namespace
