@@ -119,7 +119,7 @@ struct Evaluator {
       : f(&f), lipschitz(lipschitz), margin(margin) {}
   const std::function<double(const Vec3&)>* f;
   double lipschitz;
-  double margin;  // absolute: far above the rounding of f and of the distances below
+  double margin;  // absolute, on top of the rounding relative to the magnitudes (below)
   Cache cache;
   struct Known {
     Vec3 p;
@@ -140,7 +140,11 @@ struct Evaluator {
     if (lipschitz > 0.0) {
       double bound = 0.0;  // the largest magnitude known to keep its sign at p
       for (int k = 0; k < recent_count; ++k) {
-        const double b = std::abs(recent[k].value) - lipschitz * (p - recent[k].p).norm() - margin;
+        const double v = std::abs(recent[k].value), step = lipschitz * (p - recent[k].p).norm();
+        // The rounding of f and of this difference is relative to the magnitudes involved: the
+        // mesher asks about circumcentres of flat tetrahedra as far out as 1e15.
+        const double rounding = 1e-13 * (v + step + p.cwiseAbs().maxCoeff() + recent[k].p.cwiseAbs().maxCoeff());
+        const double b = v - step - margin - rounding;
         if (b > std::abs(bound)) bound = std::copysign(b, recent[k].value);
       }
       if (bound != 0.0) {
