@@ -96,7 +96,11 @@ double FastSignedDistance::value_and_gradient(const Vec3& p, Vec3& gradient) con
   if (q.best_feature == 6) normal = face_normal_[q.best_face];
   else if (q.best_feature < 3) normal = vertex_normal_[t[q.best_feature]];
   else normal = edge_normal_[q.best_face][q.best_feature - 3];
-  const double sign = diff.dot(normal) < 0 ? -1.0 : 1.0;
+  // Outside the bounding box of a closed surface is outside the solid. Far out every triangle is
+  // nearest within rounding, and the winning feature's pseudo-normal may point either way.
+  const Aabb& box = exact_.bbox();
+  const bool outside_box = (p.array() < box.lo.array()).any() || (p.array() > box.hi.array()).any();
+  const double sign = !outside_box && diff.dot(normal) < 0 ? -1.0 : 1.0;
   gradient = dist > 0 ? Vec3(sign * diff / dist) : Vec3(normal.normalized());
   return sign * dist;
 }

@@ -3,7 +3,8 @@
 // mesher's millions of evaluations. Nearest triangle over the same AABB tree (warm-started from the
 // previous query of the thread), sign from the angle-weighted pseudo-normal of the nearest feature
 // (Baerentzen & Aanaes), which is correct for closed manifold meshes up to rounding near the
-// surface. Tests compare it with SignedDistance; certification never uses it.
+// surface; outside the bounding box the sign is +, since far away the nearest feature is a
+// tie within rounding. Tests compare it with SignedDistance; certification never uses it.
 #include <vector>
 
 #include "distance/signed_distance.h"

@@ -106,6 +106,27 @@ TEST(FastSignedDistance, AgreesWithTheCertifiedOne) {
   }
 }
 
+// Far from the mesh every triangle is nearest within rounding, and the pseudo-normal of whichever
+// feature wins may point the wrong way: the mesher asks about circumcentres as far out as 1e17. A
+// point outside the bounding box of a closed surface is outside it, whatever the features say.
+TEST(FastSignedDistance, PointsFarOutsideArePositive) {
+  for (const TriangleMesh& mesh : {make_box(Vec3(-1.0, -0.5, -0.25), Vec3(1.0, 0.5, 0.25)), make_torus(1.0, 0.3, 40, 20)}) {
+    const SignedDistance sdf(mesh);
+    const FastSignedDistance fast(sdf);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int wrong = 0;
+    for (int k = 0; k < 2000; ++k) {
+      const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
+      const double far = std::pow(10.0, 2 + k % 16);
+      // Mostly along an axis with a small offset: the ties the far query meets on flat faces.
+      const Vec3 p = k % 2 == 0 ? Vec3(-far, 0.3 * u(rng), 0.2 * u(rng)) : Vec3(far * dir);
+      if (!(fast(p) > 0.0)) ++wrong;
+    }
+    EXPECT_EQ(wrong, 0);
+  }
+}
+
 TEST(MeshLevelSet, SphereOffsetsAreValidAndNearTheLevel) {
   const TriangleMesh sphere = make_icosphere(1.0, 2);
   const SignedDistance sdf(sphere);
