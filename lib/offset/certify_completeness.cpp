@@ -16,8 +16,14 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Cells are boxes with exact double corners; children split at the rounded midpoint, so they tile exactly.
-using Cell = Aabb;
+// Cells are boxes with exact double corners; children split at the rounded midpoint, so they tile
+// exactly. Each keeps its parent's centre and that centre's sides of F and of S_d (0: unknown): a
+// centre's side is then the crossing parity of the short segment from it instead of a ray out of
+// the bounding box (SignedDistance::side with a reference point; exact either way).
+struct Cell : Aabb {
+  Vec3 ref = Vec3::Zero();
+  std::int8_t ref_side_f = 0, ref_side_s = 0;
+};
 
 enum class Verdict : unsigned char { Discard, Split, Missed, Unresolved };
 
@@ -126,6 +132,7 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
   }
   while (!frontier.empty() && result.cells < options.max_cells) {
     std::vector<Verdict> verdict(frontier.size(), Verdict::Split);
+    std::vector<std::int8_t> side_f(frontier.size(), 0), side_s(frontier.size(), 0);  // of each centre
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frontier.size(), 32), [&](const auto& range) {
       thread_local std::vector<std::uint32_t> ids;
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
@@ -134,7 +141,10 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
         // Covering radius around the rounded centre, rounded up generously.
         const double r = round_up(0.5 * (cell.hi - cell.lo).norm() * (1 + 1e-12) +
                                   4 * std::numeric_limits<double>::epsilon() * c.cwiseAbs().maxCoeff());
-        const Interval s = sdf.signed_distance(c);
+        const Interval du = sdf.unsigned_distance(c);
+        const int sf = sdf.side(c, du, cell.ref, cell.ref_side_f);
+        side_f[i] = static_cast<std::int8_t>(sf);
+        const Interval s = sf == 0 ? Interval{0.0, 0.0} : (sf < 0 ? Interval{-du.hi, -du.lo} : du);
         const double s_min = s.lo - r, s_max = s.hi + r;  // s over the cell (1-Lipschitz)
         // (1) the cell holds no point of A = {s < d - eps} nor of B = {s > d + eps}.
         if (s_min >= d - eps && s_max <= d + eps) {
@@ -143,8 +153,12 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
         }
         // (2) the cell misses S_d: all of it is on one side of S_d.
         const Interval to_surface = surface ? surface->unsigned_distance(c) : Interval{kInf, kInf};
-        if (to_surface.lo > r) {  // c is off S_d: no on-surface test needed for its side
-          const bool inside = surface && surface->side(c, to_surface) < 0;
+        // The centre's side of S_d whenever it is off S_d: the children's reference even when this
+        // cell touches S_d (most split cells do).
+        const int ss = !surface ? 1 : (to_surface.lo > 0.0 ? surface->side(c, to_surface, cell.ref, cell.ref_side_s) : 0);
+        side_s[i] = static_cast<std::int8_t>(ss);
+        if (to_surface.lo > r) {  // c is off S_d: the cell lies on the side of its centre
+          const bool inside = ss < 0;
           if (inside ? s_max <= d + eps : s_min >= d - eps) {
             verdict[i] = Verdict::Discard;
             continue;
@@ -179,6 +193,9 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
           const Vec3 mid = 0.5 * (cell.lo + cell.hi);
           for (int k = 0; k < 8; ++k) {
             Cell child;
+            child.ref = mid;
+            child.ref_side_f = side_f[i];
+            child.ref_side_s = side_s[i];
             for (int a = 0; a < 3; ++a) {
               const bool upper = (k >> a) & 1;
               child.lo[a] = upper ? mid[a] : cell.lo[a];
