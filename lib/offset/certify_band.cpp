@@ -8,7 +8,6 @@
 #include <limits>
 
 #include "distance/point_triangle_distance.h"
-#include "distance/triangle_distance.h"
 #include "util/timer.h"
 
 namespace cdbench {
