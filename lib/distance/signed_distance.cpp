@@ -343,9 +343,7 @@ int SignedDistance::side_off_surface(const Vec3& p) const {
 }
 
 Interval SignedDistance::signed_distance(const Vec3& p, const Interval& d) const {
-  const int s = side(p, d);
-  if (s == 0) return {0.0, 0.0};
-  return s < 0 ? Interval{-d.hi, -d.lo} : d;
+  return with_side(d, side(p, d));
 }
 
 Interval SignedDistance::signed_distance(const Vec3& p) const { return signed_distance(p, unsigned_distance(p)); }

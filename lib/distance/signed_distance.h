@@ -16,6 +16,12 @@
 
 namespace cdbench {
 
+// s from dist(p, F) and p's exact side (-1 inside, 0 on F, +1 outside): [-hi, -lo], [0, 0] or as is.
+inline Interval with_side(const Interval& unsigned_dist, int side) {
+  if (side == 0) return {0.0, 0.0};
+  return side < 0 ? Interval{-unsigned_dist.hi, -unsigned_dist.lo} : unsigned_dist;
+}
+
 class SignedDistance {
  public:
   // The mesh must be closed and free of self-intersections for the sign to be meaningful (it is

@@ -144,7 +144,7 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
         const Interval du = sdf.unsigned_distance(c);
         const int sf = sdf.side(c, du, cell.ref, cell.ref_side_f);
         side_f[i] = static_cast<std::int8_t>(sf);
-        const Interval s = sf == 0 ? Interval{0.0, 0.0} : (sf < 0 ? Interval{-du.hi, -du.lo} : du);
+        const Interval s = with_side(du, sf);
         const double s_min = s.lo - r, s_max = s.hi + r;  // s over the cell (1-Lipschitz)
         // (1) the cell holds no point of A = {s < d - eps} nor of B = {s > d + eps}.
         if (s_min >= d - eps && s_max <= d + eps) {

@@ -285,8 +285,7 @@ class BranchAndBound {
     // Outside the ball, the parity of the short segment from its centre (of known side).
     if (side == 0) side = ball ? fixed_.side(x, ud, ball->centre, ball->side) : fixed_.side(x, ud);
     if (own) *own = SideBall{x, side == 0 ? 0.0 : ud.lo, side};
-    if (side == 0) return {0.0, 0.0};
-    return side < 0 ? Interval{-ud.hi, -ud.lo} : ud;
+    return with_side(ud, side);
   }
 
   Cell evaluate_node(std::uint32_t n, const SideBall* parent = nullptr) {
