@@ -139,11 +139,12 @@ struct Evaluator {
     ++stats.calls;
     if (lipschitz > 0.0) {
       double bound = 0.0;  // the largest magnitude known to keep its sign at p
+      const double p_size = p.cwiseAbs().maxCoeff();
       for (int k = 0; k < recent_count; ++k) {
         const double v = std::abs(recent[k].value), step = lipschitz * (p - recent[k].p).norm();
         // The rounding of f and of this difference is relative to the magnitudes involved: the
         // mesher asks about circumcentres of flat tetrahedra as far out as 1e15.
-        const double rounding = 1e-13 * (v + step + p.cwiseAbs().maxCoeff() + recent[k].p.cwiseAbs().maxCoeff());
+        const double rounding = 1e-13 * (v + step + p_size + recent[k].p.cwiseAbs().maxCoeff());
         const double b = v - step - margin - rounding;
         if (b > std::abs(bound)) bound = std::copysign(b, recent[k].value);
       }
