@@ -6,7 +6,8 @@
 //  - how far FCL's contact is from the exact one, and the certified pose rate of the pose set;
 //  - per level, the certified polished pose on the same approaches (the pose set's own start and
 //    tolerance), timed in the same run, and its ratio to FCL's conservative advancement.
-// Usage: bench_poses POSESET_DIR [--approaches M]
+// Usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance]
+//   --no-separated-advance: targets > 0 advance by a certificate per step (the former way), for A/B.
 
 #include <algorithm>
 #include <chrono>
@@ -40,13 +41,16 @@ TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_s
 
 static int run(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: bench_poses POSESET_DIR [--approaches M]\n");
+    std::fprintf(stderr, "usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance]\n");
     return 2;
   }
   const std::string dir = argv[1];
   std::size_t wanted = 200;
-  for (int i = 2; i + 1 < argc; ++i)
-    if (std::strcmp(argv[i], "--approaches") == 0) wanted = std::stoul(argv[i + 1]);
+  bool separated_advance = true;
+  for (int i = 2; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--approaches") == 0 && i + 1 < argc) wanted = std::stoul(argv[++i]);
+    else if (std::strcmp(argv[i], "--no-separated-advance") == 0) separated_advance = false;  // A/B
+  }
   std::ifstream in(dir + "/poseset.json");
   if (!in) {
     std::fprintf(stderr, "%s/poseset.json: cannot be read\n", dir.c_str());
@@ -83,6 +87,7 @@ static int run(int argc, char** argv) {
   po.tolerance = ps["certification"]["tolerance"].get<double>();
   po.polish = ps["polishing"]["enabled"].get<bool>();
   po.max_steps = ps["polishing"]["max_steps"].get<int>();
+  po.separated_advance = separated_advance;
   for (std::size_t l = 0; l < L; ++l) {
     const auto& e = ps["levels"][l];
     level_target[l] = e["target"].get<double>();

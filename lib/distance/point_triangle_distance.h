@@ -51,20 +51,48 @@ inline double plane_distance_lower_bound(const TrianglePlane& pl, const Vec3& p)
   return lo > 0.0 ? lo / pl.norm_up * (1.0 - 2e-15) : 0.0;
 }
 
+// The least of n.v - d (above) and of d - n.v (below) over x, y, z, each lowered by its error.
+struct PlaneMargins {
+  double above, below;
+};
+inline PlaneMargins plane_margins(const TrianglePlane& pl, const Vec3& x, const Vec3& y, const Vec3& z) {
+  PlaneMargins m{HUGE_VAL, HUGE_VAL};
+  for (const Vec3* v : {&x, &y, &z}) {
+    const PlaneOffset o = plane_offset(pl.n, pl.d, *v);
+    const double err = o.error + 1e-300;
+    m.above = std::min(m.above, o.value - err);
+    m.below = std::min(m.below, -o.value - err);
+  }
+  return m;
+}
+
 // The same bound for a second triangle xyz against the plane's triangle: when xyz lies strictly on
 // one side (every vertex's n.v - d, less its error, beyond eps), n.(x - y) for x in xyz and y in the
 // plane's triangle is at least that least margin (n.x - d is affine: least at a vertex), so the
 // two triangles are at least (margin - eps) / |n| apart. 0 when they straddle.
 inline double plane_pair_lower_bound(const TrianglePlane& pl, const Vec3& x, const Vec3& y, const Vec3& z) {
-  double above = HUGE_VAL, below = HUGE_VAL;
-  for (const Vec3* v : {&x, &y, &z}) {
-    const PlaneOffset o = plane_offset(pl.n, pl.d, *v);
-    const double err = o.error + 1e-300;
-    above = std::min(above, o.value - err);
-    below = std::min(below, -o.value - err);
-  }
-  const double lo = std::max(above, below) - pl.eps;
+  const PlaneMargins m = plane_margins(pl, x, y, z);
+  const double lo = std::max(m.above, m.below) - pl.eps;
   return lo > 0.0 ? lo / pl.norm_up * (1.0 - 2e-15) : 0.0;
+}
+
+// The same margin as a reach time: xyz moved by s v stays more than r from the plane's triangle
+// while s < (margin - eps - r |n|) / (its approach rate along n): n.x - d changes by s n.v at every
+// point. 0 when nothing is proved (xyz straddles, or is within r), +inf when it certainly recedes.
+// Any rounding mode (explicit error terms, as above).
+inline double plane_pair_reach_time_lower_bound(const TrianglePlane& pl, const Vec3& x, const Vec3& y, const Vec3& z,
+                                                const Vec3& v, double r) {
+  const auto [above, below] = plane_margins(pl, x, y, z);
+  const bool up = above > below;
+  const double reach = r * pl.norm_up * (1.0 + 1e-15);
+  const double room = (up ? above : below) - pl.eps - reach;
+  const double room_lo = room - 1e-15 * (std::abs(above) + std::abs(below) + pl.eps + reach) - 1e-300;
+  if (!(room_lo > 0.0)) return 0.0;
+  const double t0 = pl.n[0] * v[0], t1 = pl.n[1] * v[1], t2 = pl.n[2] * v[2];
+  const double nv = t0 + t1 + t2;
+  const double rate = (up ? -nv : nv) + 2e-15 * (std::abs(t0) + std::abs(t1) + std::abs(t2)) + 1e-300;
+  if (!(rate > 0.0)) return HUGE_VAL;
+  return room_lo / rate * (1.0 - 1e-15);
 }
 
 // [sqrt(lo), sqrt(hi)] rounded outward.

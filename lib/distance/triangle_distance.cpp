@@ -4,6 +4,7 @@
 #include <CGAL/Interval_nt.h>
 
 #include <algorithm>
+#include <limits>
 
 #include "distance/point_triangle_distance.h"
 
@@ -143,6 +144,28 @@ double triangle_distance_lower_bound(const Vec3& a, const Vec3& b, const Vec3& c
   const I len = CGAL::sqrt(dot(U, U));
   // gap / |u| rounded down: divide the negated value under upward rounding.
   return -((-gap) / len.sup());
+}
+
+double triangle_reach_time_lower_bound(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e,
+                                       const Vec3& f, const Vec3& u, const Vec3& v, double r) {
+  CGAL::Protect_FPU_rounding<true> guard;
+  const V U = vec(u);
+  const I pa = dot(vec(a), U), pb = dot(vec(b), U), pc = dot(vec(c), U);
+  const I pd = dot(vec(d), U), pe = dot(vec(e), U), pf = dot(vec(f), U);
+  const I uv = dot(U, vec(v));
+  const I len = CGAL::sqrt(dot(U, U));
+  // def above abc along u: the gap min(def) - max(abc) shrinks at the rate -u.v; def below abc:
+  // min(abc) - max(def) shrinks at the rate u.v. At most one of the two gaps is positive.
+  const I gap_up = I(std::min({pd.inf(), pe.inf(), pf.inf()})) - std::max({pa.sup(), pb.sup(), pc.sup()});
+  const I gap_down = I(std::min({pa.inf(), pb.inf(), pc.inf()})) - std::max({pd.sup(), pe.sup(), pf.sup()});
+  const bool up = gap_up.inf() > 0.0;
+  if (!up && !(gap_down.inf() > 0.0)) return 0.0;
+  const I room = (up ? gap_up : gap_down) - I(r) * len;  // gap left before the distance can reach r
+  if (!(room.inf() > 0.0)) return 0.0;
+  const I rate = up ? -uv : uv;  // how fast that gap shrinks per unit of s
+  if (!(rate.sup() > 0.0)) return std::numeric_limits<double>::infinity();
+  // room / rate rounded down: the negated quotient of the lower room and the upper rate, rounded up.
+  return -((-room.inf()) / I(rate.sup())).sup();
 }
 
 }  // namespace cdbench

@@ -28,4 +28,15 @@ double triangle_triangle_closest_points(const Vec3& a, const Vec3& b, const Vec3
 double triangle_distance_lower_bound(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e,
                                      const Vec3& f, const Vec3& u);
 
+// A rigorous lower bound of the first s >= 0 at which triangles abc and def + s v come within
+// distance r of each other (r >= 0), from any direction u (for instance the estimated closest-point
+// direction): with g the gap between their projections on u, the distance at s is at least
+// (g - s |u.v|) / |u| when def approaches abc along u (projection on a line is 1-Lipschitz and
+// moves by s u.v), so it stays above r for s < (g - r |u|) / |u.v|, and for every s when def
+// recedes. Returns 0 when the projections are not more than r |u| apart, +inf when def certainly
+// recedes along u (interval arithmetic, rounded towards the smaller time). Exact for a vertex
+// approaching the interior of a face along u = its normal.
+double triangle_reach_time_lower_bound(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e,
+                                       const Vec3& f, const Vec3& u, const Vec3& v, double r);
+
 }  // namespace cdbench

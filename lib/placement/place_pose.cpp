@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 
 #include <tbb/parallel_invoke.h>
 
 #include "distance/triangle_distance.h"
+#include "placement/advance.h"
 
 namespace cdbench {
 namespace {
@@ -50,6 +52,17 @@ void set_hint(ClearanceOptions& o, const std::array<double, 2>& bary, std::uint3
   o.hint_gamma = bary[1];
 }
 
+// The median of a mesh's edge lengths (each face's three edges; 0 for an empty mesh).
+double median_edge_length(const TriangleMesh& m) {
+  std::vector<double> len;
+  len.reserve(3 * m.faces.size());
+  for (const Face& f : m.faces)
+    for (int k = 0; k < 3; ++k) len.push_back((m.vertices[f[k]] - m.vertices[f[(k + 1) % 3]]).norm());
+  if (len.empty()) return 0.0;
+  std::nth_element(len.begin(), len.begin() + static_cast<std::ptrdiff_t>(len.size() / 2), len.end());
+  return len[len.size() / 2];
+}
+
 }  // namespace
 
 Vec3 pose_translation(const OrientationFrame& f, const Vec3& dir, double lambda) {
@@ -65,6 +78,7 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
   s.mover_ref = bbox_centre(mover.vertices);
   s.fixed_radius = max_distance(fixed.mesh().vertices, s.fixed_ref);
   s.mover_radius = max_distance(mover.vertices, s.mover_ref);
+  s.advance_target_limit = std::min(median_edge_length(fixed.mesh()), median_edge_length(mover));
   return s;
 }
 
@@ -216,6 +230,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // A higher target's pose on this line: c > that target > this one on every farther pose,
       // and c(lambda) > this target, so the advance continues from there.
       const ApproachMemo::OnTarget& k = *memo->last;
+      out.continued = true;
       out.lambda = k.lambda;
       c = k.certificate;
       // Not its frontier: a tight certificate's thousands of small cells, shifted by a long step,
@@ -244,6 +259,35 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           continue;
         }
         break;
+      }
+      if (options.separated_advance && target > 0.0 && target <= setup.advance_target_limit) {
+        // c > target > 0: the mover's surface is outside F and apart from it. Advance by the pair
+        // traversal's reach bound (advance.h), pose after pose without a certificate while the
+        // steps stay longer than the tolerance, then certify where it stops (doc/poses.md).
+        double h = step;  // the Lipschitz step this certificate proves: h > 0 on the first pass
+        for (;;) {
+          const double h_max = out.lambda + lambda_far;  // not beyond the far side of the object
+          const SeparatedAdvance a =
+              separated_advance(*setup.fixed, frame.orientation, pose_translation(frame, dir, out.lambda), dir, target,
+                                rounding_slack(std::abs(out.lambda) + h_max), h_max);
+          if (a.h >= h_max) {  // no pair comes within reach before the far side: c > target on the line
+            out.contact = false;
+            out.reason = "no-contact";
+            return out;
+          }
+          h = std::max(h, a.h);
+          if (a.fixed_face >= 0) {
+            copt.hint_pair_fixed = a.fixed_face;
+            copt.hint_pair_mover = a.mover_face;
+          }
+          if (!(h > 0.0)) break;
+          out.lambda -= h;
+          ++out.steps;
+          if (h <= options.tolerance || out.steps >= options.max_steps) break;
+          h = 0.0;
+        }
+        c = certify(out.lambda, false);
+        continue;
       }
       const double mid = 0.5 * (c.clearance.lo + c.clearance.hi);
       const double slope = have_prev ? std::max(0.0, (prev_mid - mid) / (prev_lambda - out.lambda)) : 1.0;

@@ -24,6 +24,11 @@ struct ApproachSetup {
   std::vector<std::uint32_t> components;  // component_representatives(*mover)
   Vec3 fixed_ref = Vec3::Zero(), mover_ref = Vec3::Zero();  // bbox centres
   double fixed_radius = 0.0, mover_radius = 0.0;  // max distance of a vertex from the reference point
+  // The smaller of the two meshes' median edge lengths: targets > 0 up to it use the separated
+  // advance (PoseOptions::separated_advance). A heuristic that only picks the kind of step: the
+  // advance's traversal visits every pair that may come within the target, many where the target
+  // spans several triangles, and certified steps are then cheaper (measured, doc/poses.md).
+  double advance_target_limit = 0.0;
 };
 ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover);
 
@@ -71,6 +76,9 @@ struct PoseOptions {
   // Where c is flat (slope below 1/2), try steps of up to twice the gap proved from both ends
   // (doc/poses.md); off: one-sided Lipschitz steps only (for A/B measurements).
   bool two_sided_steps = true;
+  // Targets > 0: once the mover is certified above the target, advance by the pair traversal's
+  // reach bounds (advance.h) without a certificate per step; off: a certificate per step (A/B).
+  bool separated_advance = true;
 };
 
 struct PoseOutcome {
@@ -82,6 +90,7 @@ struct PoseOutcome {
   bool on_target = false;  // |c - target| <= tolerance, proven
   int steps = 0;
   int two_sided_tries = 0;  // long steps tried where c is flat (each accepted one is a step)
+  bool continued = false;   // the advance continued from a higher target's pose (ApproachMemo)
   std::string reason;      // why not certified / not on target
   std::uint64_t sphere_tests = 0, triangle_sweeps = 0, clearance_cells = 0;
 };

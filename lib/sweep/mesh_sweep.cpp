@@ -65,10 +65,11 @@ double entry_lower_bound(const Sphere& f, const Sphere& m, const I& vx, const I&
 
 // Lower bound of the first time the moving box (+ t v) meets the fixed one; +inf if never. On axis
 // k they overlap when f.lo - m.hi <= t v_k <= f.hi - m.lo: an interval of t per axis (all of R, or
-// none, when v_k = 0); they meet at the latest entry if it precedes the earliest exit. Must run
-// under upward rounding: entries are rounded down and exits up, so a pair judged never to meet
-// cannot meet.
-double box_entry_lower_bound(const Aabb& f, const Aabb& m, const Vec3& v) {
+// none, when v_k = 0); they meet at the latest entry if it precedes the earliest exit. Only
+// times >= from count (+inf when they meet only before). Must run under upward rounding: entries
+// are rounded down and exits up, so a pair judged never to meet cannot meet.
+double box_entry_lower_bound(const Aabb& f, const Aabb& m, const Vec3& v,
+                             double from = -std::numeric_limits<double>::infinity()) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   double entry = -kInf, exit = kInf;
   for (int k = 0; k < 3; ++k) {
@@ -81,7 +82,7 @@ double box_entry_lower_bound(const Aabb& f, const Aabb& m, const Vec3& v) {
     entry = std::max(entry, vk > 0.0 ? a.inf() : b.inf());
     exit = std::min(exit, vk > 0.0 ? b.sup() : a.sup());
   }
-  return entry <= exit ? entry : kInf;
+  return entry <= exit && exit >= from ? std::max(entry, from) : kInf;
 }
 
 struct SweepPolicy {
@@ -223,6 +224,26 @@ double sphere_entry_time_lower_bound(const Sphere& fixed, const Sphere& moving, 
 double box_entry_time_lower_bound(const Aabb& fixed, const Aabb& moving, const Vec3& v) {
   CGAL::Protect_FPU_rounding<true> guard;
   return box_entry_lower_bound(fixed, moving, v);
+}
+
+double box_entry_time_lower_bound_upward(const Aabb& fixed, const Aabb& moving, const Vec3& v, double from) {
+  return box_entry_lower_bound(fixed, moving, v, from);
+}
+
+double sphere_entry_time_lower_bound_upward(const Sphere& fixed, const Sphere& moving, const Vec3& v, double from) {
+  const I vx(v.x()), vy(v.y()), vz(v.z());
+  const I vv = vx * vx + vy * vy + vz * vz;
+  const I wx = I(moving.center.x()) - fixed.center.x(), wy = I(moving.center.y()) - fixed.center.y(),
+          wz = I(moving.center.z()) - fixed.center.z();
+  const I R = I(fixed.radius) + moving.radius;
+  const I wv = wx * vx + wy * vy + wz * vz;
+  const I disc = wv * wv - vv * ((wx * wx + wy * wy + wz * wz) - R * R);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (disc.sup() < 0.0) return kInf;
+  const I root = CGAL::sqrt(I(std::max(0.0, disc.inf()), disc.sup()));
+  // They overlap for t between the two roots: none of those >= from when the later root precedes it.
+  if (((-wv + root) / vv).sup() < from) return kInf;
+  return std::max(((-wv - root) / vv).inf(), from);
 }
 
 SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces, const BvhBuildOptions& options) {

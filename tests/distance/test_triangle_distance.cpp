@@ -134,5 +134,69 @@ TEST(TriangleDistance, PlanePairLowerBoundAgainstExactRationals) {
   EXPECT_GT(over_without_eps, 10);
 }
 
+
+// The reach time (the conservative-advancement bound of the separated advance): at every s up to
+// the bound, the exact distance between abc and def + s v (rational arithmetic) is at least r;
+// for a vertex coming straight at a face along the normal direction the bound is the exact time
+// (H - r) / |v.n|. Random pairs with the estimated closest-point direction and a random one, random
+// motions, reaches from 0 to the current distance.
+TEST(TriangleDistance, ReachTimeLowerBoundAgainstExactRationals) {
+  std::mt19937_64 rng(37);
+  std::uniform_real_distribution<double> u(-1, 1), w(0, 1);
+  int finite = 0, infinite = 0;
+  const auto moved = [](const Vec3& x, const Vec3& v, const Epeck::FT& s) {
+    const Epeck::Point_3 p = exact_point(x);
+    return Epeck::Point_3(p.x() + s * v.x(), p.y() + s * v.y(), p.z() + s * v.z());
+  };
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+    const Vec3 shift = 2.0 * Vec3(u(rng), u(rng), u(rng));
+    const Vec3 d = Vec3(u(rng), u(rng), u(rng)) + shift, e = Vec3(u(rng), u(rng), u(rng)) + shift,
+               f = Vec3(u(rng), u(rng), u(rng)) + shift;
+    Vec3 p, q;
+    const double est = triangle_triangle_closest_points(a, b, c, d, e, f, &p, &q);
+    if (!(est > 1e-6)) continue;
+    // Mostly towards abc, sometimes sideways or away.
+    const Vec3 v = (k % 4 ? Vec3(p - q).normalized() + 0.7 * Vec3(u(rng), u(rng), u(rng)) : Vec3(u(rng), u(rng), u(rng)));
+    const Epeck::Triangle_3 A(exact_point(a), exact_point(b), exact_point(c));
+    // The estimate ignores intersections: r from the exact distance (0 when they intersect).
+    const double r = w(rng) * std::sqrt(CGAL::to_double(CGAL::squared_distance(
+                                  A, Epeck::Triangle_3(exact_point(d), exact_point(e), exact_point(f))))) * (1 - 1e-9);
+    const TrianglePlane pl = make_triangle_plane(a, b, c);
+    for (int kind = 0; kind < 3; ++kind) {
+      const Vec3 dir = kind == 0 ? Vec3(q - p) : Vec3(u(rng), u(rng), u(rng));
+      // kind 2: the stored-plane form (point_triangle_distance.h).
+      const double s = kind == 2 ? plane_pair_reach_time_lower_bound(pl, d, e, f, v, r)
+                                 : triangle_reach_time_lower_bound(a, b, c, d, e, f, dir, v, r);
+      ASSERT_GE(s, 0.0);
+      const bool inf = !(s < HUGE_VAL);
+      (inf ? infinite : finite) += 1;
+      for (double at : {1.0, 0.5, w(rng)}) {
+        const Epeck::FT sx = inf ? Epeck::FT(at * 50.0) : Epeck::FT(s) * Epeck::FT(at);
+        const Epeck::FT dist2 = CGAL::squared_distance(A, Epeck::Triangle_3(moved(d, v, sx), moved(e, v, sx), moved(f, v, sx)));
+        ASSERT_TRUE(dist2 >= Epeck::FT(r) * Epeck::FT(r))
+            << std::setprecision(17) << "a=(" << a.transpose() << ") b=(" << b.transpose() << ") c=(" << c.transpose()
+            << ") d=(" << d.transpose() << ") e=(" << e.transpose() << ") f=(" << f.transpose() << ") u=("
+            << dir.transpose() << ") v=(" << v.transpose() << ") r=" << r << " s=" << s << " at " << at;
+      }
+    }
+  }
+  EXPECT_GT(finite, 1500);
+  EXPECT_GT(infinite, 100);
+  // A vertex at height H above the middle of a large face, coming down along v with a sideways part.
+  for (double H : {1.0, 1e-3, 37.5}) {
+    const Vec3 a(-100, -100, 0), b(100, -100, 0), c(0, 100, 0);
+    const Vec3 d(0.1, 0.2, H), e(0.5, 0.2, H + 1), f(0.1, 0.7, H + 2);
+    const Vec3 v(0.3, -0.2, -0.8);
+    const double r = 0.25 * H;
+    const double s = triangle_reach_time_lower_bound(a, b, c, d, e, f, Vec3(0, 0, 1), v, r);
+    EXPECT_NEAR(s, (H - r) / 0.8, 1e-14 * H) << H;
+    EXPECT_LE(s, (H - r) / 0.8) << H;
+    const double sp = plane_pair_reach_time_lower_bound(make_triangle_plane(a, b, c), d, e, f, v, r);
+    EXPECT_NEAR(sp, (H - r) / 0.8, 1e-12 * H + 1e-13) << H;  // the plane's error terms scale with the face (100)
+    EXPECT_LE(sp, (H - r) / 0.8) << H;
+  }
+}
+
 }  // namespace
 }  // namespace cdbench

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "mesh/shapes.h"
+#include "placement/advance.h"
 #include "placement/clearance.h"
 #include "placement/place_pose.h"
 
@@ -288,6 +289,19 @@ TEST(PlacePose, SurfaceAndFarStartsReachTheTarget) {
     EXPECT_FALSE(p.contact) << to_string(start);
     EXPECT_EQ(p.reason, "no-contact");
   }
+  // A target > 0 from far away, by certified steps and by the separated advance (which proves the
+  // whole line in one traversal).
+  opt.start = PoseStart::Far;
+  aside.advance_target_limit = HUGE_VAL;
+  for (bool separated_advance : {false, true}) {
+    opt.separated_advance = separated_advance;
+    const PoseOutcome p = place_pose(aside, frame, nullptr, Vec3(1, 0, 0), 0.15, opt);
+    EXPECT_FALSE(p.contact) << separated_advance;
+    EXPECT_EQ(p.reason, "no-contact");
+    if (separated_advance) {
+      EXPECT_LE(p.steps, 1);
+    }
+  }
 }
 
 // Long steps proved from both ends (where c is flat) never pass an earlier crossing: along each
@@ -298,7 +312,8 @@ TEST(PlacePose, LongStepsNeverPassAnEarlierCrossing) {
   const TriangleMesh torus = make_torus(1.0, 0.35, 32, 16);
   const SignedDistance fixed(torus);
   const TriangleMesh mover = make_icosphere(0.2, 1);
-  const ApproachSetup setup = make_approach_setup(fixed, mover);
+  ApproachSetup setup = make_approach_setup(fixed, mover);
+  setup.advance_target_limit = HUGE_VAL;  // the separated advance whatever the triangles' size
   PoseOptions opt;
   opt.tolerance = 1e-6;
   opt.start = PoseStart::Far;
@@ -311,20 +326,67 @@ TEST(PlacePose, LongStepsNeverPassAnEarlierCrossing) {
     Vec3 dir = random_direction(rng);
     if (k % 2 == 0) dir = Vec3(dir.x(), dir.y(), 0.1 * dir.z()).normalized();
     for (double target : {-0.1, 0.05}) {
-      for (bool two_sided : {true, false}) {
-        opt.two_sided_steps = two_sided;
+      // Long steps, plain certified steps, and (targets > 0) the separated advance.
+      for (int mode = 0; mode < 3; ++mode) {
+        opt.two_sided_steps = mode == 0;
+        opt.separated_advance = mode == 2;
         const PoseOutcome p = place_pose(setup, frame, nullptr, dir, target, opt);
         tries += p.two_sided_tries;
         if (!p.contact) continue;
         ++placed;
         EXPECT_TRUE(p.on_target);
-        SCOPED_TRACE("two-sided " + std::to_string(two_sided));
+        SCOPED_TRACE("mode " + std::to_string(mode));
         expect_no_earlier_crossing(fixed, mover, frame, dir, setup, p.lambda, target, opt.tolerance, 300);
       }
     }
   }
   EXPECT_GT(placed, 20);
   EXPECT_GT(tries, 10);
+}
+
+// The separated advance's step (placement/advance.h): from separated poses around a torus, every
+// pose up to the step, including its end, has a clearance certified at or above the target (the
+// certificate's upper end; its lower end may sit a few ulps below from its own widening), and the
+// steps go well beyond the Lipschitz step c_lo - target where the mover comes at a face.
+TEST(SeparatedAdvance, StepsKeepTheClearanceAboveTheTarget) {
+  Case c(make_torus(1.0, 0.35, 32, 16), make_icosphere(0.2, 1));
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> w(0.0, 1.0);
+  int stepped = 0, beyond_lipschitz = 0, landed_near = 0;
+  for (int k = 0; k < 40; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    // Placed out from the tube along `out`, coming back along -dir, mostly at a slant.
+    const Vec3 out = random_direction(rng);
+    const Vec3 dir = (out + (k % 4 ? 0.9 : 0.0) * random_direction(rng)).normalized();
+    if (!(dir.dot(out) > 0.3)) continue;
+    const MoverOrientation o = make_mover_orientation(c.mover, R);
+    const double target = k % 3 == 0 ? 1e-3 : 0.05 + 0.1 * w(rng);
+    const Vec3 t = Vec3(1.0, 0.0, 0.0) + (0.8 + 0.8 * w(rng)) * out;
+    ClearanceOptions copt;
+    copt.tolerance = 1e-9;
+    const ClearanceResult c0 = certify_clearance(c.fixed, c.mover, c.comps, o, t, copt);
+    if (!(c0.clearance.lo > target)) continue;
+    const double h_max = 10.0;
+    const double slack = 8.0 * 0x1p-52 * (t.cwiseAbs().maxCoeff() + h_max);
+    const SeparatedAdvance a = separated_advance(c.fixed, o, t, dir, target, slack, h_max);
+    ASSERT_GE(a.h, 0.0);
+    ASSERT_LE(a.h, h_max);
+    if (!(a.h > 0.0) || a.h >= h_max) continue;
+    ++stepped;
+    beyond_lipschitz += a.h > 1.2 * (c0.clearance.lo - target);
+    for (double at : {1.0, 0.5, w(rng), w(rng)}) {
+      const double mu = at * a.h;
+      const Vec3 t2(t[0] - mu * dir[0], t[1] - mu * dir[1], t[2] - mu * dir[2]);
+      const ClearanceResult r = certify_clearance(c.fixed, c.mover, c.comps, o, t2, copt);
+      ASSERT_GE(r.clearance.hi, target) << std::setprecision(17) << "case " << k << " target " << target << " h "
+                                        << a.h << " at " << at << " clearance [" << r.clearance.lo << ", "
+                                        << r.clearance.hi << "]";
+      if (at == 1.0) landed_near += r.clearance.lo - target < 0.01 * (c0.clearance.lo - target);
+    }
+  }
+  EXPECT_GT(stepped, 15);
+  EXPECT_GT(beyond_lipschitz, 5);
+  EXPECT_GT(landed_near, 3);
 }
 
 // A thin fin standing on a long slab, approached along the slab at a constant height: c is flat
@@ -345,16 +407,19 @@ TEST(PlacePose, LongStepsStopInFrontOfAThinFin) {
   opt.start = PoseStart::Far;
   const double target = 0.05;
   int tries = 0;
-  for (bool two_sided : {true, false}) {
-    opt.two_sided_steps = two_sided;
+  // Certified steps (long ones where c is flat, or not), and the separated advance's reach bounds.
+  setup.advance_target_limit = HUGE_VAL;  // the separated advance whatever the triangles' size
+  for (int mode = 0; mode < 3; ++mode) {
+    opt.two_sided_steps = mode == 0;
+    opt.separated_advance = mode == 2;
     const PoseOutcome p = place_pose(setup, frame, nullptr, Vec3(1, 0, 0), target, opt);
     tries += p.two_sided_tries;
     ASSERT_TRUE(p.contact);
     EXPECT_TRUE(p.on_target);
     // In front of the fin: the mover's centre (x = lambda, up to the icosphere's facets) at about
     // 0.96 + 0.05 + 0.05 (a long step from the flat part lands at about 0.82, beyond the fin).
-    EXPECT_GT(p.lambda, 1.04) << "two-sided " << two_sided;
-    EXPECT_LT(p.lambda, 1.07) << "two-sided " << two_sided;
+    EXPECT_GT(p.lambda, 1.04) << "mode " << mode;
+    EXPECT_LT(p.lambda, 1.07) << "mode " << mode;
   }
   EXPECT_GT(tries, 0);
 }
@@ -457,7 +522,8 @@ TEST(PlacePose, LevelsOfOneApproachShareTheContactAndContinueEachOther) {
       ASSERT_EQ(p.contact, alone.contact);
       if (!p.contact) continue;
       ++placed;
-      chained += had_pose && p.lambda != alone.lambda;
+      chained += had_pose && p.continued;
+      EXPECT_FALSE(alone.continued);
       EXPECT_TRUE(p.on_target) << p.clearance.lo << " " << p.clearance.hi;
       EXPECT_EQ(p.lambda_raw, alone.lambda_raw);
       EXPECT_EQ(p.raw_clearance.lo, alone.raw_clearance.lo);

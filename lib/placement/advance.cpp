@@ -1,0 +1,100 @@
+#include "placement/advance.h"
+
+#include <CGAL/Interval_nt.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "distance/triangle_distance.h"
+#include "sweep/mesh_sweep.h"
+
+namespace cdbench {
+namespace {
+
+// The pair traversal: node pairs in order of the time their boxes (the fixed one grown by `reach`)
+// can first meet, pruned at the least pair bound so far. Runs under upward rounding (the box times
+// are interval computations); the mover's vertices are placed in round-to-nearest, as everywhere.
+struct AdvancePolicy {
+  const TriangleMesh& F;
+  const std::vector<TrianglePlane>& planes;
+  const MoverOrientation& o;
+  const Vec3& t;
+  Vec3 v;        // the motion per unit of advance: -d
+  double reach;  // target + margins, rounded up
+  double best;   // the least bound so far (starts at h_max)
+  std::uint64_t tests = 0;
+  std::int64_t best_f = -1, best_m = -1;
+
+  // Under upward rounding: lo - x rounded down is -((-lo) + x).
+  double bound(const Aabb& f, const Aabb& m) const {
+    Aabb g, n;
+    for (int k = 0; k < 3; ++k) {
+      g.lo[k] = -(-f.lo[k] + reach);
+      g.hi[k] = f.hi[k] + reach;
+      n.lo[k] = -(-m.lo[k] - t[k]);  // contains fl(p + t) for p in m (round-to-nearest is monotone)
+      n.hi[k] = m.hi[k] + t[k];
+    }
+    const double box = box_entry_time_lower_bound_upward(g, n, v, 0.0);
+    if (!(box < best)) return box;
+    // Growing a box by reach per axis reaches sqrt(3) reach at its corners; the boxes' Euclidean
+    // distance now, less reach, bounds the time too (|v| <= 1 + 2u; the distance changes at most
+    // that fast). Under upward rounding: sqrt rounds up (the factor covers it), reach - x rounds
+    // up, so its negation is a lower bound.
+    const double s = std::sqrt(squared_distance_lower_bound(f, n)) * (1.0 - 4e-15);
+    const double now = -(reach - s);
+    return std::max(box, now * (1.0 - 1e-15));
+  }
+  double prune_bound() const { return best; }
+  bool split_first(const Aabb& f, const Aabb& m) const { return f.extent().squaredNorm() >= m.extent().squaredNorm(); }
+  void leaf(std::uint32_t fi, std::uint32_t mi) {
+    ++tests;
+    const Face& a = F.faces[fi];
+    const Face& b = (*o.faces)[mi];
+    const Vec3 &A0 = F.vertices[a[0]], &A1 = F.vertices[a[1]], &A2 = F.vertices[a[2]];
+    Vec3 B0, B1, B2;
+    {
+      CGAL::Protect_FPU_rounding<true> nearest(CGAL_FE_TONEAREST);
+      const PlacedView P = o.placed_view(t);
+      B0 = P[b[0]];
+      B1 = P[b[1]];
+      B2 = P[b[2]];
+    }
+    // First along the fixed triangle's stored plane (cheap; the nearest direction of a face
+    // contact), then along the estimated closest-point direction; both are lower bounds.
+    double s = plane_pair_reach_time_lower_bound(planes[fi], B0, B1, B2, v, reach);
+    if (!(s < best)) return;
+    Vec3 p, q;
+    const double e2 = triangle_triangle_closest_points(A0, A1, A2, B0, B1, B2, &p, &q);
+    if (e2 > 0.0) s = std::max(s, triangle_reach_time_lower_bound(A0, A1, A2, B0, B1, B2, q - p, v, reach));
+    if (s < best) {
+      best = s;
+      best_f = fi;
+      best_m = mi;
+    }
+  }
+  bool done() const { return !(best > 0.0); }
+};
+
+}  // namespace
+
+SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrientation& orientation, const Vec3& t,
+                                   const Vec3& d, double target, double slack, double h_max) {
+  SeparatedAdvance r;
+  if (!(h_max > 0.0)) return r;
+  // The transform's rounding at t and at any pose reached (|t'_k| <= |t_k| + h_max |d_k| + slack).
+  Vec3 far_t;
+  for (int k = 0; k < 3; ++k) far_t[k] = std::abs(t[k]) + 1.001 * h_max * std::abs(d[k]) + slack;
+  const double margin = slack + orientation.transform_error(t) + orientation.transform_error(far_t);
+  const double reach = std::nextafter(target + margin, HUGE_VAL);
+  CGAL::Protect_FPU_rounding<true> guard;
+  AdvancePolicy policy{fixed.mesh(), fixed.planes(), orientation, t, -d, reach, h_max};
+  traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, policy);
+  r.h = std::max(0.0, std::min(policy.best, h_max));
+  r.pair_tests = policy.tests;
+  r.fixed_face = policy.best_f;
+  r.mover_face = policy.best_m;
+  return r;
+}
+
+}  // namespace cdbench

@@ -1,0 +1,33 @@
+#pragma once
+// Conservative advancement of a separated mover towards a target clearance > 0 without a
+// clearance certificate per step (doc/poses.md, "Separated advance"): a pair traversal bounds, for
+// every triangle pair, the first advance at which the pair can come within the target (plus the
+// rounding margins) of each other; the least of these bounds is a step that keeps c above the
+// target. As FCL's conservative advancement, with rigorous bounds.
+#include <cstdint>
+
+#include "distance/signed_distance.h"
+#include "placement/mover.h"
+
+namespace cdbench {
+
+struct SeparatedAdvance {
+  double h = 0.0;  // the proven step (0: none); h_max when no pair can come within reach before it
+  std::uint64_t pair_tests = 0;
+  // The pair that set h (fixed face, mover face), -1 if none: a hint for the next certificate.
+  std::int64_t fixed_face = -1, mover_face = -1;
+};
+
+// Precondition: at the pose t the placed mover's surface (vertices fl(fl(R x) + t)) is outside F and
+// disjoint from it, e.g. a certificate at t has a positive lower end. `slack` bounds, over the poses
+// t' the caller will take, |t' - (t - mu d)| for the mu that t' stands for (the rounding of the
+// pose translation); d has length 1 up to rounding.
+// Returns h in [0, h_max] such that, for 0 <= mu <= h, every triangle pair of the placed mover moved
+// by -mu d is at least target + slack + the transform's rounding at t and at t' (transform_error)
+// apart, strictly for mu < h. Every pose t' within `slack` of t - mu d then has c >= target for the
+// exact transform and any double evaluation (c > target for mu < h): the mover's surface stays
+// outside F along the way, where c is the least pair distance, and c is 1-Lipschitz in the vertices.
+SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrientation& orientation, const Vec3& t,
+                                   const Vec3& d, double target, double slack, double h_max);
+
+}  // namespace cdbench
