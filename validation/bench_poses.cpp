@@ -6,8 +6,9 @@
 //  - how far FCL's contact is from the exact one, and the certified pose rate of the pose set;
 //  - per level, the certified polished pose on the same approaches (the pose set's own start and
 //    tolerance), timed in the same run, and its ratio to FCL's conservative advancement.
-// Usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance]
+// Usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]
 //   --no-separated-advance: targets > 0 advance by a certificate per step (the former way), for A/B.
+//   --no-sweep-certificate: the touching pose certified by a branch and bound (the former way), A/B.
 
 #include <algorithm>
 #include <chrono>
@@ -41,15 +42,16 @@ TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_s
 
 static int run(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance]\n");
+    std::fprintf(stderr, "usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]\n");
     return 2;
   }
   const std::string dir = argv[1];
   std::size_t wanted = 200;
-  bool separated_advance = true;
+  bool separated_advance = true, no_sweep_certificate = false;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--approaches") == 0 && i + 1 < argc) wanted = std::stoul(argv[++i]);
     else if (std::strcmp(argv[i], "--no-separated-advance") == 0) separated_advance = false;  // A/B
+    else if (std::strcmp(argv[i], "--no-sweep-certificate") == 0) no_sweep_certificate = true;  // A/B
   }
   std::ifstream in(dir + "/poseset.json");
   if (!in) {
@@ -61,8 +63,9 @@ static int run(int argc, char** argv) {
   const TriangleMesh mover = load(ps["mover"]["path"].get<std::string>());
   const SignedDistance fixed(fixed_mesh);
   const double diag = fixed.bbox().diagonal();
-  const ApproachSetup setup = make_approach_setup(fixed, mover);
+  ApproachSetup setup = make_approach_setup(fixed, mover);
   const SweepMesh level0 = make_sweep_mesh(fixed_mesh.vertices, fixed_mesh.faces);
+  if (!no_sweep_certificate) attach_surface_sweep(setup, level0);
 
   // The pose set's samples, regenerated exactly as `cdbench poses` makes them.
   const auto& s = ps["sampling"];
@@ -100,6 +103,7 @@ static int run(int argc, char** argv) {
   }
   const std::vector<std::size_t> descending = descending_target_order(level_target);
   double t_exact = 0.0, t_fcl = 0.0, max_over = 0.0, max_under = 0.0;
+  std::uint64_t node_tests = 0, leaf_sweeps = 0;  // the exact first contact's work
   std::size_t differ = 0, overshoot = 0, both = 0, fcl_miss = 0;
   // Where the two disagree, the certified clearance decides: at the exact contact it must enclose 0
   // (touching), a hair before it be positive (no earlier contact), and at FCL's contact, if FCL
@@ -125,6 +129,8 @@ static int run(int argc, char** argv) {
     const MeshContact c = first_contact_along_line(level0, frame->swept, -d);
     const double lambda_exact = c.hit ? -exact_contact_time(level0, frame->swept, -d, c).get_d() : NAN;
     t_exact += seconds_since(t0);
+    node_tests += c.sphere_tests;
+    leaf_sweeps += c.triangle_sweeps;
 
     double lambda_ca = 0.0, seconds_ca = 0.0;
     const bool hit = fcl_ca_contact(*fcl_fixed, *fcl_mover, *frame, d, far, &lambda_ca, &seconds_ca);
@@ -173,6 +179,8 @@ static int run(int argc, char** argv) {
   std::printf("%-52s %12.3f\n", "cdbench exact first contact (sphere trees)", 1e3 * t_exact / M);
   std::printf("%-52s %12.3f\n", "FCL conservativeAdvancementMeshOriented (OBBRSS)", 1e3 * t_fcl / M);
   std::printf("ratio FCL CA / exact first contact: %.2f\n", t_fcl / t_exact);
+  std::printf("exact first contact per approach: %.0f node pairs bounded, %.0f triangle pairs swept\n",
+              static_cast<double>(node_tests) / M, static_cast<double>(leaf_sweeps) / M);
   std::printf("ratio certified pose (all levels, polished; cdbench poses' own run, all threads) / FCL CA, per pose: %.2f\n",
               (1.0 / pps) / (t_fcl / M));
   std::printf("\ncertified polished pose per approach, same %zu approaches, same run, one thread:\n", M);

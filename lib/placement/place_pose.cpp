@@ -52,6 +52,34 @@ void set_hint(ClearanceOptions& o, const std::array<double, 2>& bary, std::uint3
   o.hint_gamma = bary[1];
 }
 
+// The clearance at the exact first contact with F itself, from the sweep alone (doc/poses.md, "The
+// touching pose from the sweep"). The swept mover P0 + lambda* d (P0 = fl(fl(R x) + t0), lambda*
+// exact) touches F and, for every lambda > lambda*, has a surface disjoint from F's that came from
+// far outside: its clearance is 0 exactly. The pose's mover (exact transform R x + t) is within
+// rho = delta(t0) + |t - t0 - lambda* d| of it vertex by vertex, a double evaluation delta(t)
+// further, and c is 1-Lipschitz in the vertices. `hint`: the contact point on the mover, kept as
+// the result's argmin for the next certificate of the advance.
+ClearanceResult touching_certificate(const OrientationFrame& frame, const Vec3& dir, const mpq_class& lambda_exact,
+                                     double lambda, double tolerance, std::uint32_t face,
+                                     const std::array<double, 2>& hint) {
+  // |lambda - lambda*| rounded up (get_d is within a relative 2^-52 of the rational).
+  const mpq_class gap = abs(lambda_exact - mpq_class(lambda));
+  const double dl = std::nextafter(gap.get_d() * (1.0 + 1e-15), HUGE_VAL);
+  // |fl(t0 + lambda d) - (t0 + lambda d)|: two roundings per coordinate (as the advance's slack).
+  const double slack = 8.0 * 0x1p-52 * (frame.t0.cwiseAbs().maxCoeff() + std::abs(lambda));
+  ClearanceResult r;
+  r.transform_error = frame.orientation.transform_error(pose_translation(frame, dir, lambda));
+  // |d| <= 1 + 2^-52 (a normalised double vector): the factor covers it and the sums' rounding.
+  const double w = std::nextafter(
+      (frame.orientation.transform_error(frame.t0) + slack + dl + r.transform_error) * (1.0 + 1e-14), HUGE_VAL);
+  r.clearance = {-w, w};
+  r.tolerance_reached = 2.0 * w <= tolerance;
+  r.argmin_face = face;
+  r.argmin_beta = hint[0];
+  r.argmin_gamma = hint[1];
+  return r;
+}
+
 // The median of a mesh's edge lengths (each face's three edges; 0 for an empty mesh).
 double median_edge_length(const TriangleMesh& m) {
   std::vector<double> len;
@@ -67,6 +95,13 @@ double median_edge_length(const TriangleMesh& m) {
 
 Vec3 pose_translation(const OrientationFrame& f, const Vec3& dir, double lambda) {
   return Vec3(f.t0[0] + lambda * dir[0], f.t0[1] + lambda * dir[1], f.t0[2] + lambda * dir[2]);
+}
+
+void attach_surface_sweep(ApproachSetup& setup, const SweepMesh& surface) {
+  const TriangleMesh& F = setup.fixed->mesh();
+  if (surface.vertices != F.vertices || surface.faces != F.faces)
+    throw std::invalid_argument("attach_surface_sweep: the sweep mesh is not the fixed surface");
+  setup.surface = &surface;
 }
 
 ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover) {
@@ -197,11 +232,13 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       out.lambda_raw = out.lambda = lambda_exact.get_d();
       // The contact point (the contact pair's nearest points at the pose) holds the least
       // clearance: the certificate's upper end from the start, found without subdividing to it.
-      set_hint(copt,
-               contact_point_on_mover(swept->triangle(mc.fixed_face), frame, mc.moving_face,
-                                      pose_translation(frame, dir, out.lambda)),
-               mc.moving_face);
-      c = certify(out.lambda, false);
+      const std::array<double, 2> contact = contact_point_on_mover(swept->triangle(mc.fixed_face), frame,
+                                                                   mc.moving_face, pose_translation(frame, dir, out.lambda));
+      set_hint(copt, contact, mc.moving_face);
+      c = touching_certificate(frame, dir, lambda_exact, out.lambda, copt.tolerance, mc.moving_face, contact);
+      // Against F itself the sweep certifies the pose; otherwise (an offset), or when the rounding
+      // of t would not fit the tolerance, a certificate against F.
+      if (swept != setup.surface || !c.tolerance_reached) c = certify(out.lambda, false);
       if (memo) {
         memo->contact->lambda = out.lambda;
         memo->contact->certificate = c;

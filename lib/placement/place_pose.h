@@ -29,8 +29,14 @@ struct ApproachSetup {
   // advance's traversal visits every pair that may come within the target, many where the target
   // spans several triangles, and certified steps are then cheaper (measured, doc/poses.md).
   double advance_target_limit = 0.0;
+  // The fixed surface's own sweep mesh, when attached: a first contact with it is certified by the
+  // exact sweep (a touching pose, c in a few-ulp interval about 0), without a branch and bound.
+  const SweepMesh* surface = nullptr;
 };
 ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover);
+// Attaches `surface` (which must outlive the setup) after checking that it has F's vertices and
+// faces exactly (std::invalid_argument otherwise).
+void attach_surface_sweep(ApproachSetup& setup, const SweepMesh& surface);
 
 // Everything that depends on the orientation only.
 struct OrientationFrame {

@@ -199,7 +199,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   const std::uint64_t first = approaches * shard.index / shard.count;
   const std::uint64_t last = approaches * (shard.index + 1) / shard.count;
 
-  const ApproachSetup setup = make_approach_setup(sdf, mover);
+  ApproachSetup setup = make_approach_setup(sdf, mover);
+  if (surface) attach_surface_sweep(setup, *surface);
   PoseOptions po;
   po.tolerance = tol;
   po.polish = polish;

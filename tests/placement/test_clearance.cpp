@@ -451,6 +451,51 @@ TEST(PlacePose, RawFirstContactWithTheSurfaceTouches) {
   EXPECT_GT(touching, 10);
 }
 
+// With the fixed surface's sweep attached, the touching pose is certified by the exact sweep
+// itself: the same pose as without, a few-ulp interval that overlaps the branch and bound's
+// certificate (both enclose c) and lies within the tolerance; the penetrating levels that continue
+// from it still reach their targets on the first crossing. A sweep mesh that is not F is refused.
+TEST(PlacePose, TouchingPoseFromTheSweepAgreesWithTheCertificate) {
+  const Scene scene(make_torus(1.0, 0.4, 24, 12), make_icosphere(0.3, 2));
+  ApproachSetup attached = scene.setup;
+  attach_surface_sweep(attached, scene.surface);
+  PoseOptions opt;
+  opt.tolerance = 1e-9;
+  opt.start = PoseStart::Surface;
+  std::mt19937_64 rng(47);
+  int touching = 0, deep_poses = 0;
+  for (int k = 0; k < 16; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const OrientationFrame frame = make_orientation_frame(scene.setup, R);
+    const Vec3 dir = random_direction(rng);
+    const PoseOutcome bb = place_pose(scene.setup, frame, &scene.surface, dir, 0.0, opt);
+    ApproachMemo memo;
+    const PoseOutcome sw = place_pose(attached, frame, &scene.surface, dir, 0.0, opt, &memo);
+    ASSERT_EQ(bb.contact, sw.contact);
+    if (!sw.contact) continue;
+    ++touching;
+    SCOPED_TRACE("case " + std::to_string(k));
+    EXPECT_EQ(sw.lambda, bb.lambda);
+    EXPECT_TRUE(sw.certified && sw.on_target);
+    EXPECT_LE(sw.clearance.lo, bb.clearance.hi);
+    EXPECT_GE(sw.clearance.hi, bb.clearance.lo);
+    EXPECT_LT(sw.clearance.width(), 1e-13);
+    EXPECT_LE(sw.clearance.lo, 0.0);
+    EXPECT_GE(sw.clearance.hi, 0.0);
+    const PoseOutcome deep = place_pose(attached, frame, &scene.surface, dir, -0.1, opt, &memo);
+    // A grazing line may never reach that depth: then neither way finds a pose.
+    EXPECT_EQ(deep.contact, place_pose(scene.setup, frame, &scene.surface, dir, -0.1, opt).contact);
+    if (!deep.contact) continue;
+    ++deep_poses;
+    EXPECT_TRUE(deep.on_target);
+    expect_no_earlier_crossing(scene.fixed, scene.mover, frame, dir, scene.setup, deep.lambda, -0.1, opt.tolerance, 100);
+  }
+  EXPECT_GT(touching, 8);
+  EXPECT_GT(deep_poses, 5);
+  const SweepMesh other = make_sweep_mesh(scene.mover.vertices, scene.mover.faces);
+  EXPECT_THROW(attach_surface_sweep(attached, other), std::invalid_argument);
+}
+
 // A relative tolerance (advance steps; in the branch and bound and in the pair-distance path) and
 // skipping the pair-distance path only change the work:
 // every certificate still encloses the clearance (against a tight cold one and dense sampling),
