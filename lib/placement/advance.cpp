@@ -64,6 +64,9 @@ struct AdvancePolicy {
     // contact), then along the estimated closest-point direction; both are lower bounds.
     double s = plane_pair_reach_time_lower_bound(planes[fi], B0, B1, B2, v, reach);
     if (!(s < best)) return;
+    // The mover triangle's plane against the fixed one (A moves by -v relative to it).
+    s = std::max(s, plane_pair_reach_time_lower_bound(make_triangle_plane(B0, B1, B2), A0, A1, A2, -v, reach));
+    if (!(s < best)) return;
     Vec3 p, q;
     const double e2 = triangle_triangle_closest_points(A0, A1, A2, B0, B1, B2, &p, &q);
     if (e2 > 0.0) s = std::max(s, triangle_reach_time_lower_bound(A0, A1, A2, B0, B1, B2, q - p, v, reach));
@@ -79,7 +82,8 @@ struct AdvancePolicy {
 }  // namespace
 
 SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrientation& orientation, const Vec3& t,
-                                   const Vec3& d, double target, double slack, double h_max) {
+                                   const Vec3& d, double target, double slack, double h_max,
+                                   std::int64_t hint_fixed, std::int64_t hint_mover) {
   SeparatedAdvance r;
   if (!(h_max > 0.0)) return r;
   // The transform's rounding at t and at any pose reached (|t'_k| <= |t_k| + h_max |d_k| + slack).
@@ -89,7 +93,10 @@ SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrien
   const double reach = std::nextafter(target + margin, HUGE_VAL);
   CGAL::Protect_FPU_rounding<true> guard;
   AdvancePolicy policy{fixed.mesh(), fixed.planes(), orientation, t, -d, reach, h_max};
-  traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, policy);
+  if (hint_fixed >= 0 && hint_mover >= 0 && static_cast<std::size_t>(hint_fixed) < fixed.mesh().faces.size() &&
+      static_cast<std::size_t>(hint_mover) < orientation.faces->size())
+    policy.leaf(static_cast<std::uint32_t>(hint_fixed), static_cast<std::uint32_t>(hint_mover));
+  if (!policy.done()) traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, policy);
   r.h = std::max(0.0, std::min(policy.best, h_max));
   r.pair_tests = policy.tests;
   r.fixed_face = policy.best_f;

@@ -27,7 +27,10 @@ struct SeparatedAdvance {
 // apart, strictly for mu < h. Every pose t' within `slack` of t - mu d then has c >= target for the
 // exact transform and any double evaluation (c > target for mu < h): the mover's surface stays
 // outside F along the way, where c is the least pair distance, and c is 1-Lipschitz in the vertices.
+// `hint_fixed`, `hint_mover` (optional): a pair likely to set h (the last certificate's nearest
+// pair, the previous step's limiting pair), bounded first so that its bound prunes from the start.
 SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrientation& orientation, const Vec3& t,
-                                   const Vec3& d, double target, double slack, double h_max);
+                                   const Vec3& d, double target, double slack, double h_max,
+                                   std::int64_t hint_fixed = -1, std::int64_t hint_mover = -1);
 
 }  // namespace cdbench

@@ -292,7 +292,6 @@ TEST(PlacePose, SurfaceAndFarStartsReachTheTarget) {
   // A target > 0 from far away, by certified steps and by the separated advance (which proves the
   // whole line in one traversal).
   opt.start = PoseStart::Far;
-  aside.advance_target_limit = HUGE_VAL;
   for (bool separated_advance : {false, true}) {
     opt.separated_advance = separated_advance;
     const PoseOutcome p = place_pose(aside, frame, nullptr, Vec3(1, 0, 0), 0.15, opt);
@@ -312,8 +311,7 @@ TEST(PlacePose, LongStepsNeverPassAnEarlierCrossing) {
   const TriangleMesh torus = make_torus(1.0, 0.35, 32, 16);
   const SignedDistance fixed(torus);
   const TriangleMesh mover = make_icosphere(0.2, 1);
-  ApproachSetup setup = make_approach_setup(fixed, mover);
-  setup.advance_target_limit = HUGE_VAL;  // the separated advance whatever the triangles' size
+  const ApproachSetup setup = make_approach_setup(fixed, mover);
   PoseOptions opt;
   opt.tolerance = 1e-6;
   opt.start = PoseStart::Far;
@@ -408,7 +406,6 @@ TEST(PlacePose, LongStepsStopInFrontOfAThinFin) {
   const double target = 0.05;
   int tries = 0;
   // Certified steps (long ones where c is flat, or not), and the separated advance's reach bounds.
-  setup.advance_target_limit = HUGE_VAL;  // the separated advance whatever the triangles' size
   for (int mode = 0; mode < 3; ++mode) {
     opt.two_sided_steps = mode == 0;
     opt.separated_advance = mode == 2;
