@@ -80,6 +80,17 @@ ClearanceResult touching_certificate(const OrientationFrame& frame, const Vec3& 
   return r;
 }
 
+// The median of a mesh's edge lengths (each face's three edges; 0 for an empty mesh).
+double median_edge_length(const TriangleMesh& m) {
+  std::vector<double> len;
+  len.reserve(3 * m.faces.size());
+  for (const Face& f : m.faces)
+    for (int k = 0; k < 3; ++k) len.push_back((m.vertices[f[k]] - m.vertices[f[(k + 1) % 3]]).norm());
+  if (len.empty()) return 0.0;
+  std::nth_element(len.begin(), len.begin() + static_cast<std::ptrdiff_t>(len.size() / 2), len.end());
+  return len[len.size() / 2];
+}
+
 }  // namespace
 
 Vec3 pose_translation(const OrientationFrame& f, const Vec3& dir, double lambda) {
@@ -102,6 +113,7 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
   s.mover_ref = bbox_centre(mover.vertices);
   s.fixed_radius = max_distance(fixed.mesh().vertices, s.fixed_ref);
   s.mover_radius = max_distance(mover.vertices, s.mover_ref);
+  s.advance_target_limit = 12.0 * std::min(median_edge_length(fixed.mesh()), median_edge_length(mover));
   return s;
 }
 
@@ -285,7 +297,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         }
         break;
       }
-      if (options.separated_advance && target > 0.0) {
+      if (options.separated_advance && target > 0.0 && target <= setup.advance_target_limit) {
         // c > target > 0: the mover's surface is outside F and apart from it. Advance by the pair
         // traversal's reach bound (advance.h), pose after pose without a certificate while the
         // steps stay longer than the tolerance, then certify where it stops (doc/poses.md).
