@@ -287,7 +287,7 @@ MeshContact first_contact_along_line(const SweepMesh& fixed, const SweepMesh& mo
   {
     CGAL::Protect_FPU_rounding<true> guard;  // the sphere bounds are interval computations
     SweepPolicy policy(best, v);
-    traverse_pairs_nearest_first(fixed.tree, moving.tree, policy);
+    traverse_pairs_best_first(fixed.tree, moving.tree, policy);
   }
   return best.result;
 }

@@ -3,7 +3,7 @@
 // exact. Both meshes carry a bounding-sphere hierarchy (with a box per node too); the traversal
 // keeps the best contact time T so far, prunes node pairs whose spheres or boxes cannot meet before
 // T (entry times computed in interval arithmetic, so a pruned pair provably cannot hold an earlier
-// contact), visits child pairs in order of their entry times and runs exact triangle sweeps at the
+// contact), visits node pairs best-first by entry time (one heap) and runs exact triangle sweeps at the
 // leaves.
 #include <cstdint>
 #include <vector>
