@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <limits>
 #include <stdexcept>
 
 #include <tbb/parallel_invoke.h>
@@ -52,6 +51,12 @@ void set_hint(ClearanceOptions& o, const std::array<double, 2>& bary, std::uint3
   o.hint_gamma = bary[1];
 }
 
+// A bound on |fl(t0 + lambda d) - (t0 + lambda d)| (two roundings per coordinate, with or without
+// FMA) for every pose with |lambda| up to `magnitude`: the margin of every step of the advance.
+double pose_rounding_slack(const OrientationFrame& frame, double magnitude) {
+  return 8.0 * 0x1p-52 * (frame.t0.cwiseAbs().maxCoeff() + magnitude);
+}
+
 // The clearance at the exact first contact with F itself, from the sweep alone (doc/poses.md, "The
 // touching pose from the sweep"). The swept mover P0 + lambda* d (P0 = fl(fl(R x) + t0), lambda*
 // exact) touches F and, for every lambda > lambda*, has a surface disjoint from F's that came from
@@ -65,8 +70,7 @@ ClearanceResult touching_certificate(const OrientationFrame& frame, const Vec3& 
   // |lambda - lambda*| rounded up (get_d is within a relative 2^-52 of the rational).
   const mpq_class gap = abs(lambda_exact - mpq_class(lambda));
   const double dl = std::nextafter(gap.get_d() * (1.0 + 1e-15), HUGE_VAL);
-  // |fl(t0 + lambda d) - (t0 + lambda d)|: two roundings per coordinate (as the advance's slack).
-  const double slack = 8.0 * 0x1p-52 * (frame.t0.cwiseAbs().maxCoeff() + std::abs(lambda));
+  const double slack = pose_rounding_slack(frame, std::abs(lambda));
   ClearanceResult r;
   r.transform_error = frame.orientation.transform_error(pose_translation(frame, dir, lambda));
   // |d| <= 1 + 2^-52 (a normalised double vector): the factor covers it and the sums' rounding.
@@ -280,9 +284,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     double prev_lambda = 0.0, prev_mid = 0.0;
     bool have_prev = false;
     // The absolute margin for the rounding of t at poses with |lambda| up to `magnitude`.
-    const auto rounding_slack = [&](double magnitude) {
-      return 8.0 * 0x1p-52 * (frame.t0.cwiseAbs().maxCoeff() + magnitude);
-    };
+    const auto rounding_slack = [&](double magnitude) { return pose_rounding_slack(frame, magnitude); };
     while (!within(c.clearance) && out.steps < options.max_steps) {
       // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
       // margin; the rounding of t by the absolute one): stepping by c_lo - target cannot pass the
