@@ -230,22 +230,6 @@ double box_entry_time_lower_bound_upward(const Aabb& fixed, const Aabb& moving, 
   return box_entry_lower_bound(fixed, moving, v, from);
 }
 
-double sphere_entry_time_lower_bound_upward(const Sphere& fixed, const Sphere& moving, const Vec3& v, double from) {
-  const I vx(v.x()), vy(v.y()), vz(v.z());
-  const I vv = vx * vx + vy * vy + vz * vz;
-  const I wx = I(moving.center.x()) - fixed.center.x(), wy = I(moving.center.y()) - fixed.center.y(),
-          wz = I(moving.center.z()) - fixed.center.z();
-  const I R = I(fixed.radius) + moving.radius;
-  const I wv = wx * vx + wy * vy + wz * vz;
-  const I disc = wv * wv - vv * ((wx * wx + wy * wy + wz * wz) - R * R);
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  if (disc.sup() < 0.0) return kInf;
-  const I root = CGAL::sqrt(I(std::max(0.0, disc.inf()), disc.sup()));
-  // They overlap for t between the two roots: none of those >= from when the later root precedes it.
-  if (((-wv + root) / vv).sup() < from) return kInf;
-  return std::max(((-wv - root) / vv).inf(), from);
-}
-
 SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces, const BvhBuildOptions& options) {
   SweepMesh m;
   m.vertices = std::move(vertices);

@@ -58,8 +58,6 @@ double box_entry_time_lower_bound(const Aabb& fixed, const Aabb& moving, const V
 // The same counting only times >= from (+inf when the boxes meet only before), for callers that
 // already run under upward rounding (CGAL::Protect_FPU_rounding<true>) for a whole traversal.
 double box_entry_time_lower_bound_upward(const Aabb& fixed, const Aabb& moving, const Vec3& v, double from);
-// The same for spheres (sphere_entry_time_lower_bound counting only times >= from).
-double sphere_entry_time_lower_bound_upward(const Sphere& fixed, const Sphere& moving, const Vec3& v, double from);
 
 // A rigorous necessary condition, cheaper than the sweep, for triangles A and B + t v to meet at
 // some t <= t_max (t_max = +inf: at any t): false only when they cannot. The exact traversal skips
