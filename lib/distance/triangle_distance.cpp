@@ -22,6 +22,20 @@ inline V sub(const V& a, const V& b) { return {a.x - b.x, a.y - b.y, a.z - b.z};
 inline I dot(const V& a, const V& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline V cross(const V& a, const V& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 
+// Lower bounds of the gaps between the projections of abc and def on U: def above abc (min def -
+// max abc) and def below it (min abc - max def); at most one is positive. Under upward rounding,
+// -(y - x) is x - y rounded down.
+struct ProjectionGaps {
+  double up, down;
+};
+ProjectionGaps projection_gaps(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e,
+                               const Vec3& f, const V& U) {
+  const I pa = dot(vec(a), U), pb = dot(vec(b), U), pc = dot(vec(c), U);
+  const I pd = dot(vec(d), U), pe = dot(vec(e), U), pf = dot(vec(f), U);
+  return {-(std::max({pa.sup(), pb.sup(), pc.sup()}) - std::min({pd.inf(), pe.inf(), pf.inf()})),
+          -(std::max({pd.sup(), pe.sup(), pf.sup()}) - std::min({pa.inf(), pb.inf(), pc.inf()}))};
+}
+
 inline void take(Interval& acc, const Interval& x) {
   acc.lo = std::min(acc.lo, x.lo);
   acc.hi = std::min(acc.hi, x.hi);
@@ -134,12 +148,8 @@ double triangle_distance_lower_bound(const Vec3& a, const Vec3& b, const Vec3& c
                                      const Vec3& f, const Vec3& u) {
   CGAL::Protect_FPU_rounding<true> guard;
   const V U = vec(u);
-  const I pa = dot(vec(a), U), pb = dot(vec(b), U), pc = dot(vec(c), U);
-  const I pd = dot(vec(d), U), pe = dot(vec(e), U), pf = dot(vec(f), U);
-  // Gap with abc below def along u, or above it. Under upward rounding, -(y - x) is x - y rounded down.
-  const double gap_up = -(std::max({pa.sup(), pb.sup(), pc.sup()}) - std::min({pd.inf(), pe.inf(), pf.inf()}));
-  const double gap_down = -(std::max({pd.sup(), pe.sup(), pf.sup()}) - std::min({pa.inf(), pb.inf(), pc.inf()}));
-  const double gap = std::max(gap_up, gap_down);
+  const ProjectionGaps g = projection_gaps(a, b, c, d, e, f, U);
+  const double gap = std::max(g.up, g.down);
   if (!(gap > 0.0)) return 0.0;
   const I len = CGAL::sqrt(dot(U, U));
   // gap / |u| rounded down: divide the negated value under upward rounding.
@@ -150,17 +160,13 @@ double triangle_reach_time_lower_bound(const Vec3& a, const Vec3& b, const Vec3&
                                        const Vec3& f, const Vec3& u, const Vec3& v, double r) {
   CGAL::Protect_FPU_rounding<true> guard;
   const V U = vec(u);
-  const I pa = dot(vec(a), U), pb = dot(vec(b), U), pc = dot(vec(c), U);
-  const I pd = dot(vec(d), U), pe = dot(vec(e), U), pf = dot(vec(f), U);
+  // def above abc along u: that gap shrinks at the rate -u.v; def below abc: at the rate u.v.
+  const ProjectionGaps g = projection_gaps(a, b, c, d, e, f, U);
+  const bool up = g.up > 0.0;
+  if (!up && !(g.down > 0.0)) return 0.0;
   const I uv = dot(U, vec(v));
   const I len = CGAL::sqrt(dot(U, U));
-  // def above abc along u: the gap min(def) - max(abc) shrinks at the rate -u.v; def below abc:
-  // min(abc) - max(def) shrinks at the rate u.v. At most one of the two gaps is positive.
-  const I gap_up = I(std::min({pd.inf(), pe.inf(), pf.inf()})) - std::max({pa.sup(), pb.sup(), pc.sup()});
-  const I gap_down = I(std::min({pa.inf(), pb.inf(), pc.inf()})) - std::max({pd.sup(), pe.sup(), pf.sup()});
-  const bool up = gap_up.inf() > 0.0;
-  if (!up && !(gap_down.inf() > 0.0)) return 0.0;
-  const I room = (up ? gap_up : gap_down) - I(r) * len;  // gap left before the distance can reach r
+  const I room = I(up ? g.up : g.down) - I(r) * len;  // gap left before the distance can reach r
   if (!(room.inf() > 0.0)) return 0.0;
   const I rate = up ? -uv : uv;  // how fast that gap shrinks per unit of s
   if (!(rate.sup() > 0.0)) return std::numeric_limits<double>::infinity();

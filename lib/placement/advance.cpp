@@ -23,7 +23,6 @@ struct AdvancePolicy {
   Vec3 v;        // the motion per unit of advance: -d
   double reach;  // target + margins, rounded up
   double best;   // the least bound so far (starts at h_max)
-  std::uint64_t tests = 0;
   std::int64_t best_f = -1, best_m = -1;
 
   // Under upward rounding: lo - x rounded down is -((-lo) + x).
@@ -48,7 +47,6 @@ struct AdvancePolicy {
   double prune_bound() const { return best; }
   bool split_first(const Aabb& f, const Aabb& m) const { return f.extent().squaredNorm() >= m.extent().squaredNorm(); }
   void leaf(std::uint32_t fi, std::uint32_t mi) {
-    ++tests;
     const Face& a = F.faces[fi];
     const Face& b = (*o.faces)[mi];
     const Vec3 &A0 = F.vertices[a[0]], &A1 = F.vertices[a[1]], &A2 = F.vertices[a[2]];
@@ -98,7 +96,6 @@ SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrien
     policy.leaf(static_cast<std::uint32_t>(hint_fixed), static_cast<std::uint32_t>(hint_mover));
   if (!policy.done()) traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, policy);
   r.h = std::max(0.0, std::min(policy.best, h_max));
-  r.pair_tests = policy.tests;
   r.fixed_face = policy.best_f;
   r.mover_face = policy.best_m;
   return r;

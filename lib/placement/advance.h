@@ -13,7 +13,6 @@ namespace cdbench {
 
 struct SeparatedAdvance {
   double h = 0.0;  // the proven step (0: none); h_max when no pair can come within reach before it
-  std::uint64_t pair_tests = 0;
   // The pair that set h (fixed face, mover face), -1 if none: a hint for the next certificate.
   std::int64_t fixed_face = -1, mover_face = -1;
 };
