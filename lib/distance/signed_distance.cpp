@@ -172,7 +172,7 @@ struct TriangleLowerPolicy {
   TrianglePlane plane;  // of v
   Aabb box;
   double stop_sq;
-  double d2lo = kInf;
+  double d2lo;  // starts at the caller's enough_sq: nothing beyond it is looked at
   double bound(const Aabb& b) const { return squared_distance_lower_bound(b, box); }
   double prune_bound() const { return d2lo; }
   bool done() const { return d2lo <= stop_sq; }
@@ -191,10 +191,14 @@ struct TriangleLowerPolicy {
 
 }  // namespace
 
-double SignedDistance::triangle_squared_distance_lower(const std::array<Vec3, 3>& v, double stop_sq) const {
+double SignedDistance::triangle_squared_distance_lower(const std::array<Vec3, 3>& v, double stop_sq,
+                                                       double enough_sq) const {
   Aabb box;
   for (const Vec3& x : v) box.extend(x);
-  TriangleLowerPolicy policy{mesh_, planes_, v, make_triangle_plane(v[0], v[1], v[2]), box, stop_sq};
+  // Starting the running minimum at enough_sq prunes what lies beyond it, and the result is the
+  // minimum of the visited triangles' bounds and enough_sq: every skipped node or triangle lies
+  // at or beyond that minimum.
+  TriangleLowerPolicy policy{mesh_, planes_, v, make_triangle_plane(v[0], v[1], v[2]), box, stop_sq, enough_sq};
   traverse_nearest_first(tree_, policy);
   return policy.d2lo;
 }

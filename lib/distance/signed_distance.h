@@ -6,6 +6,7 @@
 // parity test (CGAL's exact orientation predicates). See doc/distance.md.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "bvh/aabb.h"
@@ -55,7 +56,11 @@ class SignedDistance {
   // projections on the estimated closest-point direction, and the certified pair distance (exact
   // intersection test) only where that gap is 0. Stops as soon as the bound is at most `stop_sq`
   // (the default never stops): the value returned is then <= stop_sq but not the minimum.
-  double triangle_squared_distance_lower(const std::array<Vec3, 3>& v, double stop_sq = -1.0) const;
+  // `enough_sq`: a caller that needs no more than this gets min(bound, enough_sq), a valid lower
+  // bound found with every node and triangle beyond enough_sq pruned (a disjointness test when
+  // small, instead of the distance: far fewer triangles).
+  double triangle_squared_distance_lower(const std::array<Vec3, 3>& v, double stop_sq = -1.0,
+                                         double enough_sq = std::numeric_limits<double>::infinity()) const;
 
   // Index of a triangle at the certified upper end of unsigned_distance(p) (a nearest triangle
   // up to rounding).

@@ -400,7 +400,7 @@ class BranchAndBound {
       if (listed) fixed_.triangles_within_among(m, reach, list->ids, ids_);
       // Only an outside centre can prove the cell disjoint (the first branch below); otherwise
       // the depth bound is taken whatever dlo is (and gathers its own triangles when unlisted).
-      if (!(dlo > 0.0) && s.lo > 0.0) dlo = cell_distance_lower(v, eta, eta_m);
+      if (!(dlo > 0.0) && s.lo > 0.0) dlo = cell_distance_lower(v, eta, eta_m, threshold());
       if (dlo > eta_m && s.lo > 0.0) {
         // The exact cell is disjoint from F and on m's side (outside).
         lower = std::max(lower, dlo);
@@ -525,9 +525,14 @@ class BranchAndBound {
   // -inf once it is certain to be at most eta_m (the cell may touch F: its value is then not used).
   // F's tree is searched from the cell's box (a long triangle's box reaches far fewer triangles
   // than the ball about its centre): SignedDistance::triangle_squared_distance_lower.
-  double cell_distance_lower(const std::array<Vec3, 3>& v, double eta, double eta_m) {
+  // With threshold <= 0 (a penetrating pose) any distance above eta_m sets the cell aside, so the
+  // search only has to show the cell disjoint from F: F's triangles farther than a few eta are not
+  // looked at (on pinion's first penetrating steps this was 37 % of a cold certificate).
+  double cell_distance_lower(const std::array<Vec3, 3>& v, double eta, double eta_m, double threshold) {
     const double touch_sq = down(down(eta_m + eta) * down(eta_m + eta));
-    const double d2lo = fixed_.triangle_squared_distance_lower(v, touch_sq);
+    const double need = up(4.0 * up(eta_m + eta));
+    const double enough_sq = threshold <= 0.0 ? up(need * need) : kInf;
+    const double d2lo = fixed_.triangle_squared_distance_lower(v, touch_sq, enough_sq);
     if (d2lo <= touch_sq) return -kInf;
     return down(sqrt_interval({d2lo, d2lo}).lo - eta);
   }

@@ -182,6 +182,9 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // 3/8: more, cheaper steps; the fewest thread-seconds of 1/16 ... 4/5 on armadillo, bunny00 and
   // fandisk_large (1/8: 1.15-1.25x slower), neutral on CAD parts (doc/performance.md).
   constexpr double kStepRelativeTolerance = 0.375;
+  // A frontier taken over from a higher level (below) is worth it up to this many times the cells
+  // of a cold start (about 25 us per cold cell, 4 us per re-evaluated warm one; doc/performance.md).
+  constexpr std::uint64_t kColdCellsPerWarm = 6;
   bool last_loose = false;
   // The state a certificate leaves for the next one of the advance.
   const auto adopt = [&](const ClearanceResult& r) {
@@ -201,8 +204,10 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     copt.target = target;
     last_loose = loose;
     const Vec3 t = pose_translation(frame, dir, lambda);
+    const bool cold = !frontier.valid;
     const ClearanceResult r = certify_clearance(*setup.fixed, *setup.mover, setup.components, frame.orientation, t, copt);
     out.clearance_cells += r.cells;
+    if (memo && cold && !r.separated && memo->cold_cells == 0) memo->cold_cells = std::max<std::uint64_t>(r.cells, 1);
     adopt(r);
     return r;
   };
@@ -274,9 +279,14 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       out.continued = true;
       out.lambda = k.lambda;
       c = k.certificate;
-      // Not its frontier: a tight certificate's thousands of small cells, shifted by a long step,
-      // cost more to re-evaluate than a fresh search (measured: 1.5x the distance queries).
-      frontier.valid = false;
+      // And its frontier, a warm start for the first step: its cells are re-evaluated only where
+      // they matter (restale first), far cheaper than a cold search from the mover's root. Not
+      // when it holds many times the cells of this approach's cold start: after a long step each
+      // needs re-evaluation (about 4 us each, a cold cell about 25 us: pinion, bunny00).
+      if (memo->cold_cells == 0 || k.frontier.cells.size() <= kColdCellsPerWarm * memo->cold_cells)
+        frontier = k.frontier;
+      else
+        frontier.valid = false;
       last_loose = false;
       adopt(c);
     }

@@ -122,6 +122,9 @@ struct ApproachMemo {
   };
   std::optional<Contact> contact;
   std::optional<OnTarget> last;
+  // The cells of the approach's first branch and bound that started without a frontier (0: none
+  // yet): what a cold start costs here, against which a frontier to take over is weighed.
+  std::uint64_t cold_cells = 0;
 };
 
 // Level indices in descending target order: the order in which the levels of one approach are

@@ -281,6 +281,15 @@ TEST(SignedDistance, TriangleLowerBoundAgainstBruteForce) {
     if (min_lo > 0.0) {
       EXPECT_EQ(sdf.triangle_squared_distance_lower(v, 0.5 * min_lo), lower) << where();
     }
+    // Capped (enough_sq): still a lower bound, never above the cap, and the full one when the cap
+    // lies beyond it; a cap below the distance is what a disjointness test returns.
+    for (const double cap : {0.25 * min_lo, 1e-12 * min_lo, 4.0 * min_hi + 1e-6}) {
+      const double capped = sdf.triangle_squared_distance_lower(v, -1.0, cap);
+      EXPECT_LE(capped, cap) << where() << ", cap " << cap;
+      EXPECT_LE(capped, min_hi) << where() << ", cap " << cap;
+      EXPECT_GE(capped, std::min(cap, min_lo) * (1.0 - 1e-9)) << where() << ", cap " << cap;
+      if (cap > min_hi) EXPECT_EQ(capped, lower) << where() << ", cap " << cap;
+    }
   }
   EXPECT_GT(crossing, 20);
   EXPECT_GT(disjoint, 200);
