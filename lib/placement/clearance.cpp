@@ -152,9 +152,11 @@ struct CellOrder {
 class BranchAndBound {
  public:
   // keep_frontier: remember discarded cells too, for export_frontier().
-  BranchAndBound(const SignedDistance& fixed, const MoverOrientation& o, const PlacedView& P, const Vec3& t,
-                 const ClearanceOptions& opt, bool keep_frontier)
-      : fixed_(fixed), o_(o), P_(P), t_(t), tol_(opt.tolerance), rel_(opt.relative_tolerance),
+  // mover: the mover mesh in its own coordinates (the cells' shape is judged there, so that every
+  // pose and rotation splits a cell the same way).
+  BranchAndBound(const SignedDistance& fixed, const TriangleMesh& mover, const MoverOrientation& o, const PlacedView& P,
+                 const Vec3& t, const ClearanceOptions& opt, bool keep_frontier)
+      : fixed_(fixed), mover_(mover), o_(o), P_(P), t_(t), tol_(opt.tolerance), rel_(opt.relative_tolerance),
         target_(opt.target), keep_discarded_(keep_frontier) {}
 
   void run(std::uint64_t max_cells, std::int64_t hint_face, double hint_beta, double hint_gamma,
@@ -211,15 +213,26 @@ class BranchAndBound {
           }
         }
       } else {
-        // Four children by the edge midpoints (dyadic, so exact in the barycentrics).
+        // Children by edge midpoints (dyadic, so exact in the barycentrics): a needle (one edge
+        // under half of each other) is cut across its length into three, each about half as
+        // long, so that thin cells shrink where they are long; any other cell into four.
         const auto& b = c.bary;
-        const std::array<double, 2> m01{0.5 * (b[0][0] + b[1][0]), 0.5 * (b[0][1] + b[1][1])};
-        const std::array<double, 2> m12{0.5 * (b[1][0] + b[2][0]), 0.5 * (b[1][1] + b[2][1])};
-        const std::array<double, 2> m20{0.5 * (b[2][0] + b[0][0]), 0.5 * (b[2][1] + b[0][1])};
-        const std::array<std::array<std::array<double, 2>, 3>, 4> kids{
-            {{{b[0], m01, m20}}, {{m01, b[1], m12}}, {{m20, m12, b[2]}}, {{m01, m12, m20}}}};
+        const auto mid = [](const std::array<double, 2>& x, const std::array<double, 2>& y) {
+          return std::array<double, 2>{0.5 * (x[0] + y[0]), 0.5 * (x[1] + y[1])};
+        };
         const ParentCandidates* parent = list_candidates(c);
-        for (const auto& k : kids) push(evaluate_face(Cell{0, 0, false, c.id, c.level + 1, k}, &c.ball, parent));
+        const int base = needle_base(c);
+        if (base >= 0) {
+          const auto &B = b[base], &C = b[(base + 1) % 3], &A = b[(base + 2) % 3];
+          const std::array<double, 2> M = mid(A, B), N = mid(A, C);
+          const std::array<std::array<std::array<double, 2>, 3>, 3> kids{{{{A, M, N}}, {{M, B, C}}, {{M, C, N}}}};
+          for (const auto& k : kids) push(evaluate_face(Cell{0, 0, false, c.id, c.level + 1, k}, &c.ball, parent));
+        } else {
+          const std::array<double, 2> m01 = mid(b[0], b[1]), m12 = mid(b[1], b[2]), m20 = mid(b[2], b[0]);
+          const std::array<std::array<std::array<double, 2>, 3>, 4> kids{
+              {{{b[0], m01, m20}}, {{m01, b[1], m12}}, {{m20, m12, b[2]}}, {{m01, m12, m20}}}};
+          for (const auto& k : kids) push(evaluate_face(Cell{0, 0, false, c.id, c.level + 1, k}, &c.ball, parent));
+        }
       }
     }
     double lower = min_discarded_;
@@ -345,8 +358,22 @@ class BranchAndBound {
     return g;
   }
 
+  // The edge k (corners k, k + 1) of a needle-shaped face cell, shorter than half of each other
+  // edge, or -1. Only the shape of the subdivision depends on it (a heuristic), judged in the
+  // mover's own coordinates: the same at every pose and for every rounding of the rotation.
+  int needle_base(const Cell& c) const {
+    const Face& f = mover_.faces[c.id];
+    const Vec3 &p0 = mover_.vertices[f[0]], e1 = mover_.vertices[f[1]] - p0, e2 = mover_.vertices[f[2]] - p0;
+    std::array<Vec3, 3> v;
+    for (int k = 0; k < 3; ++k) v[k] = c.bary[k][0] * e1 + c.bary[k][1] * e2;
+    std::array<double, 3> len2;
+    for (int k = 0; k < 3; ++k) len2[k] = (v[(k + 1) % 3] - v[k]).squaredNorm();
+    const int s = static_cast<int>(std::min_element(len2.begin(), len2.end()) - len2.begin());
+    return 4.0 * len2[s] < std::min(len2[(s + 1) % 3], len2[(s + 2) % 3]) ? s : -1;
+  }
+
   // The candidate list for the children of a face cell about to be split: the triangles within
-  // dist(m, F) + 2.5 r of its centre. A child's centre x lies within r/2 of m (dyadic split), so its
+  // dist(m, F) + 2.5 r of its centre. A child's centre x lies within r/2 of m (either split), so its
   // nearest triangles lie within dist(x, F) + |x - m| <= dist(m, F) + 2 |x - m| of m, and its depth
   // candidates (within dist(x, F) + 2 r/2 of x) within dist(m, F) + 2 r; the margin covers rounding.
   // nullptr when the list would be long (a traversal per child is then cheaper).
@@ -587,6 +614,7 @@ class BranchAndBound {
   }
 
   const SignedDistance& fixed_;
+  const TriangleMesh& mover_;
   const MoverOrientation& o_;
   const PlacedView P_;
   const Vec3& t_;
@@ -660,7 +688,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     r.clearance = sqrt_interval({dist.min_lo_sq, dist.best_hi_sq});
     if (options.frontier) options.frontier->valid = false;
   } else {
-    BranchAndBound bb(fixed, orientation, P, t, options, options.frontier != nullptr);
+    BranchAndBound bb(fixed, mover, orientation, P, t, options, options.frontier != nullptr);
     const ClearanceFrontier* warm = options.frontier && options.frontier->valid ? options.frontier : nullptr;
     bb.run(options.max_cells, options.hint_face, options.hint_beta, options.hint_gamma, warm, r);
     if (options.frontier) bb.export_frontier(*options.frontier);

@@ -181,6 +181,39 @@ TEST(Clearance, AgreesWithDenseSampling) {
   EXPECT_GT(penetrating, 2);
 }
 
+// A mover of needle triangles (a thin torus with few segments along its length: edges about 20
+// times longer than its short ones), whose cells are split across their length into three
+// (BranchAndBound's needle split): cold and warm certificates agree with dense sampling.
+TEST(Clearance, NeedleCellsAgreeWithDenseSampling) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Case c(make_torus(1.0, 0.4, 24, 12), make_torus(0.6, 0.03, 6, 12));
+  int penetrating = 0;
+  for (int k = 0; k < 16; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const Vec3 t = Vec3(1.0, 0.0, 0.0) + 0.45 * Vec3(u(rng), u(rng), u(rng));
+    const double tol = 1e-6;
+    const ClearanceResult r = c.run(R, t, tol);
+    const MoverOrientation o = make_mover_orientation(c.mover, R);
+    const Interval ref = sampled_enclosure(c.fixed, o.placed(t), c.mover.faces, 48);
+    // The same pose warm-started from a nearby pose's frontier.
+    ClearanceFrontier frontier;
+    ClearanceOptions warm;
+    warm.tolerance = tol;
+    warm.frontier = &frontier;
+    certify_clearance(c.fixed, c.mover, c.comps, o, t + Vec3(0.01, -0.02, 0.015), warm);
+    const ClearanceResult w = certify_clearance(c.fixed, c.mover, c.comps, o, t, warm);
+    SCOPED_TRACE("case " + std::to_string(k));
+    for (const ClearanceResult* x : {&r, &w}) {
+      EXPECT_TRUE(x->tolerance_reached);
+      EXPECT_LE(x->clearance.lo, ref.hi) << x->clearance.lo << " " << x->clearance.hi << " vs " << ref.lo << " " << ref.hi;
+      EXPECT_GE(x->clearance.hi, ref.lo) << x->clearance.lo << " " << x->clearance.hi << " vs " << ref.lo << " " << ref.hi;
+    }
+    penetrating += !r.separated;
+  }
+  EXPECT_GT(penetrating, 6);
+}
+
 // A branch and bound warm-started from the previous pose's frontier (shifted bounds, and the cells'
 // translated depth bounds) must give a rigorous certificate too: along approaches into a torus,
 // chained warm certificates agree with cold ones and with the dense-sampling enclosure; steps must
