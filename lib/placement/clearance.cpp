@@ -331,6 +331,7 @@ class BranchAndBound {
   // within r of m), eta (the corners' distance from the exact sub-triangle's), eta_m (m's).
   struct FaceGeometry {
     std::array<Vec3, 3> v;
+    std::array<double, 3> w;  // m = sum w_k v_k
     Vec3 m;
     double r = 0.0, eta = 0.0, eta_m = 0.0;
   };
@@ -349,8 +350,11 @@ class BranchAndBound {
       g.eta = 1e-14 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) *
               1.7320508075688774;
     }
-    g.m = (v[0] + v[1] + v[2]) / 3.0;
-    // m lies within a few ulps (of the corners' magnitude) of the computed triangle; eta_m covers it.
+    g.w = centre_weights(c);
+    g.m = g.w[0] == g.w[1] && g.w[1] == g.w[2] ? Vec3((v[0] + v[1] + v[2]) / 3.0)
+                                                : Vec3(g.w[0] * v[0] + g.w[1] * v[1] + g.w[2] * v[2]);
+    // m lies within a few ulps (of the corners' magnitude) of the computed triangle (weights summing
+    // to 1, dyadic or thirds); eta_m covers it.
     const double mag = std::max({v[0].cwiseAbs().maxCoeff(), v[1].cwiseAbs().maxCoeff(), v[2].cwiseAbs().maxCoeff()});
     g.eta_m = g.eta + 2e-15 * mag * 1.7320508075688774 + 1e-300;
     for (const Vec3& x : v) g.r = std::max(g.r, (x - g.m).norm());
@@ -358,14 +362,46 @@ class BranchAndBound {
     return g;
   }
 
-  // The edge k (corners k, k + 1) of a needle-shaped face cell, shorter than half of each other
-  // edge, or -1. Only the shape of the subdivision depends on it (a heuristic), judged in the
-  // mover's own coordinates: the same at every pose and for every rounding of the rotation.
-  int needle_base(const Cell& c) const {
+  // The weights of a face cell's centre m = sum w_k v_k: of the centroid, the edges' midpoints and
+  // the middles of the medians, the point whose farthest corner is nearest (r, in every bound,
+  // is that distance: a needle's centroid lies 2/3 of its length from the apex, the middle of its
+  // median 1/2; an obtuse cell's longest edge's midpoint has the other corner within). Judged in
+  // the mover's own coordinates, so the same at every pose. Only tightness depends on it.
+  std::array<double, 3> centre_weights(const Cell& c) const {
+    const std::array<double, 3> centroid{1.0 / 3, 1.0 / 3, 1.0 / 3};
+    const std::array<Vec3, 3> u = own_corners(c);
+    const auto radius = [&](const std::array<double, 3>& w) {
+      const Vec3 m = w[0] * u[0] + w[1] * u[1] + w[2] * u[2];
+      return std::max({(u[0] - m).squaredNorm(), (u[1] - m).squaredNorm(), (u[2] - m).squaredNorm()});
+    };
+    std::array<double, 3> best = centroid;
+    double best_r = 0.95 * 0.95 * radius(centroid);  // another centre only when clearly better
+    for (int k = 0; k < 3; ++k) {
+      std::array<double, 3> edge{0.5, 0.5, 0.5}, median{0.25, 0.25, 0.25};
+      edge[k] = 0.0;
+      median[k] = 0.5;
+      for (const auto& w : {edge, median}) {
+        const double r = radius(w);
+        if (r < best_r) best_r = r, best = w;
+      }
+    }
+    return best;
+  }
+
+  // The corners of a face cell in the mover's own coordinates, relative to the face's first vertex.
+  std::array<Vec3, 3> own_corners(const Cell& c) const {
     const Face& f = mover_.faces[c.id];
     const Vec3 &p0 = mover_.vertices[f[0]], e1 = mover_.vertices[f[1]] - p0, e2 = mover_.vertices[f[2]] - p0;
     std::array<Vec3, 3> v;
     for (int k = 0; k < 3; ++k) v[k] = c.bary[k][0] * e1 + c.bary[k][1] * e2;
+    return v;
+  }
+
+  // The edge k (corners k, k + 1) of a needle-shaped face cell, shorter than half of each other
+  // edge, or -1. Only the shape of the subdivision depends on it (a heuristic), judged in the
+  // mover's own coordinates: the same at every pose and for every rounding of the rotation.
+  int needle_base(const Cell& c) const {
+    const std::array<Vec3, 3> v = own_corners(c);
     std::array<double, 3> len2;
     for (int k = 0; k < 3; ++k) len2[k] = (v[(k + 1) % 3] - v[k]).squaredNorm();
     const int s = static_cast<int>(std::min_element(len2.begin(), len2.end()) - len2.begin());
@@ -409,8 +445,10 @@ class BranchAndBound {
     c.ud_hi = ud.hi;
     c.near_face = nearest;
     const Interval s = signed_at(m, ud, parent, &c.ball);
+    const auto& w = geo.w;
     offer_upper(up(s.hi + eta_m), c.id,
-                {(c.bary[0][0] + c.bary[1][0] + c.bary[2][0]) / 3, (c.bary[0][1] + c.bary[1][1] + c.bary[2][1]) / 3});
+                {w[0] * c.bary[0][0] + w[1] * c.bary[1][0] + w[2] * c.bary[2][0],
+                 w[0] * c.bary[0][1] + w[1] * c.bary[1][1] + w[2] * c.bary[2][1]});
     double lower = down(down(s.lo - r) - eta_m);
     if (lower < threshold() && s.hi < 0.0) {
       // Deep: first the convexity bound of the nearest triangle alone (three enclosures; see

@@ -141,6 +141,28 @@ TEST(Clearance, ContactsSeenFromOutsideWithKnownAnswers) {
   }
 }
 
+// The same known answer with a needle tetrahedron (faces 6 long and 0.26 wide: needle cells, cut
+// across their length, centred at the middle of a median): its vertex pushed into a box's top face
+// or an edge of it, at several angles; the exact clearance is -push.
+TEST(Clearance, NeedleVertexInAFaceWithKnownAnswers) {
+  TriangleMesh needle;
+  needle.vertices = {Vec3(0, 0, 0), Vec3(0.15, 0, 6), Vec3(-0.075, 0.13, 6), Vec3(-0.075, -0.13, 6)};
+  needle.faces = {{0, 2, 1}, {0, 3, 2}, {0, 1, 3}, {1, 2, 3}};
+  Case c(make_box(Vec3(0, 0, 0), Vec3(2, 2, 2)), needle);
+  const double tol = 1e-7;
+  for (const double tilt : {0.0, 0.3, 0.9}) {
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(tilt, Vec3(1, 0.5, 0).normalized()).toRotationMatrix();
+    for (const double push : {1e-5, 3e-3, 0.05}) {
+      SCOPED_TRACE("tilt " + std::to_string(tilt) + " push " + std::to_string(push));
+      const ClearanceResult r = c.run(R, Vec3(1.2, 0.9, 2 - push), tol);
+      EXPECT_LE(r.clearance.lo, -push + 1e-12) << std::setprecision(17) << r.clearance.lo;
+      EXPECT_GE(r.clearance.hi, -push - 1e-12) << std::setprecision(17) << r.clearance.hi;
+      EXPECT_TRUE(r.tolerance_reached);
+      EXPECT_LE(r.clearance.width(), tol * 1.001);
+    }
+  }
+}
+
 // Fine sampling of the mover surface: min of certified s over samples is an upper bound of c, and
 // min - h (h the sampling radius) a lower bound; the certificate must intersect that enclosure.
 Interval sampled_enclosure(const SignedDistance& fixed, const std::vector<Vec3>& P, const std::vector<Face>& faces, int n) {
