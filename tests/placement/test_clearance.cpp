@@ -143,7 +143,7 @@ TEST(Clearance, ContactsSeenFromOutsideWithKnownAnswers) {
 
 // The same known answer with a needle tetrahedron (faces 6 long and 0.26 wide: needle cells, cut
 // across their length, centred at the middle of a median): its vertex pushed into a box's top face
-// or an edge of it, at several angles; the exact clearance is -push.
+// at three tilts; the exact clearance is -push.
 TEST(Clearance, NeedleVertexInAFaceWithKnownAnswers) {
   TriangleMesh needle;
   needle.vertices = {Vec3(0, 0, 0), Vec3(0.15, 0, 6), Vec3(-0.075, 0.13, 6), Vec3(-0.075, -0.13, 6)};
