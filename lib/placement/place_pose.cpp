@@ -293,13 +293,11 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     // The previous pose of the advance, for the slope of c (a heuristic: it only picks steps).
     double prev_lambda = 0.0, prev_mid = 0.0;
     bool have_prev = false;
-    // The absolute margin for the rounding of t at poses with |lambda| up to `magnitude`.
-    const auto rounding_slack = [&](double magnitude) { return pose_rounding_slack(frame, magnitude); };
     while (!within(c.clearance) && out.steps < options.max_steps) {
       // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
       // margin; the rounding of t by the absolute one): stepping by c_lo - target cannot pass the
       // first crossing.
-      const double slack = rounding_slack(std::abs(out.lambda));
+      const double slack = pose_rounding_slack(frame, std::abs(out.lambda));
       const double gap = c.clearance.lo - target;
       const double step = gap * (1.0 - 1e-9) - slack;
       if (!(step > 0.0)) {
@@ -318,7 +316,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           const double h_max = out.lambda + lambda_far;  // not beyond the far side of the object
           const SeparatedAdvance a =
               separated_advance(*setup.fixed, frame.orientation, pose_translation(frame, dir, out.lambda), dir, target,
-                                rounding_slack(std::abs(out.lambda) + h_max), h_max, copt.hint_pair_fixed,
+                                pose_rounding_slack(frame, std::abs(out.lambda) + h_max), h_max, copt.hint_pair_fixed,
                                 copt.hint_pair_mover);
           if (a.h >= h_max) {  // no pair comes within reach before the far side: c > target on the line
             out.contact = false;
@@ -352,7 +350,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         // The aim: h where the two gaps, predicted with the slope, add up to h / 0.9.
         const double h = 0.9 * 2.0 * gap / (1.0 + slope);
         if (h > 1.2 * step && out.lambda - h >= -lambda_far) {
-          const double slack2 = rounding_slack(std::abs(out.lambda) + h);
+          const double slack2 = pose_rounding_slack(frame, std::abs(out.lambda) + h);
           const ClearanceResult c2 = certify(out.lambda - h, true);
           ++out.two_sided_tries;
           if ((gap + (c2.clearance.lo - target)) * (1.0 - 1e-9) - 2.0 * slack2 >= h) {
