@@ -15,6 +15,9 @@ struct Obb {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns: unit axes
   Eigen::Vector3d half = Eigen::Vector3d::Constant(-1.0);
+  // Every point lies within `pad` of the box {center + axes a : |a_k| <= half_k} (0 for a fitted
+  // box; a box carried by a rotation, sweep/mesh_sweep.h, covers the rounding so).
+  double pad = 0.0;
 };
 
 // An OBB containing the points p[0..n): axes from the covariance of the points, extents from the
@@ -31,7 +34,10 @@ Obb fit_obb(int n, const PointAt& point_at) {
     const Eigen::Vector3d d = point_at(i) - mean;
     cov += d * d.transpose();
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  // The closed-form 3x3 solver: about 10x faster than the iterative one and accurate enough for
+  // a heuristic choice of axes (containment never depends on them, see below).
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(cov);
   Eigen::Matrix3d axes = eig.eigenvectors();
   // Re-orthonormalise (Gram-Schmidt) so the test's assumption |axes| orthonormal holds closely.
   axes.col(0).normalize();
@@ -63,8 +69,10 @@ inline bool obb_overlap(const Obb& a, const Obb& b, const Eigen::Matrix3d& R, co
   const Eigen::Vector3d& ea = a.half;
   const Eigen::Vector3d& eb = b.half;
   // Rounding of B and T is ~1e-15 of the magnitudes involved; the slack is a thousand times that.
+  // The pads: every axis tested has length at most about 1 (unit axes and their cross products).
   const double slack = 1e-12 * (a.center.cwiseAbs().maxCoeff() + b.center.cwiseAbs().maxCoeff() +
-                                t.cwiseAbs().maxCoeff() + ea.maxCoeff() + eb.maxCoeff());
+                                t.cwiseAbs().maxCoeff() + ea.maxCoeff() + eb.maxCoeff()) +
+                       1.01 * (a.pad + b.pad);
   for (int i = 0; i < 3; ++i)
     if (std::abs(T[i]) > ea[i] + absB.row(i).dot(eb) + slack) return false;
   for (int j = 0; j < 3; ++j)

@@ -137,7 +137,7 @@ FloatPoseSetResult build_float_poseset(const FloatPoseSetRequest& opt) {
       level_files[l] = "offsets/" + level_file_name(specs[l].text);
       write_off(m, opt.out + "/" + level_files[l]);
     }
-    level_mesh[l] = std::make_unique<SweepMesh>(make_sweep_mesh(std::move(m.vertices), std::move(m.faces), {kFloatLeaf}));
+    level_mesh[l] = std::make_unique<SweepMesh>(make_sweep_mesh(std::move(m.vertices), std::move(m.faces), {kFloatLeaf}, false));
     level_seconds[l] = t.seconds();
   });
   res.seconds_isosurfaces = t_iso.seconds();

@@ -108,7 +108,10 @@ void attach_surface_sweep(ApproachSetup& setup, const SweepMesh& surface) {
   setup.surface = &surface;
 }
 
-ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover) {
+ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover,
+                                  std::shared_ptr<const SweepMesh> mover_sweep) {
+  if (mover_sweep && (mover_sweep->vertices != mover.vertices || mover_sweep->faces != mover.faces))
+    throw std::invalid_argument("make_approach_setup: the sweep mesh is not the mover's");
   ApproachSetup s;
   s.fixed = &fixed;
   s.mover = &mover;
@@ -118,6 +121,8 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
   s.fixed_radius = max_distance(fixed.mesh().vertices, s.fixed_ref);
   s.mover_radius = max_distance(mover.vertices, s.mover_ref);
   s.advance_target_limit = 12.0 * std::min(median_edge_length(fixed.mesh()), median_edge_length(mover));
+  s.mover_sweep = mover_sweep ? std::move(mover_sweep)
+                              : std::make_shared<const SweepMesh>(make_sweep_mesh(mover.vertices, mover.faces));
   return s;
 }
 
@@ -125,10 +130,16 @@ OrientationFrame make_orientation_frame(const ApproachSetup& setup, const Eigen:
   OrientationFrame f;
   const Vec3 rc = R * setup.mover_ref;
   f.t0 = setup.fixed_ref - rc;
-  // The two trees at once (each also builds in parallel when large).
+  // The box tree (built; it also builds in parallel when large) and the sweep tree (carried from the
+  // mover's own, O(nodes)) at once.
   f.orientation = rotate_mover(*setup.mover, R);
   tbb::parallel_invoke([&] { build_mover_boxes(f.orientation); },
-                       [&] { f.swept = make_sweep_mesh(f.orientation.placed(f.t0), setup.mover->faces); });
+                       [&] {
+                         f.swept = setup.mover_sweep
+                                       ? placed_sweep_mesh(*setup.mover_sweep, R, f.t0, f.orientation.placed(f.t0),
+                                                           f.orientation.transform_error(f.t0))
+                                       : make_sweep_mesh(f.orientation.placed(f.t0), setup.mover->faces);
+                       });
   return f;
 }
 

@@ -7,6 +7,7 @@
 // the tolerance of the target. See doc/poses.md.
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,8 +33,14 @@ struct ApproachSetup {
   // The fixed surface's own sweep mesh, when attached: a first contact with it is certified by the
   // exact sweep (a touching pose, c in a few-ulp interval about 0), without a branch and bound.
   const SweepMesh* surface = nullptr;
+  // The mover's sweep mesh in its own coordinates, built once: each orientation carries it
+  // (placed_sweep_mesh) instead of building a tree.
+  std::shared_ptr<const SweepMesh> mover_sweep;
 };
-ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover);
+// mover_sweep: the mover's sweep mesh in its own coordinates when the caller has it (the fixed
+// surface's, when the mover is the fixed mesh); built here otherwise.
+ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover,
+                                  std::shared_ptr<const SweepMesh> mover_sweep = nullptr);
 // Attaches `surface` (which must outlive the setup) after checking that it has F's vertices and
 // faces exactly (std::invalid_argument otherwise).
 void attach_surface_sweep(ApproachSetup& setup, const SweepMesh& surface);

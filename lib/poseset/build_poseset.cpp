@@ -182,10 +182,9 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     }
     // "empty": no point that deep (or far) exists on this side; its rows say so.
   }
-  std::unique_ptr<SweepMesh> surface;
+  std::shared_ptr<const SweepMesh> surface;
   if (std::count(start.begin(), start.end(), PoseStart::Surface) > 0)
-    surface = std::make_unique<SweepMesh>(
-        make_sweep_mesh(fixed_mesh.vertices, fixed_mesh.faces));
+    surface = std::make_shared<const SweepMesh>(make_sweep_mesh(fixed_mesh.vertices, fixed_mesh.faces));
   // The surface a level's poses are swept against (none for a far start).
   const auto swept_surface = [&](std::size_t l) -> const SweepMesh* {
     return start[l] == PoseStart::Surface ? surface.get() : level_mesh[l].get();
@@ -199,7 +198,9 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   const std::uint64_t first = approaches * shard.index / shard.count;
   const std::uint64_t last = approaches * (shard.index + 1) / shard.count;
 
-  ApproachSetup setup = make_approach_setup(sdf, mover);
+  // The same tree serves as the mover's own when the mover is the fixed mesh (the default).
+  const bool same_mesh = mover.vertices == fixed_mesh.vertices && mover.faces == fixed_mesh.faces;
+  ApproachSetup setup = make_approach_setup(sdf, mover, same_mesh ? surface : nullptr);
   if (surface) attach_surface_sweep(setup, *surface);
   PoseOptions po;
   po.tolerance = tol;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <tuple>
 
 namespace cdbench {
@@ -85,6 +86,37 @@ double box_entry_lower_bound(const Aabb& f, const Aabb& m, const Vec3& v,
   return entry <= exit && exit >= from ? std::max(entry, from) : kInf;
 }
 
+// (mesh_sweep.h) On axis L the boxes' projections are L.c_f +- R_f and L.c_m + t L.v +- R_m,
+// R = sum_k half_k |L.axis_k|: they overlap when |p + t lv| <= R_f + R_m (p = L.(c_m - c_f),
+// lv = L.v), an interval of t when lv != 0. Every computed quantity is within 1e-14 of the
+// magnitude |L|_1 (|c_f| + |c_m| + sum of halves) of its exact value (a few roundings, any mode);
+// the radius grows by 1e-12 of it. Axes nearly perpendicular to v (|lv| below 1e-6 |L|_1 |v|) are
+// skipped, so lv carries a relative error below 1e-9 and the times a relative margin of 1e-8.
+double obb_entry_lower_bound(const Obb& f, const Obb& m, const Vec3& v) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const Vec3 w = m.center - f.center;
+  const double mag = f.center.cwiseAbs().maxCoeff() + m.center.cwiseAbs().maxCoeff() + f.half.sum() + m.half.sum();
+  const double vmax = v.cwiseAbs().maxCoeff();
+  double entry = -kInf, exit = kInf;
+  const auto axis = [&](const Vec3& L) {
+    const double l1 = L.cwiseAbs().sum();
+    const double lv = L.dot(v);
+    if (!(std::abs(lv) > 1e-6 * l1 * vmax)) return;
+    double R = 1e-12 * l1 * mag + (f.pad + m.pad) * l1 + 1e-300;
+    for (int k = 0; k < 3; ++k) R += f.half[k] * std::abs(L.dot(f.axes.col(k))) + m.half[k] * std::abs(L.dot(m.axes.col(k)));
+    const double p = L.dot(w);
+    double t0 = (-R - p) / lv, t1 = (R - p) / lv;
+    if (lv < 0.0) std::swap(t0, t1);
+    entry = std::max(entry, t0 - 1e-8 * std::abs(t0));
+    exit = std::min(exit, t1 + 1e-8 * std::abs(t1));
+  };
+  for (int k = 0; k < 3; ++k) axis(f.axes.col(k));
+  for (int k = 0; k < 3; ++k) axis(m.axes.col(k));
+  for (int i = 0; i < 3 && entry <= exit; ++i)
+    for (int j = 0; j < 3; ++j) axis(f.axes.col(i).cross(m.axes.col(j)));
+  return entry <= exit ? entry : kInf;
+}
+
 struct SweepPolicy {
   Best& best;
   const Vec3& v;
@@ -94,12 +126,15 @@ struct SweepPolicy {
     vv = vx * vx + vy * vy + vz * vz;
   }
 
-  // The later of the sphere and box entry times: both are lower bounds of the first meeting.
+  // The latest of the sphere, box and oriented box entry times: each is a lower bound of the first
+  // meeting (the oriented boxes, the dearest, only while the pair may still matter).
   double bound(const SweepVolume& f, const SweepVolume& m) {
     ++best.result.sphere_tests;
     const double s = entry_lower_bound(f.sphere, m.sphere, vx, vy, vz, vv);
     if (!(s < std::numeric_limits<double>::infinity())) return s;
-    return std::max(s, box_entry_lower_bound(f.box, m.box, v));
+    const double b = std::max(s, box_entry_lower_bound(f.box, m.box, v));
+    if (!(b <= prune_bound()) || f.obb.half[0] < 0.0 || m.obb.half[0] < 0.0) return b;
+    return std::max(b, obb_entry_lower_bound(f.obb, m.obb, v));
   }
   double prune_bound() const { return best.result.hit ? best.result.t.hi : std::numeric_limits<double>::infinity(); }
   bool split_first(const SweepVolume& f, const SweepVolume& m) const { return f.sphere.radius >= m.sphere.radius; }
@@ -226,18 +261,121 @@ double box_entry_time_lower_bound(const Aabb& fixed, const Aabb& moving, const V
   return box_entry_lower_bound(fixed, moving, v);
 }
 
+double obb_entry_time_lower_bound(const Obb& fixed, const Obb& moving, const Vec3& v) {
+  return obb_entry_lower_bound(fixed, moving, v);
+}
+
 double box_entry_time_lower_bound_upward(const Aabb& fixed, const Aabb& moving, const Vec3& v, double from) {
   return box_entry_lower_bound(fixed, moving, v, from);
 }
 
-SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces, const BvhBuildOptions& options) {
+SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces, const BvhBuildOptions& options,
+                          bool oriented) {
   SweepMesh m;
   m.vertices = std::move(vertices);
   m.faces = std::move(faces);
   m.tree = build_triangle_bvh<SweepVolume>(
-      m.vertices, m.faces, [](int n, const auto& p) { return SweepVolume{bounding_sphere(n, p), bounding_box(n, p)}; },
+      m.vertices, m.faces,
+      [oriented](int n, const auto& p) {
+        return SweepVolume{bounding_sphere(n, p), bounding_box(n, p), oriented ? fit_obb(n, p) : Obb{}};
+      },
       options);
   return m;
+}
+
+namespace {
+
+// An upper bound of the spectral norm of R: sqrt of a Gershgorin bound on R^T R, whose computed
+// entries are within 1e-15 of (|R|^T |R|)_ij of the exact ones (three products and two sums).
+double spectral_norm_upper(const Eigen::Matrix3d& R) {
+  const Eigen::Matrix3d M = R.transpose() * R;
+  const Eigen::Matrix3d A = R.cwiseAbs().transpose() * R.cwiseAbs();
+  double worst = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    double row = 0.0;
+    for (int j = 0; j < 3; ++j) row += std::abs(M(i, j)) + 1e-15 * A(i, j);
+    worst = std::max(worst, row);
+  }
+  return std::sqrt(worst) * (1.0 + 1e-15);
+}
+
+// |fl(fl(R x) + t) - (R x + t)| (Euclidean) bounded, as MoverOrientation::transform_error: gamma_4
+// (< 4.5e-16) times |R| |x| + |t| per coordinate; the sum over coordinates bounds the norm.
+double place_error(const Eigen::Matrix3d& absR, const Vec3& x, const Vec3& t) {
+  return 1e-15 * ((absR * x.cwiseAbs()).sum() + t.cwiseAbs().sum()) + 1e-300;
+}
+
+// fl(fl(R x) + t) in some order of evaluation: within place_error of R x + t.
+Vec3 carry(const Eigen::Matrix3d& R, const Vec3& t, const Vec3& x) {
+  const Vec3 y = R * x;
+  return Vec3(y[0] + t[0], y[1] + t[1], y[2] + t[2]);
+}
+
+}  // namespace
+
+SweepMesh placed_sweep_mesh(const SweepMesh& own, const Eigen::Matrix3d& R, const Vec3& t, std::vector<Vec3> placed,
+                            double err) {
+  if (placed.size() != own.vertices.size())
+    throw std::invalid_argument("placed_sweep_mesh: the placed vertices do not match the mesh");
+  SweepMesh r;
+  r.vertices = std::move(placed);
+  r.faces = own.faces;
+  r.tree.order = own.tree.order;
+  r.tree.nodes.resize(own.tree.nodes.size());
+  const Eigen::Matrix3d absR = R.cwiseAbs();
+  const double nR = spectral_norm_upper(R);
+  const auto outward = [](double x) { return x * (1.0 + 1e-14) + 1e-300; };
+  for (std::size_t k = 0; k < own.tree.nodes.size(); ++k) {
+    const auto& a = own.tree.nodes[k];
+    auto& b = r.tree.nodes[k];
+    b.first = a.first;
+    b.count = a.count;
+    const SweepVolume& u = a.bv;
+    SweepVolume& w = b.bv;
+    // A point x of the volume lands at y = R x + t + e (|e| <= err); the volume's centre c at
+    // c' = fl(fl(R c) + t), within place_error of R c + t.
+    if (u.sphere.radius >= 0.0) {  // |y - c'| <= |R| |x - c| + err + |c' - (R c + t)|
+      w.sphere.center = carry(R, t, u.sphere.center);
+      w.sphere.radius = outward(nR * u.sphere.radius + err + place_error(absR, u.sphere.center, t));
+    }
+    if (u.obb.half[0] >= 0.0) {
+      // y = c' + fl(R A) a + (R A - fl(R A)) a + (R c + t - c') + e, |a_k| <= half_k: within the
+      // pad of the carried box; fl(R A)'s columns are within 1e-15 |R| |A_k| <= 2e-15 of R A_k.
+      w.obb.center = carry(R, t, u.obb.center);
+      w.obb.axes = R * u.obb.axes;
+      w.obb.half = u.obb.half;
+      w.obb.pad = outward(nR * u.obb.pad + err + place_error(absR, u.obb.center, t) + 1e-14 * u.obb.half.sum());
+    }
+    // The box: the carried sphere's, intersected with the carried axis-aligned box's (own box
+    // centre m, half extent h: |y - (R m + t)|_k <= (|R| h)_k + err) and, when present, the carried
+    // oriented box's (sum_j half_j |A'_kj| + pad per axis).
+    if (!u.box.empty()) {
+      const Vec3 m = u.box.center(), h = (0.5 * (u.box.hi - u.box.lo)).cwiseAbs();
+      const Vec3 mc = carry(R, t, m);
+      // m's own rounding: within 1e-16 |m| per coordinate of the exact midpoint; h likewise.
+      const Vec3 ext = absR * (h + Vec3::Constant(1e-15 * (m.cwiseAbs().maxCoeff() + h.maxCoeff())));
+      const double e = err + place_error(absR, m, t);
+      for (int i = 0; i < 3; ++i) {
+        w.box.lo[i] = mc[i] - outward(ext[i] + e) - 1e-15 * std::abs(mc[i]);
+        w.box.hi[i] = mc[i] + outward(ext[i] + e) + 1e-15 * std::abs(mc[i]);
+      }
+      if (w.sphere.radius >= 0.0)
+        for (int i = 0; i < 3; ++i) {
+          const double c = w.sphere.center[i], rr = outward(w.sphere.radius) + 1e-15 * std::abs(c);
+          w.box.lo[i] = std::max(w.box.lo[i], c - rr);
+          w.box.hi[i] = std::min(w.box.hi[i], c + rr);
+        }
+      if (w.obb.half[0] >= 0.0)
+        for (int i = 0; i < 3; ++i) {
+          double x = w.obb.pad;
+          for (int j = 0; j < 3; ++j) x += w.obb.half[j] * std::abs(w.obb.axes(i, j));
+          const double c = w.obb.center[i], rr = outward(x) + 1e-15 * std::abs(c);
+          w.box.lo[i] = std::max(w.box.lo[i], c - rr);
+          w.box.hi[i] = std::min(w.box.hi[i], c + rr);
+        }
+    }
+  }
+  return r;
 }
 
 SweepMesh translated_sweep_mesh(const SweepMesh& m, const Vec3& t) {
@@ -254,6 +392,15 @@ SweepMesh translated_sweep_mesh(const SweepMesh& m, const Vec3& t) {
     for (int k = 0; k < 3; ++k) {
       b.lo[k] = b.lo[k] + t[k];
       b.hi[k] = b.hi[k] + t[k];
+    }
+    // The oriented box: its centre moved as the points, both rounded once (each within u of
+    // |c + t| and |x + t| <= |c + t| + the box's half diagonal); 1e-15 per axis covers it.
+    Obb& o = node.bv.obb;
+    if (o.half[0] >= 0.0) {
+      const Vec3 c = o.center;
+      o.center = Vec3(c[0] + t[0], c[1] + t[1], c[2] + t[2]);
+      const double grow = 1e-15 * (2.0 * (c.cwiseAbs().sum() + t.cwiseAbs().sum()) + o.half.sum()) + 1e-300;
+      o.half = (o.half.array() + grow).matrix();
     }
     Sphere& s = node.bv.sphere;
     if (s.radius < 0.0) continue;

@@ -182,5 +182,167 @@ TEST(MeshSweep, SphereEntryBoundIsRigorous) {
   EXPECT_GT(infinite, 1000);
 }
 
+
+// The oriented boxes' bound against the exact first contact of the triangles they contain: fitted
+// to one or a few random triangles each (long, thin and tilted ones included), the bound never
+// exceeds the exact contact time of any contained pair (line_contact, exact), and is infinite only
+// when no pair ever meets. It must also be finite, and later than the axis-aligned boxes' bound,
+// in many cases (else it would prune nothing).
+TEST(MeshSweep, ObbEntryBoundNeverPassesAContainedContact) {
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto random_triangle = [&](const Vec3& at, bool needle) {
+    const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+    Triangle T;
+    for (Vec3& p : T) p = at + (needle ? 2.0 * u(rng) * axis + 0.05 * Vec3(u(rng), u(rng), u(rng)) : Vec3(u(rng), u(rng), u(rng)));
+    return T;
+  };
+  int finite = 0, infinite = 0, later_than_boxes = 0, pairs_checked = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const int nf = 1 + static_cast<int>(rng() % 3), nm = 1 + static_cast<int>(rng() % 3);
+    const bool needle = k % 2 == 0;
+    std::vector<Triangle> F, M;
+    for (int i = 0; i < nf; ++i) F.push_back(random_triangle(Vec3(0, 0, 0) + 0.3 * Vec3(u(rng), u(rng), u(rng)), needle));
+    const Vec3 start = 4.0 * Vec3(u(rng), u(rng), u(rng));
+    for (int i = 0; i < nm; ++i) M.push_back(random_triangle(start + 0.3 * Vec3(u(rng), u(rng), u(rng)), needle));
+    // Towards the fixed set, off by a random lateral amount (many lines miss).
+    Vec3 v = (-start + 1.5 * Vec3(u(rng), u(rng), u(rng))) * (0.1 + std::abs(u(rng)));
+    if (k % 7 == 0) v[k % 3] = 0.0;
+    const auto fit = [](const std::vector<Triangle>& T) {
+      return fit_obb(static_cast<int>(3 * T.size()), [&](int i) -> const Vec3& { return T[i / 3][i % 3]; });
+    };
+    const auto box = [](const std::vector<Triangle>& T) {
+      Aabb b;
+      for (const Triangle& t : T)
+        for (const Vec3& p : t) b.extend(p);
+      return b;
+    };
+    const double b = obb_entry_time_lower_bound(fit(F), fit(M), v);
+    bool any = false;
+    for (const Triangle& A : F)
+      for (const Triangle& B : M) {
+        const LineContact c = line_contact(A, B, v);
+        ++pairs_checked;
+        if (!c.hit) continue;
+        any = true;
+        ASSERT_LE(b, c.t_in.lo) << std::setprecision(17) << "case " << k;
+      }
+    if (std::isinf(b)) {
+      ++infinite;
+      EXPECT_FALSE(any) << "case " << k;
+      continue;
+    }
+    ++finite;
+    if (b > box_entry_time_lower_bound(box(F), box(M), v) + 1e-9) ++later_than_boxes;
+  }
+  EXPECT_GT(finite, 300);
+  EXPECT_GT(infinite, 300);
+  EXPECT_GT(later_than_boxes, 200);
+  std::printf("oriented boxes: %d finite, %d infinite, %d later than the axis-aligned bound (%d pairs)\n", finite,
+              infinite, later_than_boxes, pairs_checked);
+}
+
+// A mover's own tree carried to a placed mover (placed_sweep_mesh): every placed vertex lies in
+// each of its nodes' sphere and box (exactly, in rationals) and within the pad of its oriented box
+// (a point of the box found from the exact coordinates, in rationals), for rotations exactly
+// orthonormal or not (perturbed by 1e-9) and large translations; the first contacts equal the
+// rebuilt tree's and the brute force's.
+TEST(MeshSweep, CarriedTreeContainsThePlacedMoverAndFindsTheSameContacts) {
+  const TriangleMesh torus = make_torus(1.0, 0.3, 12, 5);
+  const TriangleMesh box = make_box(Vec3(-1.5, -0.2, -0.1), Vec3(1.5, 0.2, 0.1));
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto q = [](double x) { return mpq_class(x); };
+  for (const TriangleMesh* mesh : {&torus, &box}) {
+    const SweepMesh own = make_sweep_mesh(mesh->vertices, mesh->faces);
+    const SweepMesh fixed = make_sweep_mesh(mesh->vertices, mesh->faces);
+    for (int k = 0; k < 12; ++k) {
+      Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+      if (k % 3 == 1) R += 1e-9 * Eigen::Matrix3d::Random();
+      const Vec3 t = (k % 4 == 0 ? 1e6 : 2.0) * Vec3(u(rng), u(rng), u(rng));
+      std::vector<Vec3> placed;
+      Vec3 abs_max = Vec3::Zero();
+      for (const Vec3& x : mesh->vertices) {
+        const Vec3 r(R(0, 0) * x[0] + R(0, 1) * x[1] + R(0, 2) * x[2], R(1, 0) * x[0] + R(1, 1) * x[1] + R(1, 2) * x[2],
+                     R(2, 0) * x[0] + R(2, 1) * x[1] + R(2, 2) * x[2]);
+        placed.push_back(Vec3(r[0] + t[0], r[1] + t[1], r[2] + t[2]));
+        abs_max = abs_max.cwiseMax(R.cwiseAbs() * x.cwiseAbs());
+      }
+      // MoverOrientation::transform_error's bound (gamma_4 (|R| |x| + |t|), Euclidean).
+      const double err = (4.5e-16 * (abs_max + t.cwiseAbs())).norm() * (1.0 + 1e-10);
+      const SweepMesh carried = placed_sweep_mesh(own, R, t, placed, err);
+      SCOPED_TRACE("case " + std::to_string(k));
+      // Every node's vertices, through the leaves below it.
+      std::vector<std::vector<std::uint32_t>> below(carried.tree.nodes.size());
+      for (std::size_t n = carried.tree.nodes.size(); n-- > 0;) {
+        const auto& node = carried.tree.nodes[n];
+        if (node.count > 0) {
+          for (std::uint32_t i = 0; i < node.count; ++i)
+            for (std::uint32_t v : mesh->faces[carried.tree.order[node.first + i]]) below[n].push_back(v);
+        } else {
+          for (std::uint32_t c : {node.first, node.first + 1}) below[n].insert(below[n].end(), below[c].begin(), below[c].end());
+        }
+      }
+      for (std::size_t n = 0; n < carried.tree.nodes.size(); ++n) {
+        const SweepVolume& w = carried.tree.nodes[n].bv;
+        Eigen::Matrix<mpq_class, 3, 3> A, Ai;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) A(i, j) = q(w.obb.axes(i, j));
+        // The exact inverse by cofactors.
+        const mpq_class det = A(0, 0) * (A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1)) -
+                              A(0, 1) * (A(1, 0) * A(2, 2) - A(1, 2) * A(2, 0)) +
+                              A(0, 2) * (A(1, 0) * A(2, 1) - A(1, 1) * A(2, 0));
+        ASSERT_NE(det, 0);
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            const int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
+            Ai(i, j) = (A(i1, j1) * A(i2, j2) - A(i1, j2) * A(i2, j1)) / det;
+          }
+        for (std::uint32_t v : below[n]) {
+          const Vec3& y = placed[v];
+          for (int i = 0; i < 3; ++i) {
+            ASSERT_LE(w.box.lo[i], y[i]);
+            ASSERT_GE(w.box.hi[i], y[i]);
+          }
+          mpq_class d2 = 0;
+          for (int i = 0; i < 3; ++i) d2 += (q(y[i]) - q(w.sphere.center[i])) * (q(y[i]) - q(w.sphere.center[i]));
+          ASSERT_LE(d2, q(w.sphere.radius) * q(w.sphere.radius));
+          std::array<mpq_class, 3> a, p;
+          for (int i = 0; i < 3; ++i) {
+            a[i] = 0;
+            for (int j = 0; j < 3; ++j) a[i] += Ai(i, j) * (q(y[j]) - q(w.obb.center[j]));
+            const mpq_class h = q(w.obb.half[i]);
+            if (a[i] > h) a[i] = h;
+            if (a[i] < -h) a[i] = -h;
+          }
+          mpq_class e2 = 0;
+          for (int i = 0; i < 3; ++i) {
+            p[i] = q(w.obb.center[i]);
+            for (int j = 0; j < 3; ++j) p[i] += A(i, j) * a[j];
+            e2 += (q(y[i]) - p[i]) * (q(y[i]) - p[i]);
+          }
+          ASSERT_LE(e2, q(w.obb.pad) * q(w.obb.pad)) << "node " << n << " vertex " << v;
+        }
+      }
+      if (k % 4 == 0) continue;  // far away: no contact to compare
+      const SweepMesh rebuilt = make_sweep_mesh(placed, mesh->faces);
+      for (int d = 0; d < 4; ++d) {
+        const Vec3 v = Vec3(u(rng), u(rng), u(rng));
+        const MeshContact a = first_contact_along_line(fixed, carried, v);
+        const MeshContact b = first_contact_along_line(fixed, rebuilt, v);
+        const MeshContact c = first_contact_brute_force(fixed, carried, v);
+        ASSERT_EQ(a.hit, c.hit);
+        ASSERT_EQ(b.hit, c.hit);
+        if (!c.hit) continue;
+        EXPECT_EQ(a.t.lo, c.t.lo);
+        EXPECT_EQ(a.t.hi, c.t.hi);
+        EXPECT_EQ(b.t.lo, c.t.lo);
+        EXPECT_EQ(a.fixed_face, c.fixed_face);
+        EXPECT_EQ(a.moving_face, c.moving_face);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace cdbench
