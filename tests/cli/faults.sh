@@ -30,6 +30,15 @@ interrupt_after() {
   shift 2
   "$@" > "$work/int.txt" 2>&1 &
   local pid=$!
+  # Not before the program has installed its handlers (SIGTERM, bit 14 of SigCgt): a signal
+  # during start-up (loading the libraries, slow on a loaded machine) kills it silently.
+  local cgt
+  for _ in $(seq 500); do
+    cgt=$(awk '/^SigCgt/ {print $2}' "/proc/$pid/status" 2>/dev/null) || break
+    [ -z "$cgt" ] && break
+    (( (16#$cgt >> 14) & 1 )) && break
+    sleep 0.01
+  done
   sleep "$delay"
   kill "-$sig" "$pid" 2>/dev/null
   wait "$pid"
