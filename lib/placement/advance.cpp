@@ -24,15 +24,49 @@ struct AdvancePolicy {
   double reach;  // target + margins, rounded up
   double best;   // the least bound so far (starts at h_max)
   std::int64_t best_f = -1, best_m = -1;
+  Vec3 D = Vec3::Zero();  // with sweep trees: t - mover_t, and the rounding it leaves (above)
+  double shift_pad = 0.0;
+  ObbTrial trial = ObbTrial();
 
   // Under upward rounding: lo - x rounded down is -((-lo) + x).
   double bound(const Aabb& f, const Aabb& m) const {
-    Aabb g, n;
+    Aabb n;
+    for (int k = 0; k < 3; ++k) {
+      n.lo[k] = -(-m.lo[k] - t[k]);  // contains fl(p + t) for p in m (round-to-nearest is monotone)
+      n.hi[k] = m.hi[k] + t[k];
+    }
+    return placed_bound(f, n);
+  }
+
+  // The sweep trees' volumes (SweepTrees): the mover's hold its points placed at mover_t; at the
+  // pose t they lie within shift_pad of them moved by D = t - mover_t. The box bound, then (while
+  // ObbTrial keeps it) the oriented boxes' entry time, each box padded by reach and the mover's
+  // also by shift_pad and its moved centre's rounding: the later of the two.
+  double bound(const SweepVolume& f, const SweepVolume& m) {
+    Aabb n;
+    for (int k = 0; k < 3; ++k) {
+      n.lo[k] = -((-m.box.lo[k] - D[k]) + shift_pad);
+      n.hi[k] = (m.box.hi[k] + D[k]) + shift_pad;
+    }
+    const double box = placed_bound(f.box, n);
+    if (!(box < best) || !trial.on || f.obb.half[0] < 0.0 || m.obb.half[0] < 0.0) return box;
+    Obb g = f.obb, o = m.obb;
+    g.pad = g.pad + reach;
+    const Vec3 c = o.center;
+    o.center = Vec3(c[0] + D[0], c[1] + D[1], c[2] + D[2]);
+    o.pad = (o.pad + shift_pad) + 1e-15 * (c.cwiseAbs().sum() + D.cwiseAbs().sum());
+    const double oriented = obb_entry_time_lower_bound(g, o, v, 0.0);
+    trial.record(!(oriented < best));
+    return std::max(box, oriented);
+  }
+  bool split_first(const SweepVolume& f, const SweepVolume& m) const { return split_first(f.box, m.box); }
+
+  // f: a fixed node's box; n: a mover node's box at the pose t (it holds the placed points).
+  double placed_bound(const Aabb& f, const Aabb& n) const {
+    Aabb g;
     for (int k = 0; k < 3; ++k) {
       g.lo[k] = -(-f.lo[k] + reach);
       g.hi[k] = f.hi[k] + reach;
-      n.lo[k] = -(-m.lo[k] - t[k]);  // contains fl(p + t) for p in m (round-to-nearest is monotone)
-      n.hi[k] = m.hi[k] + t[k];
     }
     const double box = box_entry_time_lower_bound_upward(g, n, v, 0.0);
     if (!(box < best)) return box;
@@ -81,7 +115,7 @@ struct AdvancePolicy {
 
 SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrientation& orientation, const Vec3& t,
                                    const Vec3& d, double target, double slack, double h_max,
-                                   std::int64_t hint_fixed, std::int64_t hint_mover) {
+                                   std::int64_t hint_fixed, std::int64_t hint_mover, const SweepTrees* trees) {
   SeparatedAdvance r;
   if (!(h_max > 0.0)) return r;
   // The transform's rounding at t and at any pose reached (|t'_k| <= |t_k| + h_max |d_k| + slack).
@@ -94,7 +128,18 @@ SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrien
   if (hint_fixed >= 0 && hint_mover >= 0 && static_cast<std::size_t>(hint_fixed) < fixed.mesh().faces.size() &&
       static_cast<std::size_t>(hint_mover) < orientation.faces->size())
     policy.leaf(static_cast<std::uint32_t>(hint_fixed), static_cast<std::uint32_t>(hint_mover));
-  if (!policy.done()) traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, policy);
+  if (trees && trees->fixed && trees->mover) {
+    // A placed vertex at t, fl(r + t), lies within u |r + t| + u |r + mover_t| (per coordinate)
+    // of fl(r + mover_t) + (t - mover_t), and the computed D within u |t - mover_t| of the exact
+    // difference (upward rounding: 2u); the transform's bounds at both poses cover the former.
+    policy.D = Vec3(t[0] - trees->mover_t[0], t[1] - trees->mover_t[1], t[2] - trees->mover_t[2]);
+    policy.shift_pad = (orientation.transform_error(t) + orientation.transform_error(trees->mover_t)) +
+                       1e-15 * policy.D.cwiseAbs().sum();
+    if (!policy.done()) traverse_pairs_nearest_first(trees->fixed->tree, trees->mover->tree, policy);
+    r.oriented_paid = policy.trial.on;
+  } else if (!policy.done()) {
+    traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, policy);
+  }
   r.h = std::max(0.0, std::min(policy.best, h_max));
   r.fixed_face = policy.best_f;
   r.mover_face = policy.best_m;

@@ -15,6 +15,9 @@ struct SeparatedAdvance {
   double h = 0.0;  // the proven step (0: none); h_max when no pair can come within reach before it
   // The pair that set h (fixed face, mover face), -1 if none: a hint for the next certificate.
   std::int64_t fixed_face = -1, mover_face = -1;
+  // With sweep trees: whether their oriented boxes still pruned at the end (ObbTrial); when they
+  // did not, the caller's next traversals are cheaper on the box trees.
+  bool oriented_paid = false;
 };
 
 // Precondition: at the pose t the placed mover's surface (vertices fl(fl(R x) + t)) is outside F and
@@ -28,8 +31,11 @@ struct SeparatedAdvance {
 // outside F along the way, where c is the least pair distance, and c is 1-Lipschitz in the vertices.
 // `hint_fixed`, `hint_mover` (optional): a pair likely to set h (the last certificate's nearest
 // pair, the previous step's limiting pair), bounded first so that its bound prunes from the start.
+// `trees` (optional): the pairs are visited on these trees instead, their oriented boxes pruning
+// too (sweep/mesh_sweep.h, ObbTrial).
 SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrientation& orientation, const Vec3& t,
                                    const Vec3& d, double target, double slack, double h_max,
-                                   std::int64_t hint_fixed = -1, std::int64_t hint_mover = -1);
+                                   std::int64_t hint_fixed = -1, std::int64_t hint_mover = -1,
+                                   const SweepTrees* trees = nullptr);
 
 }  // namespace cdbench

@@ -59,6 +59,35 @@ struct DistancePolicy {
   std::uint64_t tests = 0;
 
   double bound(const Aabb& f, const Aabb& m) const { return squared_distance_lower_bound(f, moved(m, t)); }
+  // Sweep trees (ClearanceOptions::sweep_trees): the mover's volumes hold its points at mover_t;
+  // at t they lie within shift_pad of them moved by D. The boxes' bound, then (while ObbTrial
+  // keeps it) the oriented boxes'.
+  Vec3 D = Vec3::Zero();
+  double shift_pad = 0.0;
+  ObbTrial trial = ObbTrial();
+  double bound(const SweepVolume& f, const SweepVolume& m) {
+    Aabb n;
+    for (int k = 0; k < 3; ++k) {
+      // Rounded outward by more than the three roundings of each (at most 2u each, any mode).
+      const double lo = m.box.lo[k] + D[k], hi = m.box.hi[k] + D[k];
+      n.lo[k] = lo - (shift_pad * (1.0 + 1e-14) + 1e-15 * std::abs(lo));
+      n.hi[k] = hi + (shift_pad * (1.0 + 1e-14) + 1e-15 * std::abs(hi));
+    }
+    const double box = squared_distance_lower_bound(f.box, n);
+    if (!(box <= prune_bound()) || !trial.on || f.obb.half[0] < 0.0 || m.obb.half[0] < 0.0) return box;
+    Obb o = m.obb;
+    const Vec3 c = o.center;
+    o.center = Vec3(c[0] + D[0], c[1] + D[1], c[2] + D[2]);
+    o.pad = o.pad + shift_pad * (1.0 + 1e-14) + 1e-15 * (c.cwiseAbs().sum() + D.cwiseAbs().sum());
+    const double oriented = obb_squared_distance_lower_bound(f.obb, o);
+    trial.record(oriented > prune_bound());
+    return std::max(box, oriented);
+  }
+  bool split_first(const SweepVolume& f, const SweepVolume& m) const { return split_first(f.box, m.box); }
+  void use_sweep_trees(const SweepTrees& trees, const MoverOrientation& o) {
+    D = Vec3(t[0] - trees.mover_t[0], t[1] - trees.mover_t[1], t[2] - trees.mover_t[2]);
+    shift_pad = (o.transform_error(t) + o.transform_error(trees.mover_t)) * (1.0 + 1e-12) + 1e-15 * D.cwiseAbs().sum();
+  }
   double prune_bound() const { return fast ? threshold_sq : best_hi_sq; }
   bool split_first(const Aabb& f, const Aabb& m) const { return f.extent().squaredNorm() >= m.extent().squaredNorm(); }
   void leaf(std::uint32_t fi, std::uint32_t mi) {
@@ -677,6 +706,17 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
                                   const Vec3& t, const ClearanceOptions& options) {
   ClearanceResult r;
   const PlacedView P = orientation.placed_view(t);
+  const SweepTrees* trees =
+      options.sweep_trees && options.sweep_trees->fixed && options.sweep_trees->mover ? options.sweep_trees : nullptr;
+  const auto pair_traversal = [&](DistancePolicy& policy) {
+    if (trees) {
+      policy.use_sweep_trees(*trees, orientation);
+      traverse_pairs_nearest_first(trees->fixed->tree, trees->mover->tree, policy);
+      r.oriented_paid = policy.trial.on;
+    } else {
+      traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, policy);
+    }
+  };
   DistancePolicy dist{fixed.mesh(), fixed.planes(), P, mover.faces, t};
   double scale = fixed.bbox().lo.cwiseAbs().maxCoeff() + fixed.bbox().hi.cwiseAbs().maxCoeff();
   // The mover's root box, moved, bounds every placed vertex (and its extremes are vertices).
@@ -691,7 +731,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
         static_cast<std::size_t>(options.hint_pair_fixed) < fixed.mesh().faces.size() &&
         static_cast<std::size_t>(options.hint_pair_mover) < mover.faces.size())
       dist.leaf(static_cast<std::uint32_t>(options.hint_pair_fixed), static_cast<std::uint32_t>(options.hint_pair_mover));
-    if (!dist.done()) traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, dist);
+    if (!dist.done()) pair_traversal(dist);
   }
   r.pair_tests = dist.tests;
   if (!dist.intersect && dist.best_est_sq < kInf) {
@@ -710,7 +750,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     if (!(best.hi <= dist.threshold_sq) && !(dist.rel > 0.0)) {
       DistancePolicy rigorous{fixed.mesh(), fixed.planes(), P, mover.faces, t};
       rigorous.fast = false;
-      traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, rigorous);
+      pair_traversal(rigorous);
       r.pair_tests += rigorous.tests;
       dist.min_lo_sq = rigorous.min_lo_sq;
       dist.best_hi_sq = rigorous.best_hi_sq;

@@ -82,6 +82,9 @@ struct ClearanceOptions {
   // A triangle pair (fixed face, mover face) likely to be nearest, e.g. the previous pose's: the
   // pair-distance path visits it first, so that its threshold prunes from the start. Speed only.
   std::int64_t hint_pair_fixed = -1, hint_pair_mover = -1;
+  // When set (fixed: F's own sweep mesh; mover: this orientation's), the pair-distance path visits
+  // node pairs of these trees, their oriented boxes pruning as well (ObbTrial). Speed only.
+  const SweepTrees* sweep_trees = nullptr;
   // In/out: when valid, the branch and bound starts from it; replaced by this run's frontier
   // (invalidated when the distance path decides).
   ClearanceFrontier* frontier = nullptr;
@@ -98,6 +101,9 @@ struct ClearanceResult {
   double argmin_beta = 0.0, argmin_gamma = 0.0;
   // The pair-distance path's nearest pair (fixed face, mover face), when it ran; -1 otherwise.
   std::int64_t nearest_pair_fixed = -1, nearest_pair_mover = -1;
+  // The pair-distance path on sweep trees: whether their oriented boxes still pruned at the end
+  // (ObbTrial; false when not used).
+  bool oriented_paid = false;
 };
 
 // `mover` is the mover mesh in its own coordinates, `components` its component_representatives.

@@ -187,6 +187,16 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   copt.max_cells = options.max_cells;
   ClearanceFrontier frontier;  // the previous certificate's search, a warm start for the next pose
   copt.frontier = &frontier;
+  // Separated targets: the pair traversals (separated advance, pair-distance path) on the sweep
+  // trees when F's is attached, until a separated advance finds that their oriented boxes do not
+  // pay (ObbTrial): the box trees, built per orientation with world-aligned splits, are then
+  // cheaper for this pose's other traversals (rounded parts); on long, tilted triangles (machined
+  // parts) the oriented boxes prune most pairs. Penetrating targets keep the box trees.
+  const SweepTrees trees{setup.surface, &frame.swept, frame.t0};
+  if (setup.surface && target > 0.0) copt.sweep_trees = &trees;
+  const auto oriented_verdict = [&](bool used, bool paid) {
+    if (used && !paid) copt.sweep_trees = nullptr;
+  };
   // While far from the target an advance step needs only a loose lower bound: a width of a part of
   // the remaining gap (upper end - target, tightening as the search lowers the upper end) costs at
   // most that part of the step; the reported pose gets the full tolerance (`loose` = false).
@@ -328,7 +338,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           const SeparatedAdvance a =
               separated_advance(*setup.fixed, frame.orientation, pose_translation(frame, dir, out.lambda), dir, target,
                                 pose_rounding_slack(frame, std::abs(out.lambda) + h_max), h_max, copt.hint_pair_fixed,
-                                copt.hint_pair_mover);
+                                copt.hint_pair_mover, copt.sweep_trees);
+          oriented_verdict(copt.sweep_trees != nullptr, a.oriented_paid);
           if (a.h >= h_max) {  // no pair comes within reach before the far side: c > target on the line
             out.contact = false;
             out.reason = "no-contact";

@@ -182,9 +182,9 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     }
     // "empty": no point that deep (or far) exists on this side; its rows say so.
   }
-  std::shared_ptr<const SweepMesh> surface;
-  if (std::count(start.begin(), start.end(), PoseStart::Surface) > 0)
-    surface = std::make_shared<const SweepMesh>(make_sweep_mesh(fixed_mesh.vertices, fixed_mesh.faces));
+  // F's own sweep mesh: the first contact of surface starts, and (with the mover's) the trees of the
+  // separated advance and of the pair-distance path.
+  const auto surface = std::make_shared<const SweepMesh>(make_sweep_mesh(fixed_mesh.vertices, fixed_mesh.faces));
   // The surface a level's poses are swept against (none for a far start).
   const auto swept_surface = [&](std::size_t l) -> const SweepMesh* {
     return start[l] == PoseStart::Surface ? surface.get() : level_mesh[l].get();
@@ -201,7 +201,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // The same tree serves as the mover's own when the mover is the fixed mesh (the default).
   const bool same_mesh = mover.vertices == fixed_mesh.vertices && mover.faces == fixed_mesh.faces;
   ApproachSetup setup = make_approach_setup(sdf, mover, same_mesh ? surface : nullptr);
-  if (surface) attach_surface_sweep(setup, *surface);
+  attach_surface_sweep(setup, *surface);
   PoseOptions po;
   po.tolerance = tol;
   po.polish = polish;

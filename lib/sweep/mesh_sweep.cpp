@@ -92,7 +92,8 @@ double box_entry_lower_bound(const Aabb& f, const Aabb& m, const Vec3& v,
 // magnitude |L|_1 (|c_f| + |c_m| + sum of halves) of its exact value (a few roundings, any mode);
 // the radius grows by 1e-12 of it. Axes nearly perpendicular to v (|lv| below 1e-6 |L|_1 |v|) are
 // skipped, so lv carries a relative error below 1e-9 and the times a relative margin of 1e-8.
-double obb_entry_lower_bound(const Obb& f, const Obb& m, const Vec3& v) {
+double obb_entry_lower_bound(const Obb& f, const Obb& m, const Vec3& v,
+                             double from = -std::numeric_limits<double>::infinity()) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const Vec3 w = m.center - f.center;
   const double mag = f.center.cwiseAbs().maxCoeff() + m.center.cwiseAbs().maxCoeff() + f.half.sum() + m.half.sum();
@@ -114,7 +115,31 @@ double obb_entry_lower_bound(const Obb& f, const Obb& m, const Vec3& v) {
   for (int k = 0; k < 3; ++k) axis(m.axes.col(k));
   for (int i = 0; i < 3 && entry <= exit; ++i)
     for (int j = 0; j < 3; ++j) axis(f.axes.col(i).cross(m.axes.col(j)));
-  return entry <= exit ? entry : kInf;
+  return entry <= exit && exit >= from ? std::max(entry, from) : kInf;
+}
+
+// (mesh_sweep.h) On axis L the projections are L.c_a +- R_a and L.c_b +- R_b (pads included, the
+// radius grown by the same slack as above): a gap |p| - R > 0 proves every pair of points at least
+// gap / |L| apart. |L|^2 is rounded up by the factor, the quotient down by the final one.
+double obb_distance_sq_lower(const Obb& a, const Obb& b) {
+  const Vec3 w = b.center - a.center;
+  const double mag = a.center.cwiseAbs().maxCoeff() + b.center.cwiseAbs().maxCoeff() + a.half.sum() + b.half.sum();
+  double best = 0.0;
+  const auto axis = [&](const Vec3& L) {
+    const double l1 = L.cwiseAbs().sum();
+    double R = 1e-12 * l1 * mag + (a.pad + b.pad) * l1 + 1e-300;
+    for (int k = 0; k < 3; ++k) R += a.half[k] * std::abs(L.dot(a.axes.col(k))) + b.half[k] * std::abs(L.dot(b.axes.col(k)));
+    const double gap = std::abs(L.dot(w)) - R;
+    if (!(gap > 0.0)) return;
+    const double n2 = L.squaredNorm() * (1.0 + 1e-14);
+    if (!(n2 > 0.0)) return;
+    best = std::max(best, gap * gap / n2);
+  };
+  for (int k = 0; k < 3; ++k) axis(a.axes.col(k));
+  for (int k = 0; k < 3; ++k) axis(b.axes.col(k));
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) axis(a.axes.col(i).cross(b.axes.col(j)));
+  return best * (1.0 - 1e-13);
 }
 
 struct SweepPolicy {
@@ -261,9 +286,11 @@ double box_entry_time_lower_bound(const Aabb& fixed, const Aabb& moving, const V
   return box_entry_lower_bound(fixed, moving, v);
 }
 
-double obb_entry_time_lower_bound(const Obb& fixed, const Obb& moving, const Vec3& v) {
-  return obb_entry_lower_bound(fixed, moving, v);
+double obb_entry_time_lower_bound(const Obb& fixed, const Obb& moving, const Vec3& v, double from) {
+  return obb_entry_lower_bound(fixed, moving, v, from);
 }
+
+double obb_squared_distance_lower_bound(const Obb& a, const Obb& b) { return obb_distance_sq_lower(a, b); }
 
 double box_entry_time_lower_bound_upward(const Aabb& fixed, const Aabb& moving, const Vec3& v, double from) {
   return box_entry_lower_bound(fixed, moving, v, from);
@@ -346,34 +373,20 @@ SweepMesh placed_sweep_mesh(const SweepMesh& own, const Eigen::Matrix3d& R, cons
       w.obb.half = u.obb.half;
       w.obb.pad = outward(nR * u.obb.pad + err + place_error(absR, u.obb.center, t) + 1e-14 * u.obb.half.sum());
     }
-    // The box: the carried sphere's, intersected with the carried axis-aligned box's (own box
-    // centre m, half extent h: |y - (R m + t)|_k <= (|R| h)_k + err) and, when present, the carried
-    // oriented box's (sum_j half_j |A'_kj| + pad per axis).
-    if (!u.box.empty()) {
-      const Vec3 m = u.box.center(), h = (0.5 * (u.box.hi - u.box.lo)).cwiseAbs();
-      const Vec3 mc = carry(R, t, m);
-      // m's own rounding: within 1e-16 |m| per coordinate of the exact midpoint; h likewise.
-      const Vec3 ext = absR * (h + Vec3::Constant(1e-15 * (m.cwiseAbs().maxCoeff() + h.maxCoeff())));
-      const double e = err + place_error(absR, m, t);
-      for (int i = 0; i < 3; ++i) {
-        w.box.lo[i] = mc[i] - outward(ext[i] + e) - 1e-15 * std::abs(mc[i]);
-        w.box.hi[i] = mc[i] + outward(ext[i] + e) + 1e-15 * std::abs(mc[i]);
-      }
-      if (w.sphere.radius >= 0.0)
-        for (int i = 0; i < 3; ++i) {
-          const double c = w.sphere.center[i], rr = outward(w.sphere.radius) + 1e-15 * std::abs(c);
-          w.box.lo[i] = std::max(w.box.lo[i], c - rr);
-          w.box.hi[i] = std::min(w.box.hi[i], c + rr);
-        }
-      if (w.obb.half[0] >= 0.0)
-        for (int i = 0; i < 3; ++i) {
-          double x = w.obb.pad;
-          for (int j = 0; j < 3; ++j) x += w.obb.half[j] * std::abs(w.obb.axes(i, j));
-          const double c = w.obb.center[i], rr = outward(x) + 1e-15 * std::abs(c);
-          w.box.lo[i] = std::max(w.box.lo[i], c - rr);
-          w.box.hi[i] = std::min(w.box.hi[i], c + rr);
-        }
+  }
+  // The boxes, tight: each leaf's from its triangles' placed vertices, each internal node's the
+  // union of its children's (children follow their parent in the node array).
+  for (std::size_t k = r.tree.nodes.size(); k-- > 0;) {
+    auto& b = r.tree.nodes[k];
+    Aabb box;
+    if (b.count > 0) {
+      for (std::uint32_t i = 0; i < b.count; ++i)
+        for (std::uint32_t v : r.faces[r.tree.order[b.first + i]]) box.extend(r.vertices[v]);
+    } else {
+      box.extend(r.tree.nodes[b.first].bv.box);
+      box.extend(r.tree.nodes[b.first + 1].bv.box);
     }
+    b.bv.box = box;
   }
   return r;
 }

@@ -6,6 +6,7 @@
 // contact), visits node pairs best-first by entry time (one heap) and runs exact triangle sweeps at the
 // leaves.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "bvh/bvh.h"
@@ -76,7 +77,29 @@ double box_entry_time_lower_bound(const Aabb& fixed, const Aabb& moving, const V
 // (both boxes' axes and their cross products), +inf when some axis never overlaps or the
 // intervals are disjoint. Any axis gives a valid bound, so L is whatever the doubles give; the
 // rounding of each projection is covered by a slack far above it. Any rounding mode.
-double obb_entry_time_lower_bound(const Obb& fixed, const Obb& moving, const Vec3& v);
+// `from`: only times >= from count (+inf when the boxes meet only before).
+double obb_entry_time_lower_bound(const Obb& fixed, const Obb& moving, const Vec3& v,
+                                  double from = -std::numeric_limits<double>::infinity());
+// A lower bound of the squared distance between two oriented boxes (read as above, pads
+// included): the largest gap between their projections on the same 15 axes, over the axis' length.
+// Any rounding mode.
+double obb_squared_distance_lower_bound(const Obb& a, const Obb& b);
+
+// Whether a pair traversal should still try the oriented boxes: they prune a large part of the
+// pairs the boxes leave on long, tilted triangles (machined parts) and almost none on rounded
+// nodes, where their 15 axes cost more than they save. Tried on the first kTrial pairs the boxes
+// leave; kept only when they pruned at least a quarter of them. Only the work depends on it, and
+// it depends only on the traversal's own order (deterministic).
+struct ObbTrial {
+  static constexpr int kTrial = 64;
+  int tried = 0, pruned = 0;
+  bool on = true;
+  void record(bool did_prune) {
+    ++tried;
+    pruned += did_prune;
+    if (tried == kTrial && 4 * pruned < kTrial) on = false;
+  }
+};
 // The same counting only times >= from (+inf when the boxes meet only before), for callers that
 // already run under upward rounding (CGAL::Protect_FPU_rounding<true>) for a whole traversal.
 double box_entry_time_lower_bound_upward(const Aabb& fixed, const Aabb& moving, const Vec3& v, double from);

@@ -367,6 +367,9 @@ TEST(PlacePose, LongStepsNeverPassAnEarlierCrossing) {
   const SignedDistance fixed(torus);
   const TriangleMesh mover = make_icosphere(0.2, 1);
   const ApproachSetup setup = make_approach_setup(fixed, mover);
+  const SweepMesh surface = make_sweep_mesh(torus.vertices, torus.faces);
+  ApproachSetup with_trees = setup;
+  attach_surface_sweep(with_trees, surface);
   PoseOptions opt;
   opt.tolerance = 1e-6;
   opt.start = PoseStart::Far;
@@ -380,10 +383,11 @@ TEST(PlacePose, LongStepsNeverPassAnEarlierCrossing) {
     if (k % 2 == 0) dir = Vec3(dir.x(), dir.y(), 0.1 * dir.z()).normalized();
     for (double target : {-0.1, 0.05}) {
       // Long steps, plain certified steps, and (targets > 0) the separated advance.
-      for (int mode = 0; mode < 3; ++mode) {
+      // Mode 3: the separated advance and the pair-distance path on the sweep trees.
+      for (int mode = 0; mode < 4; ++mode) {
         opt.two_sided_steps = mode == 0;
-        opt.separated_advance = mode == 2;
-        const PoseOutcome p = place_pose(setup, frame, nullptr, dir, target, opt);
+        opt.separated_advance = mode >= 2;
+        const PoseOutcome p = place_pose(mode == 3 ? with_trees : setup, frame, nullptr, dir, target, opt);
         tries += p.two_sided_tries;
         if (!p.contact) continue;
         ++placed;
@@ -421,25 +425,42 @@ TEST(SeparatedAdvance, StepsKeepTheClearanceAboveTheTarget) {
     if (!(c0.clearance.lo > target)) continue;
     const double h_max = 10.0;
     const double slack = 8.0 * 0x1p-52 * (t.cwiseAbs().maxCoeff() + h_max);
-    const SeparatedAdvance a = separated_advance(c.fixed, o, t, dir, target, slack, h_max);
-    ASSERT_GE(a.h, 0.0);
-    ASSERT_LE(a.h, h_max);
-    if (!(a.h > 0.0) || a.h >= h_max) continue;
-    ++stepped;
-    beyond_lipschitz += a.h > 1.2 * (c0.clearance.lo - target);
-    for (double at : {1.0, 0.5, w(rng), w(rng)}) {
-      const double mu = at * a.h;
-      const Vec3 t2(t[0] - mu * dir[0], t[1] - mu * dir[1], t[2] - mu * dir[2]);
-      const ClearanceResult r = certify_clearance(c.fixed, c.mover, c.comps, o, t2, copt);
-      ASSERT_GE(r.clearance.hi, target) << std::setprecision(17) << "case " << k << " target " << target << " h "
-                                        << a.h << " at " << at << " clearance [" << r.clearance.lo << ", "
-                                        << r.clearance.hi << "]";
-      if (at == 1.0) landed_near += r.clearance.lo - target < 0.01 * (c0.clearance.lo - target);
+    // On the box trees, and on the sweep trees (the mover's placed at another pose t0, so that the
+    // shift between the two poses is part of what is checked).
+    const SweepMesh surface = make_sweep_mesh(c.fixed.mesh().vertices, c.fixed.mesh().faces);
+    const Vec3 t0 = t + Vec3(0.3, -0.2, 0.1);
+    const SweepMesh own = make_sweep_mesh(c.mover.vertices, c.mover.faces);
+    const SweepMesh mover_at_t0 = placed_sweep_mesh(own, R, t0, o.placed(t0), o.transform_error(t0));
+    const SweepTrees trees{&surface, &mover_at_t0, t0};
+    for (const SweepTrees* with : {static_cast<const SweepTrees*>(nullptr), &trees}) {
+      const SeparatedAdvance a = separated_advance(c.fixed, o, t, dir, target, slack, h_max, -1, -1, with);
+      ASSERT_GE(a.h, 0.0);
+      ASSERT_LE(a.h, h_max);
+      if (!(a.h > 0.0) || a.h >= h_max) continue;
+      ++stepped;
+      beyond_lipschitz += a.h > 1.2 * (c0.clearance.lo - target);
+      for (double at : {1.0, 0.5, w(rng), w(rng)}) {
+        const double mu = at * a.h;
+        const Vec3 t2(t[0] - mu * dir[0], t[1] - mu * dir[1], t[2] - mu * dir[2]);
+        const ClearanceResult r = certify_clearance(c.fixed, c.mover, c.comps, o, t2, copt);
+        ASSERT_GE(r.clearance.hi, target) << std::setprecision(17) << "case " << k << " target " << target << " h "
+                                          << a.h << " at " << at << " clearance [" << r.clearance.lo << ", "
+                                          << r.clearance.hi << "]" << (with ? " (sweep trees)" : "");
+        if (at == 1.0) landed_near += r.clearance.lo - target < 0.01 * (c0.clearance.lo - target);
+        // The pair-distance path on the sweep trees encloses the same clearance.
+        ClearanceOptions on_trees = copt;
+        on_trees.sweep_trees = &trees;
+        const ClearanceResult r2 = certify_clearance(c.fixed, c.mover, c.comps, o, t2, on_trees);
+        ASSERT_TRUE(r2.clearance.lo <= r.clearance.hi && r.clearance.lo <= r2.clearance.hi)
+            << std::setprecision(17) << "case " << k << ": [" << r.clearance.lo << ", " << r.clearance.hi << "] and ["
+            << r2.clearance.lo << ", " << r2.clearance.hi << "]";
+        EXPECT_LE(r2.clearance.hi - r2.clearance.lo, 2 * copt.tolerance + 1e-12);
+      }
     }
   }
-  EXPECT_GT(stepped, 15);
-  EXPECT_GT(beyond_lipschitz, 5);
-  EXPECT_GT(landed_near, 3);
+  EXPECT_GT(stepped, 30);
+  EXPECT_GT(beyond_lipschitz, 10);
+  EXPECT_GT(landed_near, 6);
 }
 
 // A thin fin standing on a long slab, approached along the slab at a constant height: c is flat
