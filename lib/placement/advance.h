@@ -8,6 +8,7 @@
 
 #include "distance/signed_distance.h"
 #include "placement/mover.h"
+#include "sweep/mesh_sweep.h"
 
 namespace cdbench {
 

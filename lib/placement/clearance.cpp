@@ -712,7 +712,6 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     if (trees) {
       policy.use_sweep_trees(*trees, orientation);
       traverse_pairs_nearest_first(trees->fixed->tree, trees->mover->tree, policy);
-      r.oriented_paid = policy.trial.on;
     } else {
       traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, policy);
     }

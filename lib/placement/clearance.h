@@ -17,6 +17,7 @@
 #include "distance/depth_bound.h"
 #include "distance/signed_distance.h"
 #include "placement/mover.h"
+#include "sweep/mesh_sweep.h"
 #include "util/interval.h"
 
 namespace cdbench {
@@ -101,9 +102,6 @@ struct ClearanceResult {
   double argmin_beta = 0.0, argmin_gamma = 0.0;
   // The pair-distance path's nearest pair (fixed face, mover face), when it ran; -1 otherwise.
   std::int64_t nearest_pair_fixed = -1, nearest_pair_mover = -1;
-  // The pair-distance path on sweep trees: whether their oriented boxes still pruned at the end
-  // (ObbTrial; false when not used).
-  bool oriented_paid = false;
 };
 
 // `mover` is the mover mesh in its own coordinates, `components` its component_representatives.

@@ -13,7 +13,6 @@
 #include "bvh/bvh.h"
 #include "bvh/sphere.h"
 #include "mesh/triangle_mesh.h"
-#include "sweep/mesh_sweep.h"
 
 namespace cdbench {
 
@@ -61,17 +60,6 @@ MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::
 // trees from the rotated vertices at the same time.
 MoverOrientation rotate_mover(const TriangleMesh& mover, const Eigen::Matrix3d& R);
 void build_mover_boxes(MoverOrientation& o);
-
-// The fixed surface's and the mover's sweep trees (sweep/mesh_sweep.h), the mover's placed at the
-// pose mover_t: pair traversals at a pose t may visit these instead of the box trees, their
-// oriented boxes pruning as well. The mover's points at t lie within transform_error(t) +
-// transform_error(mover_t) of those at mover_t moved by t - mover_t (both are fl(r + .) of the
-// same rotated r = fl(R x)), plus the rounding of that difference.
-struct SweepTrees {
-  const SweepMesh* fixed = nullptr;  // over F's faces (the same face ids)
-  const SweepMesh* mover = nullptr;  // over the mover's faces, vertices fl(fl(R x) + mover_t)
-  Vec3 mover_t = Vec3::Zero();
-};
 
 // One vertex index per connected component (faces sharing vertices) of a mesh, ascending.
 std::vector<std::uint32_t> component_representatives(const TriangleMesh& mesh);

@@ -194,9 +194,6 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // parts) the oriented boxes prune most pairs. Penetrating targets keep the box trees.
   const SweepTrees trees{setup.surface, &frame.swept, frame.t0};
   if (setup.surface && target > 0.0) copt.sweep_trees = &trees;
-  const auto oriented_verdict = [&](bool used, bool paid) {
-    if (used && !paid) copt.sweep_trees = nullptr;
-  };
   // While far from the target an advance step needs only a loose lower bound: a width of a part of
   // the remaining gap (upper end - target, tightening as the search lowers the upper end) costs at
   // most that part of the step; the reported pose gets the full tolerance (`loose` = false).
@@ -339,7 +336,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
               separated_advance(*setup.fixed, frame.orientation, pose_translation(frame, dir, out.lambda), dir, target,
                                 pose_rounding_slack(frame, std::abs(out.lambda) + h_max), h_max, copt.hint_pair_fixed,
                                 copt.hint_pair_mover, copt.sweep_trees);
-          oriented_verdict(copt.sweep_trees != nullptr, a.oriented_paid);
+          if (!a.oriented_paid) copt.sweep_trees = nullptr;
           if (a.h >= h_max) {  // no pair comes within reach before the far side: c > target on the line
             out.contact = false;
             out.reason = "no-contact";

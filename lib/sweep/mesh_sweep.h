@@ -51,6 +51,18 @@ SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces, c
 SweepMesh placed_sweep_mesh(const SweepMesh& own, const Eigen::Matrix3d& R, const Vec3& t, std::vector<Vec3> placed,
                             double err);
 
+// The fixed surface's and a mover's sweep meshes, the mover's placed at the pose mover_t (for the
+// rotation R: vertices fl(fl(R x) + mover_t)): pair traversals at another pose t of the same
+// rotation may visit these instead of box trees, their oriented boxes pruning as well. The mover's
+// points at t lie within transform_error(t) + transform_error(mover_t) (placement/mover.h) of those
+// at mover_t moved by t - mover_t (both are fl(r + .) of the same r = fl(R x)), plus the rounding
+// of that difference.
+struct SweepTrees {
+  const SweepMesh* fixed = nullptr;  // over F's faces (the same face ids)
+  const SweepMesh* mover = nullptr;  // over the mover's faces
+  Vec3 mover_t = Vec3::Zero();
+};
+
 // `m` moved by t as a pose places it: vertices fl(v + t) (bit for bit what place_point gives for
 // rotated vertices v), the same tree with centres fl(c + t) and radii grown to cover the rounding
 // of both (|fl(v+t) - fl(c+t)| <= |v - c| + u (|v+t| + |c+t|)). Costs a copy, not a rebuild.
