@@ -83,8 +83,11 @@ double sphere_entry_time_lower_bound(const Sphere& fixed, const Sphere& moving, 
 // The same for boxes: the latest of the three axes' entry times, +inf when some axis never overlaps
 // or the axes' overlap intervals are disjoint.
 double box_entry_time_lower_bound(const Aabb& fixed, const Aabb& moving, const Vec3& v);
-// The same for oriented boxes, each the parallelepiped {centre + axes a : |a_k| <= half_k} (fit_obb
-// contains its points in that sense whatever the axes' rounding): on any axis L the projections
+// The same counting only times >= from (+inf when the boxes meet only before), for callers that
+// already run under upward rounding (CGAL::Protect_FPU_rounding<true>) for a whole traversal.
+double box_entry_time_lower_bound_upward(const Aabb& fixed, const Aabb& moving, const Vec3& v, double from);
+// The entry time for oriented boxes, each the parallelepiped {centre + axes a : |a_k| <= half_k}
+// (fit_obb contains its points in that sense whatever the axes' rounding): on any axis L the projections
 // overlap on an interval of t; the latest entry over the 15 axes of the separating-axis theorem
 // (both boxes' axes and their cross products), +inf when some axis never overlaps or the
 // intervals are disjoint. Any axis gives a valid bound, so L is whatever the doubles give; the
@@ -112,9 +115,6 @@ struct ObbTrial {
     if (tried == kTrial && 4 * pruned < kTrial) on = false;
   }
 };
-// The same counting only times >= from (+inf when the boxes meet only before), for callers that
-// already run under upward rounding (CGAL::Protect_FPU_rounding<true>) for a whole traversal.
-double box_entry_time_lower_bound_upward(const Aabb& fixed, const Aabb& moving, const Vec3& v, double from);
 
 // A rigorous necessary condition, cheaper than the sweep, for triangles A and B + t v to meet at
 // some t <= t_max (t_max = +inf: at any t): false only when they cannot. The exact traversal skips
