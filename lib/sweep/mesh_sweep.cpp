@@ -92,19 +92,30 @@ double box_entry_lower_bound(const Aabb& f, const Aabb& m, const Vec3& v,
 // magnitude |L|_1 (|c_f| + |c_m| + sum of halves) of its exact value (a few roundings, any mode);
 // the radius grows by 1e-12 of it. Axes nearly perpendicular to v (|lv| below 1e-6 |L|_1 |v|) are
 // skipped, so lv carries a relative error below 1e-9 and the times a relative margin of 1e-8.
+// The magnitude every computed projection of the pair (a, b) is accurate to within 1e-14 of, per
+// unit of |L|_1; and the half-width of their projections on L together, grown by 1e-12 of that
+// and by the pads (|L| <= |L|_1).
+double pair_magnitude(const Obb& a, const Obb& b) {
+  return a.center.cwiseAbs().maxCoeff() + b.center.cwiseAbs().maxCoeff() + a.half.sum() + b.half.sum();
+}
+double projected_radius(const Obb& a, const Obb& b, const Vec3& L, double l1, double mag) {
+  double R = 1e-12 * l1 * mag + (a.pad + b.pad) * l1 + 1e-300;
+  for (int k = 0; k < 3; ++k) R += a.half[k] * std::abs(L.dot(a.axes.col(k))) + b.half[k] * std::abs(L.dot(b.axes.col(k)));
+  return R;
+}
+
 double obb_entry_lower_bound(const Obb& f, const Obb& m, const Vec3& v,
                              double from = -std::numeric_limits<double>::infinity()) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const Vec3 w = m.center - f.center;
-  const double mag = f.center.cwiseAbs().maxCoeff() + m.center.cwiseAbs().maxCoeff() + f.half.sum() + m.half.sum();
+  const double mag = pair_magnitude(f, m);
   const double vmax = v.cwiseAbs().maxCoeff();
   double entry = -kInf, exit = kInf;
   const auto axis = [&](const Vec3& L) {
     const double l1 = L.cwiseAbs().sum();
     const double lv = L.dot(v);
     if (!(std::abs(lv) > 1e-6 * l1 * vmax)) return;
-    double R = 1e-12 * l1 * mag + (f.pad + m.pad) * l1 + 1e-300;
-    for (int k = 0; k < 3; ++k) R += f.half[k] * std::abs(L.dot(f.axes.col(k))) + m.half[k] * std::abs(L.dot(m.axes.col(k)));
+    const double R = projected_radius(f, m, L, l1, mag);
     const double p = L.dot(w);
     double t0 = (-R - p) / lv, t1 = (R - p) / lv;
     if (lv < 0.0) std::swap(t0, t1);
@@ -116,30 +127,6 @@ double obb_entry_lower_bound(const Obb& f, const Obb& m, const Vec3& v,
   for (int i = 0; i < 3 && entry <= exit; ++i)
     for (int j = 0; j < 3; ++j) axis(f.axes.col(i).cross(m.axes.col(j)));
   return entry <= exit && exit >= from ? std::max(entry, from) : kInf;
-}
-
-// (mesh_sweep.h) On axis L the projections are L.c_a +- R_a and L.c_b +- R_b (pads included, the
-// radius grown by the same slack as above): a gap |p| - R > 0 proves every pair of points at least
-// gap / |L| apart. |L|^2 is rounded up by the factor, the quotient down by the final one.
-double obb_distance_sq_lower(const Obb& a, const Obb& b) {
-  const Vec3 w = b.center - a.center;
-  const double mag = a.center.cwiseAbs().maxCoeff() + b.center.cwiseAbs().maxCoeff() + a.half.sum() + b.half.sum();
-  double best = 0.0;
-  const auto axis = [&](const Vec3& L) {
-    const double l1 = L.cwiseAbs().sum();
-    double R = 1e-12 * l1 * mag + (a.pad + b.pad) * l1 + 1e-300;
-    for (int k = 0; k < 3; ++k) R += a.half[k] * std::abs(L.dot(a.axes.col(k))) + b.half[k] * std::abs(L.dot(b.axes.col(k)));
-    const double gap = std::abs(L.dot(w)) - R;
-    if (!(gap > 0.0)) return;
-    const double n2 = L.squaredNorm() * (1.0 + 1e-14);
-    if (!(n2 > 0.0)) return;
-    best = std::max(best, gap * gap / n2);
-  };
-  for (int k = 0; k < 3; ++k) axis(a.axes.col(k));
-  for (int k = 0; k < 3; ++k) axis(b.axes.col(k));
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) axis(a.axes.col(i).cross(b.axes.col(j)));
-  return best * (1.0 - 1e-13);
 }
 
 struct SweepPolicy {
@@ -290,7 +277,27 @@ double obb_entry_time_lower_bound(const Obb& fixed, const Obb& moving, const Vec
   return obb_entry_lower_bound(fixed, moving, v, from);
 }
 
-double obb_squared_distance_lower_bound(const Obb& a, const Obb& b) { return obb_distance_sq_lower(a, b); }
+// (mesh_sweep.h) On axis L the projections are L.c_a +- R_a and L.c_b +- R_b (pads included, the
+// radius grown by the same slack as above): a gap |p| - R > 0 proves every pair of points at least
+// gap / |L| apart. |L|^2 is rounded up by the factor, the quotient down by the final one.
+double obb_squared_distance_lower_bound(const Obb& a, const Obb& b) {
+  const Vec3 w = b.center - a.center;
+  const double mag = pair_magnitude(a, b);
+  double best = 0.0;
+  const auto axis = [&](const Vec3& L) {
+    const double l1 = L.cwiseAbs().sum();
+    const double gap = std::abs(L.dot(w)) - projected_radius(a, b, L, l1, mag);
+    if (!(gap > 0.0)) return;
+    const double n2 = L.squaredNorm() * (1.0 + 1e-14);
+    if (!(n2 > 0.0)) return;
+    best = std::max(best, gap * gap / n2);
+  };
+  for (int k = 0; k < 3; ++k) axis(a.axes.col(k));
+  for (int k = 0; k < 3; ++k) axis(b.axes.col(k));
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) axis(a.axes.col(i).cross(b.axes.col(j)));
+  return best * (1.0 - 1e-13);
+}
 
 double box_entry_time_lower_bound_upward(const Aabb& fixed, const Aabb& moving, const Vec3& v, double from) {
   return box_entry_lower_bound(fixed, moving, v, from);
