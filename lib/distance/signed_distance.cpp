@@ -33,7 +33,7 @@ struct NearestPolicy {
   void leaf(std::uint32_t f) {
     const Face& t = mesh.faces[f];
     const Interval d2 = point_triangle_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
-    if (d2.hi < best_hi_sq) {
+    if (d2.hi < best_hi_sq || (d2.hi == best_hi_sq && f < best_face)) {  // ties: the order of visits plays no part
       best_hi_sq = d2.hi;
       best_face = f;
     }
@@ -227,7 +227,7 @@ bool finish_fast(const SignedDistance& sd, const FastNearestPolicy& fast,
     if (lb_sq < best.hi && f != fast.best_face) {
       const Interval x = sd.face_squared_distance(fast.p, f);
       d2.lo = std::min(d2.lo, x.lo);
-      if (x.hi < d2.hi) {
+      if (x.hi < d2.hi || (x.hi == d2.hi && f < face)) {  // ties: the least index, whatever the order
         d2.hi = x.hi;
         face = f;
       }
@@ -257,8 +257,16 @@ Interval nearest_distance(const SignedDistance& sd, const Vec3& p, const Visit& 
 
 }  // namespace
 
-Interval SignedDistance::unsigned_distance(const Vec3& p, std::uint32_t* nearest) const {
-  return nearest_distance(*this, p, [&](auto& policy) { traverse_nearest_first(tree_, policy); }, nearest);
+Interval SignedDistance::unsigned_distance(const Vec3& p, std::uint32_t* nearest, std::int64_t hint) const {
+  const bool hinted = hint >= 0 && static_cast<std::size_t>(hint) < mesh_.faces.size();
+  return nearest_distance(
+      *this, p,
+      [&](auto& policy) {
+        // A leaf visited once more is harmless: every policy takes the least over its leaves.
+        if (hinted) policy.leaf(static_cast<std::uint32_t>(hint));
+        traverse_nearest_first(tree_, policy);
+      },
+      nearest);
 }
 
 Interval SignedDistance::unsigned_distance_among(const Vec3& p, const std::vector<std::uint32_t>& candidates,

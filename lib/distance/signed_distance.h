@@ -34,8 +34,10 @@ class SignedDistance {
   const Bvh<Aabb>& tree() const { return tree_; }
   const std::vector<TrianglePlane>& planes() const { return planes_; }  // per face
 
-  // [lo, hi] containing dist(p, F) >= 0; `nearest` (if given) receives a triangle at the upper end.
-  Interval unsigned_distance(const Vec3& p, std::uint32_t* nearest = nullptr) const;
+  // [lo, hi] containing dist(p, F) >= 0; `nearest` (if given) receives a triangle at the upper end
+  // (the least index among those at it). `hint` (optional): a triangle likely to be nearest (e.g. a
+  // nearby point's), visited first so that it prunes from the start; the result does not depend on it.
+  Interval unsigned_distance(const Vec3& p, std::uint32_t* nearest = nullptr, std::int64_t hint = -1) const;
 
   // The same, the triangles searched being `candidates` only: they must include every triangle
   // within dist(p, F) of p (e.g. all within a radius known to exceed it), and then the result is

@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <queue>
 
 #include "distance/depth_bound.h"
 #include "distance/point_triangle_distance.h"
@@ -178,6 +177,24 @@ struct CellOrder {
   }
 };
 
+// The storage of one branch and bound, kept per thread between runs: on a plateau the queue and
+// the set-aside cells reach 10^4 cells per certificate, and growing them afresh each time spent
+// 10-15 % of the run in reallocation and page faults (rotor_small, doc/performance.md). A run
+// that finds its thread's storage in use (none does today) gets its own.
+struct BranchAndBoundStorage {
+  std::vector<Cell> heap, discarded;
+  std::vector<CellDepthBound> depth;
+  std::vector<std::uint32_t> ids, parent_ids;
+  bool busy = false;
+  void clear() {
+    heap.clear();
+    discarded.clear();
+    depth.clear();
+    ids.clear();
+    parent_ids.clear();
+  }
+};
+
 class BranchAndBound {
  public:
   // keep_frontier: remember discarded cells too, for export_frontier().
@@ -186,7 +203,17 @@ class BranchAndBound {
   BranchAndBound(const SignedDistance& fixed, const TriangleMesh& mover, const MoverOrientation& o, const PlacedView& P,
                  const Vec3& t, const ClearanceOptions& opt, bool keep_frontier)
       : fixed_(fixed), mover_(mover), o_(o), P_(P), t_(t), tol_(opt.tolerance), rel_(opt.relative_tolerance),
-        target_(opt.target), keep_discarded_(keep_frontier) {}
+        target_(opt.target), keep_discarded_(keep_frontier), store_(claim_storage(own_)), heap_(store_.heap),
+        discarded_(store_.discarded), depth_(store_.depth), ids_(store_.ids) {
+    store_.clear();
+    std::swap(parent_.ids, store_.parent_ids);
+  }
+  ~BranchAndBound() {
+    std::swap(parent_.ids, store_.parent_ids);
+    store_.busy = false;
+  }
+  BranchAndBound(const BranchAndBound&) = delete;
+  BranchAndBound& operator=(const BranchAndBound&) = delete;
 
   void run(std::uint64_t max_cells, std::int64_t hint_face, double hint_beta, double hint_gamma,
            const ClearanceFrontier* warm, ClearanceResult& r) {
@@ -201,21 +228,25 @@ class BranchAndBound {
       const double rounding = o_.transform_error(t_);
       const double shift = up(up((t_ - warm->t).norm() * (1.0 + 1e-12)) + up(warm->transform_error + rounding));
       depth_ = warm->depth;
+      // Pushed at once and heaped in linear time: the order of the pops is that of (lower, seq)
+      // whatever the heap's layout, so the same as one push at a time.
+      heap_.reserve(warm->cells.size());
       for (const ClearanceFrontier::Cell& w : warm->cells) {
         double lower = down(w.lower - shift);
         if (w.depth >= 0) lower = std::max(lower, translated_lower(depth_[w.depth], t_, rounding));
         Cell c{lower, 0, w.is_node, w.id, w.level, w.bary, true, w.ball, w.depth};
         c.near_face = w.near_face;
-        push(c);
+        push(c, false);
       }
+      std::make_heap(heap_.begin(), heap_.end(), CellOrder());
     } else {
       push(evaluate_node(0));
     }
-    while (!queue_.empty()) {
-      const Cell c = queue_.top();
+    while (!heap_.empty()) {
+      const Cell c = heap_.front();
       if (c.lower >= threshold()) break;
       if (r.cells >= max_cells) break;
-      queue_.pop();
+      pop();
       ++r.cells;
       if (c.stale) {  // evaluate it at this pose before splitting it
         // First the bounds from its last nearest triangle (no tree query), which often set the
@@ -225,7 +256,7 @@ class BranchAndBound {
           push(q);
           continue;
         }
-        Cell e = c.is_node ? evaluate_node(c.id, &c.ball) : evaluate_face(Cell{0, 0, false, c.id, c.level, c.bary}, &c.ball);
+        Cell e = c.is_node ? evaluate_node(c.id, &c.ball, c.near_face) : evaluate_face(hinted(Cell{0, 0, false, c.id, c.level, c.bary}, c), &c.ball);
         if (q.lower > e.lower) e.lower = q.lower;  // both valid at this pose
         push(e);
         continue;
@@ -233,12 +264,12 @@ class BranchAndBound {
       if (c.is_node) {
         const auto& node = o_.boxes.nodes[c.id];
         if (node.count == 0) {
-          push(evaluate_node(node.first, &c.ball));
-          push(evaluate_node(node.first + 1, &c.ball));
+          push(evaluate_node(node.first, &c.ball, c.near_face));
+          push(evaluate_node(node.first + 1, &c.ball, c.near_face));
         } else {
           for (std::uint32_t i = 0; i < node.count; ++i) {
             Cell f{0, 0, false, o_.boxes.order[node.first + i], 0, {{{0, 0}, {1, 0}, {0, 1}}}};
-            push(evaluate_face(f, &c.ball));
+            push(evaluate_face(hinted(f, c), &c.ball));
           }
         }
       } else {
@@ -255,18 +286,18 @@ class BranchAndBound {
           const auto &B = b[base], &C = b[(base + 1) % 3], &A = b[(base + 2) % 3];
           const std::array<double, 2> M = mid(A, B), N = mid(A, C);
           const std::array<std::array<std::array<double, 2>, 3>, 3> kids{{{{A, M, N}}, {{M, B, C}}, {{M, C, N}}}};
-          for (const auto& k : kids) push(evaluate_face(Cell{0, 0, false, c.id, c.level + 1, k}, &c.ball, parent));
+          for (const auto& k : kids) push(evaluate_face(hinted(Cell{0, 0, false, c.id, c.level + 1, k}, c), &c.ball, parent));
         } else {
           const std::array<double, 2> m01 = mid(b[0], b[1]), m12 = mid(b[1], b[2]), m20 = mid(b[2], b[0]);
           const std::array<std::array<std::array<double, 2>, 3>, 4> kids{
               {{{b[0], m01, m20}}, {{m01, b[1], m12}}, {{m20, m12, b[2]}}, {{m01, m12, m20}}}};
-          for (const auto& k : kids) push(evaluate_face(Cell{0, 0, false, c.id, c.level + 1, k}, &c.ball, parent));
+          for (const auto& k : kids) push(evaluate_face(hinted(Cell{0, 0, false, c.id, c.level + 1, k}, c), &c.ball, parent));
         }
       }
     }
     double lower = min_discarded_;
-    if (!queue_.empty()) lower = std::min(lower, queue_.top().lower);
-    r.tolerance_reached = queue_.empty() || queue_.top().lower >= threshold();
+    if (!heap_.empty()) lower = std::min(lower, heap_.front().lower);
+    r.tolerance_reached = heap_.empty() || heap_.front().lower >= threshold();
     r.clearance = {lower, upper_};
     r.distance_queries = queries_;
     r.argmin_face = argmin_face_;
@@ -291,9 +322,10 @@ class BranchAndBound {
       f.cells.push_back({c.lower, c.is_node, c.id, c.level, c.bary, c.ball, d, c.near_face});
     };
     for (const Cell& c : discarded_) keep(c);
-    while (!queue_.empty()) {
-      keep(queue_.top());
-      queue_.pop();
+    f.cells.reserve(f.cells.size() + heap_.size());
+    while (!heap_.empty()) {
+      keep(heap_.front());
+      pop();
     }
     f.t = t_;
     f.transform_error = o_.transform_error(t_);
@@ -310,14 +342,27 @@ class BranchAndBound {
   // aside earlier never falls below a later threshold, so the result's lower end stays consistent).
   double threshold() const { return upper_ < kInf ? relaxed_threshold(upper_, tol_, rel_, target_) : kInf; }
 
-  void push(Cell c) {
+  // heaped = false: appended only (the caller heaps them all at once).
+  void push(Cell c, bool heaped = true) {
     c.seq = seq_++;
     if (c.lower >= threshold()) {
       min_discarded_ = std::min(min_discarded_, c.lower);
       if (keep_discarded_) discarded_.push_back(c);
       return;
     }
-    queue_.push(c);
+    heap_.push_back(c);
+    if (heaped) std::push_heap(heap_.begin(), heap_.end(), CellOrder());
+  }
+  void pop() {
+    std::pop_heap(heap_.begin(), heap_.end(), CellOrder());
+    heap_.pop_back();
+  }
+
+  static BranchAndBoundStorage& claim_storage(BranchAndBoundStorage& own) {
+    static thread_local BranchAndBoundStorage shared;
+    BranchAndBoundStorage& s = shared.busy ? own : shared;
+    s.busy = true;
+    return s;
   }
 
   // s at x from its unsigned distance; the side from `ball` when x lies in it, else a ray test.
@@ -330,7 +375,15 @@ class BranchAndBound {
     return with_side(ud, side);
   }
 
-  Cell evaluate_node(std::uint32_t n, const SideBall* parent = nullptr) {
+  // A cell to evaluate, with the triangle of F last found nearest to `from` (its parent, or itself
+  // at an earlier pose) as the first guess of its distance query.
+  static Cell hinted(Cell c, const Cell& from) {
+    c.near_face = from.near_face;
+    return c;
+  }
+
+  // hint: a triangle of F likely near the node's centre (unsigned_distance's hint), or -1.
+  Cell evaluate_node(std::uint32_t n, const SideBall* parent = nullptr, std::int64_t hint = -1) {
     Cell c{0, 0, true, n, 0, {}};
     const Aabb box = moved(o_.boxes.nodes[n].bv, t_);
     const Vec3 centre = box.center();
@@ -338,7 +391,7 @@ class BranchAndBound {
     const double r = up(up(0.5 * box.diagonal()) * (1.0 + 1e-12));
     ++queries_;
     std::uint32_t nearest = 0;
-    const Interval ud = fixed_.unsigned_distance(centre, &nearest);
+    const Interval ud = fixed_.unsigned_distance(centre, &nearest, hint);
     c.near_face = nearest;
     const Interval s = signed_at(centre, ud, parent, &c.ball);
     double lower = down(s.lo - r);
@@ -456,9 +509,9 @@ class BranchAndBound {
   // dist(x, F) from the parent's list when it provably holds x's nearest triangles: they lie within
   // dist(x, F) <= `ud_bound` of x.
   Interval distance_at(const Vec3& x, const ParentCandidates* parent, double ud_bound,
-                       std::uint32_t* nearest = nullptr) const {
+                       std::uint32_t* nearest = nullptr, std::int64_t hint = -1) const {
     if (parent && parent->covers(x, ud_bound)) return fixed_.unsigned_distance_among(x, parent->ids, nearest);
-    return fixed_.unsigned_distance(x, nearest);
+    return fixed_.unsigned_distance(x, nearest, hint);
   }
 
   Cell evaluate_face(Cell c, const SideBall* parent = nullptr, const ParentCandidates* list = nullptr) {
@@ -470,7 +523,8 @@ class BranchAndBound {
     // dist(m, F) <= dist(parent centre, F) + |m - parent centre|.
     std::uint32_t nearest = 0;
     const Interval ud =
-        distance_at(m, list, list ? up(list->ud_hi + up((m - list->m).norm() * (1.0 + 1e-12))) : kInf, &nearest);
+        distance_at(m, list, list ? up(list->ud_hi + up((m - list->m).norm() * (1.0 + 1e-12))) : kInf, &nearest,
+                    c.near_face);
     c.ud_hi = ud.hi;
     c.near_face = nearest;
     const Interval s = signed_at(m, ud, parent, &c.ball);
@@ -509,7 +563,7 @@ class BranchAndBound {
           // The corner nearest the plane is where the contact is: certify it for the upper end.
           if (lower < upper_) {
             ++queries_;
-            const Interval s_corner = signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r)), &c.ball, nullptr);
+            const Interval s_corner = signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r), nullptr, nearest), &c.ball, nullptr);
             offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
           }
         }
@@ -533,7 +587,7 @@ class BranchAndBound {
         if (depth < kInf && down(-depth - eta) < upper_) {
           ++queries_;
           // dist(corner, F) <= dist(m, F) + |corner - m| <= ud.hi + r.
-          const Interval s_corner = signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r)), &c.ball, nullptr);
+          const Interval s_corner = signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r), nullptr, nearest), &c.ball, nullptr);
           offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
         }
         lower = std::max(lower, down(-depth - eta));
@@ -690,13 +744,15 @@ class BranchAndBound {
   std::int64_t argmin_face_ = -1;
   std::array<double, 2> argmin_bary_{0.0, 0.0};
   bool keep_discarded_;
+  BranchAndBoundStorage own_;  // used only when this thread's storage is taken
+  BranchAndBoundStorage& store_;
+  std::vector<Cell>& heap_;  // a binary heap under CellOrder, kept as std::priority_queue keeps one
+  std::vector<Cell>& discarded_;
+  std::vector<CellDepthBound>& depth_;
+  std::vector<std::uint32_t>& ids_;
   double min_discarded_ = kInf;
-  std::vector<Cell> discarded_;
-  std::vector<CellDepthBound> depth_;
   std::uint64_t seq_ = 0, queries_ = 0;
-  std::vector<std::uint32_t> ids_;
   ParentCandidates parent_;
-  std::priority_queue<Cell, std::vector<Cell>, CellOrder> queue_;
 };
 
 }  // namespace

@@ -216,6 +216,44 @@ TEST(SignedDistance, DistanceAmongCandidatesEnclosesTheExactDistance) {
   }
 }
 
+// A hint only orders the search: with any hint (the nearest triangle, a far one, an invalid index)
+// the enclosure and the nearest triangle reported are those of the query without one.
+TEST(SignedDistance, HintedQueriesAnswerAsUnhintedOnes) {
+  std::mt19937_64 rng(23);
+  for (const TriangleMesh& mesh : {make_torus(2.0, 0.6, 24, 12), make_box(Vec3(0, 0, 0), Vec3(1, 2, 4))}) {
+    const SignedDistance sdf(mesh);
+    std::uniform_int_distribution<std::int64_t> face(0, static_cast<std::int64_t>(mesh.faces.size()) - 1);
+    int checked = 0;
+    // Random points, and points where several triangles are nearest at once (beyond a corner of
+    // the mesh's box, over the middle of a face split along its diagonal): ties at the upper end.
+    std::vector<Vec3> points = sample_points(mesh, 29);
+    const Aabb box = sdf.bbox();
+    for (int k = 0; k < 8; ++k)
+      points.push_back(Vec3(k & 1 ? box.hi[0] + 1 : box.lo[0] - 1, k & 2 ? box.hi[1] + 1 : box.lo[1] - 1,
+                            k & 4 ? box.hi[2] + 1 : box.lo[2] - 1));
+    for (int axis = 0; axis < 3; ++axis)
+      for (const double side : {-1.0, 1.0}) {
+        Vec3 q = box.center();
+        q[axis] = side < 0 ? box.lo[axis] - 0.5 : box.hi[axis] + 0.5;
+        points.push_back(q);
+      }
+    for (const Vec3& p : points) {
+      std::uint32_t nearest = 0;
+      const Interval d = sdf.unsigned_distance(p, &nearest);
+      for (const std::int64_t hint : {static_cast<std::int64_t>(nearest), face(rng), face(rng),
+                                      static_cast<std::int64_t>(mesh.faces.size()), std::int64_t{-1}}) {
+        std::uint32_t hinted_nearest = 0;
+        const Interval h = sdf.unsigned_distance(p, &hinted_nearest, hint);
+        ASSERT_EQ(h.lo, d.lo) << std::setprecision(17) << "p = (" << p.transpose() << ") hint " << hint;
+        ASSERT_EQ(h.hi, d.hi) << std::setprecision(17) << "p = (" << p.transpose() << ") hint " << hint;
+        ASSERT_EQ(hinted_nearest, nearest) << std::setprecision(17) << "p = (" << p.transpose() << ") hint " << hint;
+        ++checked;
+      }
+    }
+    EXPECT_GT(checked, 500);
+  }
+}
+
 TEST(SignedDistance, DistanceAtMostStopsEarlyButIsRigorous) {
   const TriangleMesh m = make_icosphere(1.0, 3);
   const SignedDistance sdf(m);
@@ -288,7 +326,9 @@ TEST(SignedDistance, TriangleLowerBoundAgainstBruteForce) {
       EXPECT_LE(capped, cap) << where() << ", cap " << cap;
       EXPECT_LE(capped, min_hi) << where() << ", cap " << cap;
       EXPECT_GE(capped, std::min(cap, min_lo) * (1.0 - 1e-9)) << where() << ", cap " << cap;
-      if (cap > min_hi) EXPECT_EQ(capped, lower) << where() << ", cap " << cap;
+      if (cap > min_hi) {
+        EXPECT_EQ(capped, lower) << where() << ", cap " << cap;
+      }
     }
   }
   EXPECT_GT(crossing, 20);

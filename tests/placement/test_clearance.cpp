@@ -274,6 +274,44 @@ TEST(Clearance, WarmStartFromTheLastFrontierStaysRigorous) {
   EXPECT_GT(with_depth_bounds, 10);
 }
 
+// The branch and bound keeps its storage per thread between runs: a run must leave nothing behind.
+// The same cold certificate before and after a long warm-started sequence is the same to the bit,
+// and so is the frontier it exports.
+TEST(Clearance, RunsLeaveNothingBehindInTheirStorage) {
+  std::mt19937_64 rng(5);
+  Case c(make_torus(1.0, 0.4, 24, 12), make_icosphere(0.5, 1));
+  const Eigen::Matrix3d R = random_rotation(rng);
+  const Vec3 dir = random_direction(rng);
+  const MoverOrientation o = make_mover_orientation(c.mover, R);
+  const Vec3 t0 = Vec3(1.0, 0.0, 0.0) + 0.6 * dir;
+  const auto cold = [&](ClearanceFrontier* f) {
+    ClearanceOptions opt;
+    opt.tolerance = 1e-6;
+    opt.frontier = f;
+    return certify_clearance(c.fixed, c.mover, c.comps, o, t0, opt);
+  };
+  ClearanceFrontier before, after;
+  const ClearanceResult a = cold(&before);
+  ASSERT_FALSE(a.separated);
+  ClearanceFrontier frontier;
+  ClearanceOptions warm;
+  warm.tolerance = 1e-7;
+  warm.frontier = &frontier;
+  for (int step = 0; step < 6; ++step)
+    (void)certify_clearance(c.fixed, c.mover, c.comps, o, Vec3(1.0, 0.0, 0.0) + (0.9 - 0.05 * step) * dir, warm);
+  EXPECT_GT(frontier.cells.size(), before.cells.size());
+  const ClearanceResult b = cold(&after);
+  EXPECT_EQ(a.clearance.lo, b.clearance.lo);
+  EXPECT_EQ(a.clearance.hi, b.clearance.hi);
+  EXPECT_EQ(a.cells, b.cells);
+  ASSERT_EQ(before.cells.size(), after.cells.size());
+  for (std::size_t i = 0; i < before.cells.size(); ++i) {
+    EXPECT_EQ(before.cells[i].lower, after.cells[i].lower) << i;
+    EXPECT_EQ(before.cells[i].id, after.cells[i].id) << i;
+  }
+  EXPECT_EQ(before.depth.size(), after.depth.size());
+}
+
 TEST(PlacePose, PolishedPosesHitTheTarget) {
   const TriangleMesh sphere = make_icosphere(1.0, 2);
   const SignedDistance fixed(sphere);
