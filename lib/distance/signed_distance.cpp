@@ -33,7 +33,8 @@ struct NearestPolicy {
   void leaf(std::uint32_t f) {
     const Face& t = mesh.faces[f];
     const Interval d2 = point_triangle_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
-    if (d2.hi < best_hi_sq || (d2.hi == best_hi_sq && f < best_face)) {  // ties: the order of visits plays no part
+    // Ties go to the least index, so that the order of the visits plays no part.
+    if (d2.hi < best_hi_sq || (d2.hi == best_hi_sq && f < best_face)) {
       best_hi_sq = d2.hi;
       best_face = f;
     }

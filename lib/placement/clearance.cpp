@@ -256,7 +256,8 @@ class BranchAndBound {
           push(q);
           continue;
         }
-        Cell e = c.is_node ? evaluate_node(c.id, &c.ball, c.near_face) : evaluate_face(hinted(Cell{0, 0, false, c.id, c.level, c.bary}, c), &c.ball);
+        Cell e = c.is_node ? evaluate_node(c.id, &c.ball, c.near_face)
+                           : evaluate_face(hinted(Cell{0, 0, false, c.id, c.level, c.bary}, c), &c.ball);
         if (q.lower > e.lower) e.lower = q.lower;  // both valid at this pose
         push(e);
         continue;
@@ -286,12 +287,14 @@ class BranchAndBound {
           const auto &B = b[base], &C = b[(base + 1) % 3], &A = b[(base + 2) % 3];
           const std::array<double, 2> M = mid(A, B), N = mid(A, C);
           const std::array<std::array<std::array<double, 2>, 3>, 3> kids{{{{A, M, N}}, {{M, B, C}}, {{M, C, N}}}};
-          for (const auto& k : kids) push(evaluate_face(hinted(Cell{0, 0, false, c.id, c.level + 1, k}, c), &c.ball, parent));
+          for (const auto& k : kids)
+            push(evaluate_face(hinted(Cell{0, 0, false, c.id, c.level + 1, k}, c), &c.ball, parent));
         } else {
           const std::array<double, 2> m01 = mid(b[0], b[1]), m12 = mid(b[1], b[2]), m20 = mid(b[2], b[0]);
           const std::array<std::array<std::array<double, 2>, 3>, 4> kids{
               {{{b[0], m01, m20}}, {{m01, b[1], m12}}, {{m20, m12, b[2]}}, {{m01, m12, m20}}}};
-          for (const auto& k : kids) push(evaluate_face(hinted(Cell{0, 0, false, c.id, c.level + 1, k}, c), &c.ball, parent));
+          for (const auto& k : kids)
+            push(evaluate_face(hinted(Cell{0, 0, false, c.id, c.level + 1, k}, c), &c.ball, parent));
         }
       }
     }
@@ -563,7 +566,8 @@ class BranchAndBound {
           // The corner nearest the plane is where the contact is: certify it for the upper end.
           if (lower < upper_) {
             ++queries_;
-            const Interval s_corner = signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r), nullptr, nearest), &c.ball, nullptr);
+            const Interval s_corner =
+                signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r), nullptr, nearest), &c.ball, nullptr);
             offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
           }
         }
@@ -587,7 +591,8 @@ class BranchAndBound {
         if (depth < kInf && down(-depth - eta) < upper_) {
           ++queries_;
           // dist(corner, F) <= dist(m, F) + |corner - m| <= ud.hi + r.
-          const Interval s_corner = signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r), nullptr, nearest), &c.ball, nullptr);
+          const Interval s_corner =
+              signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r), nullptr, nearest), &c.ball, nullptr);
           offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
         }
         lower = std::max(lower, down(-depth - eta));
