@@ -144,7 +144,9 @@ FloatPoseSetResult build_float_poseset(const FloatPoseSetRequest& opt) {
 
   // Approaches: the mover's frame per orientation (as the certified pipeline's), one float sweep
   // per level.
-  const ApproachSetup setup = make_approach_setup(sdf, mover);
+  // The mover's own sweep tree without oriented boxes: the float sweeps read spheres and boxes only.
+  const ApproachSetup setup = make_approach_setup(
+      sdf, mover, std::make_shared<const SweepMesh>(make_sweep_mesh(mover.vertices, mover.faces, {}, false)));
   const std::vector<Vec3> dirs = sample_directions(opt.direction_sampling, opt.directions);
   const std::vector<Eigen::Quaterniond> rots = sample_orientations(opt.orientation_sampling, opt.orientations, opt.seed);
   const std::uint64_t N = dirs.size(), K = rots.size();

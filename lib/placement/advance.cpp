@@ -50,11 +50,9 @@ struct AdvancePolicy {
     }
     const double box = placed_bound(f.box, n);
     if (!(box < best) || !trial.on || f.obb.half[0] < 0.0 || m.obb.half[0] < 0.0) return box;
-    Obb g = f.obb, o = m.obb;
+    Obb g = f.obb;
     g.pad = g.pad + reach;
-    const Vec3 c = o.center;
-    o.center = Vec3(c[0] + D[0], c[1] + D[1], c[2] + D[2]);
-    o.pad = (o.pad + shift_pad) + 1e-15 * (c.cwiseAbs().sum() + D.cwiseAbs().sum());
+    const Obb o = shifted_obb(m.obb, D, shift_pad);
     const double oriented = obb_entry_time_lower_bound(g, o, v, 0.0);
     trial.record(!(oriented < best));
     return std::max(box, oriented);

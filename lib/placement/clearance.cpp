@@ -74,10 +74,8 @@ struct DistancePolicy {
     }
     const double box = squared_distance_lower_bound(f.box, n);
     if (!(box <= prune_bound()) || !trial.on || f.obb.half[0] < 0.0 || m.obb.half[0] < 0.0) return box;
-    Obb o = m.obb;
-    const Vec3 c = o.center;
-    o.center = Vec3(c[0] + D[0], c[1] + D[1], c[2] + D[2]);
-    o.pad = o.pad + shift_pad * (1.0 + 1e-14) + 1e-15 * (c.cwiseAbs().sum() + D.cwiseAbs().sum());
+    // Round to nearest here: the factor covers the pad's own rounding (the advance rounds upward).
+    const Obb o = shifted_obb(m.obb, D, shift_pad * (1.0 + 1e-14));
     const double oriented = obb_squared_distance_lower_bound(f.obb, o);
     trial.record(oriented > prune_bound());
     return std::max(box, oriented);

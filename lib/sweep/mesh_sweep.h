@@ -63,6 +63,18 @@ struct SweepTrees {
   Vec3 mover_t = Vec3::Zero();
 };
 
+// A mover node's oriented box of SweepTrees moved by D (a pose's t - mover_t, as computed) and
+// grown by `pad` (the callers' shift pad: the two poses' transform errors and the rounding of D,
+// taken in their rounding mode) plus the rounding of its moved centre (1e-15 of the magnitudes
+// summed, any rounding mode).
+inline Obb shifted_obb(const Obb& m, const Vec3& D, double pad) {
+  Obb o = m;
+  const Vec3 c = m.center;
+  o.center = Vec3(c[0] + D[0], c[1] + D[1], c[2] + D[2]);
+  o.pad = (o.pad + pad) + 1e-15 * (c.cwiseAbs().sum() + D.cwiseAbs().sum());
+  return o;
+}
+
 // `m` moved by t as a pose places it: vertices fl(v + t) (bit for bit what place_point gives for
 // rotated vertices v), the same tree with centres fl(c + t) and radii grown to cover the rounding
 // of both (|fl(v+t) - fl(c+t)| <= |v - c| + u (|v+t| + |c+t|)). Costs a copy, not a rebuild.
