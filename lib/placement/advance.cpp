@@ -49,7 +49,11 @@ struct AdvancePolicy {
       n.hi[k] = (m.box.hi[k] + D[k]) + shift_pad;
     }
     const double box = placed_bound(f.box, n);
-    if (!(box < best) || !trial.on || f.obb.half[0] < 0.0 || m.obb.half[0] < 0.0) return box;
+    if (!(box < best) || f.obb.half[0] < 0.0 || m.obb.half[0] < 0.0) return box;
+    if (!trial.on) {
+      trial.skip();
+      return box;
+    }
     Obb g = f.obb;
     g.pad = g.pad + reach;
     const Obb o = shifted_obb(m.obb, D, shift_pad);

@@ -114,17 +114,28 @@ double obb_squared_distance_lower_bound(const Obb& a, const Obb& b);
 
 // Whether a pair traversal should still try the oriented boxes: they prune a large part of the
 // pairs the boxes leave on long, tilted triangles (machined parts) and almost none on rounded
-// nodes, where their 15 axes cost more than they save. Tried on the first kTrial pairs the boxes
-// leave; kept only when they pruned at least a quarter of them. Only the work depends on it, and
-// it depends only on the traversal's own order (deterministic).
+// nodes, where their 15 axes cost more than they save. Tried on a window of kTrial pairs the boxes
+// leave; kept only when they pruned at least a quarter of them. Once off, tried again after
+// kRetrial such pairs: the first pairs of a traversal are its largest nodes, where the oriented
+// boxes rarely prune even on parts where the deeper pairs gain (pinion: 5-15 of the first 64,
+// 18-28 of later windows; doc/performance.md). Only the work depends on it, and it depends only
+// on the traversal's own order (deterministic).
 struct ObbTrial {
   static constexpr int kTrial = 64;
-  int tried = 0, pruned = 0;
+  static constexpr int kRetrial = 2048;
+  int tried = 0, pruned = 0, skipped = 0;
   bool on = true;
+  // A pair the boxes left, bounded with the oriented boxes: whether they pruned it.
   void record(bool did_prune) {
     ++tried;
     pruned += did_prune;
     if (tried == kTrial && 4 * pruned < kTrial) on = false;
+  }
+  // A pair the boxes left while the oriented test is off.
+  void skip() {
+    if (++skipped < kRetrial) return;
+    on = true;
+    tried = pruned = skipped = 0;
   }
 };
 

@@ -377,5 +377,25 @@ TEST(MeshSweep, CarriedTreeContainsThePlacedMoverAndFindsTheSameContacts) {
   }
 }
 
+// The rule that keeps the oriented test in a pair traversal (a heuristic: only the work depends on
+// it): off after a window of kTrial tested pairs with fewer than a quarter pruned, on again for a
+// new window after kRetrial skipped pairs, and kept while a window prunes a quarter or more.
+TEST(MeshSweep, ObbTrialTurnsOffAfterAPoorWindowAndTriesAgainLater) {
+  ObbTrial t;
+  for (int i = 0; i < ObbTrial::kTrial; ++i) {
+    ASSERT_TRUE(t.on) << i;
+    t.record(i % 8 == 0);  // an eighth pruned
+  }
+  EXPECT_FALSE(t.on);
+  for (int i = 0; i + 1 < ObbTrial::kRetrial; ++i) t.skip();
+  EXPECT_FALSE(t.on);
+  t.skip();
+  EXPECT_TRUE(t.on);  // a new window
+  for (int i = 0; i < ObbTrial::kTrial; ++i) t.record(i % 4 == 0);  // a quarter pruned: kept
+  EXPECT_TRUE(t.on);
+  for (int i = 0; i < 10 * ObbTrial::kTrial; ++i) t.record(false);  // decided: not judged again
+  EXPECT_TRUE(t.on);
+}
+
 }  // namespace
 }  // namespace cdbench
