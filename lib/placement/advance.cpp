@@ -138,7 +138,7 @@ SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrien
     policy.shift_pad = (orientation.transform_error(t) + orientation.transform_error(trees->mover_t)) +
                        1e-15 * policy.D.cwiseAbs().sum();
     if (!policy.done()) traverse_pairs_nearest_first(trees->fixed->tree, trees->mover->tree, policy);
-    r.oriented_paid = policy.trial.on;
+    r.oriented_paid = policy.trial.paid();
   } else if (!policy.done()) {
     traverse_pairs_nearest_first(fixed.tree(), orientation.boxes, policy);
   }

@@ -125,12 +125,18 @@ struct ObbTrial {
   static constexpr int kRetrial = 2048;
   int tried = 0, pruned = 0, skipped = 0;
   bool on = true;
+  bool failed = false;  // the last window judged pruned too few
   // A pair the boxes left, bounded with the oriented boxes: whether they pruned it.
   void record(bool did_prune) {
     ++tried;
     pruned += did_prune;
-    if (tried == kTrial && 4 * pruned < kTrial) on = false;
+    if (tried != kTrial) return;
+    failed = 4 * pruned < kTrial;
+    on = !failed;
   }
+  // Whether the oriented test paid by the traversal's end: the last window judged, and before any
+  // was, yes (a window begun after a failed one counts as the failure).
+  bool paid() const { return on && !failed; }
   // A pair the boxes left while the oriented test is off.
   void skip() {
     if (++skipped < kRetrial) return;

@@ -382,17 +382,22 @@ TEST(MeshSweep, CarriedTreeContainsThePlacedMoverAndFindsTheSameContacts) {
 // new window after kRetrial skipped pairs, and kept while a window prunes a quarter or more.
 TEST(MeshSweep, ObbTrialTurnsOffAfterAPoorWindowAndTriesAgainLater) {
   ObbTrial t;
+  EXPECT_TRUE(t.paid());  // nothing judged yet
   for (int i = 0; i < ObbTrial::kTrial; ++i) {
     ASSERT_TRUE(t.on) << i;
     t.record(i % 8 == 0);  // an eighth pruned
   }
   EXPECT_FALSE(t.on);
+  EXPECT_FALSE(t.paid());
   for (int i = 0; i + 1 < ObbTrial::kRetrial; ++i) t.skip();
   EXPECT_FALSE(t.on);
   t.skip();
   EXPECT_TRUE(t.on);  // a new window
-  for (int i = 0; i < ObbTrial::kTrial; ++i) t.record(i % 4 == 0);  // a quarter pruned: kept
+  for (int i = 0; i + 1 < ObbTrial::kTrial; ++i) t.record(i % 4 == 0);
+  EXPECT_FALSE(t.paid());  // not judged yet: the last judgment stands
+  t.record(false);         // a quarter pruned: kept
   EXPECT_TRUE(t.on);
+  EXPECT_TRUE(t.paid());
   for (int i = 0; i < 10 * ObbTrial::kTrial; ++i) t.record(false);  // decided: not judged again
   EXPECT_TRUE(t.on);
 }
