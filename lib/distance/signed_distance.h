@@ -36,7 +36,9 @@ class SignedDistance {
 
   // [lo, hi] containing dist(p, F) >= 0; `nearest` (if given) receives a triangle at the upper end
   // (the least index among those at it). `hint` (optional): a triangle likely to be nearest (e.g. a
-  // nearby point's), visited first so that it prunes from the start; the result does not depend on it.
+  // nearby point's), visited first so that it prunes from the start. It changes the work, not the
+  // rigour: the answer is the same but where a triangle pruned in one order and visited in the
+  // other has an enclosure reaching below the nearest one's (a few ulps, rigorous either way).
   Interval unsigned_distance(const Vec3& p, std::uint32_t* nearest = nullptr, std::int64_t hint = -1) const;
 
   // The same, the triangles searched being `candidates` only: they must include every triangle
