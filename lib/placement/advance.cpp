@@ -50,10 +50,7 @@ struct AdvancePolicy {
     }
     const double box = placed_bound(f.box, n);
     if (!(box < best) || f.obb.half[0] < 0.0 || m.obb.half[0] < 0.0) return box;
-    if (!trial.on) {
-      trial.skip();
-      return box;
-    }
+    if (!trial.try_pair()) return box;
     Obb g = f.obb;
     g.pad = g.pad + reach;
     const Obb o = shifted_obb(m.obb, D, shift_pad);

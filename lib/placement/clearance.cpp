@@ -74,10 +74,7 @@ struct DistancePolicy {
     }
     const double box = squared_distance_lower_bound(f.box, n);
     if (!(box <= prune_bound()) || f.obb.half[0] < 0.0 || m.obb.half[0] < 0.0) return box;
-    if (!trial.on) {
-      trial.skip();
-      return box;
-    }
+    if (!trial.try_pair()) return box;
     // Round to nearest here: the factor covers the pad's own rounding (the advance rounds upward).
     const Obb o = shifted_obb(m.obb, D, shift_pad * (1.0 + 1e-14));
     const double oriented = obb_squared_distance_lower_bound(f.obb, o);

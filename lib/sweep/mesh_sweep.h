@@ -137,6 +137,13 @@ struct ObbTrial {
   // Whether the oriented test paid by the traversal's end: the last window judged, and before any
   // was, yes (a window begun after a failed one counts as the failure).
   bool paid() const { return on && !failed; }
+  // A pair the boxes left: whether to bound it with the oriented boxes too (while off, it counts
+  // towards the next window).
+  bool try_pair() {
+    if (on) return true;
+    skip();
+    return false;
+  }
   // A pair the boxes left while the oriented test is off.
   void skip() {
     if (++skipped < kRetrial) return;
