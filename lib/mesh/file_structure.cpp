@@ -17,16 +17,6 @@ namespace {
 
 [[noreturn]] void fail(const std::string& name, const std::string& what) { throw InputError(name + ": " + what); }
 
-// Splits one line into whitespace-separated tokens, dropping a '#' comment.
-std::vector<std::string> tokens_of(const std::string& line) {
-  std::vector<std::string> out;
-  std::string s = line.substr(0, line.find('#'));
-  std::istringstream is(s);
-  std::string t;
-  while (is >> t) out.push_back(t);
-  return out;
-}
-
 bool parse_count(const std::string& t, long long& value) {
   if (t.empty() || t.size() > 18) return false;
   for (char c : t)
@@ -41,30 +31,6 @@ bool parse_number(const std::string& t) {
   const double v = std::strtod(t.c_str(), &end);
   return end == t.c_str() + t.size() && std::isfinite(v);
 }
-
-class LineReader {
- public:
-  explicit LineReader(const std::string& bytes) : bytes_(bytes) {}
-  // Next line with at least one token (after removing comments); false at the end.
-  bool next(std::vector<std::string>& toks) {
-    while (pos_ < bytes_.size()) {
-      std::size_t end = bytes_.find('\n', pos_);
-      if (end == std::string::npos) end = bytes_.size();
-      const std::string line = bytes_.substr(pos_, end - pos_);
-      pos_ = end + 1;
-      ++line_no_;
-      toks = tokens_of(line);
-      if (!toks.empty()) return true;
-    }
-    return false;
-  }
-  std::size_t line() const { return line_no_; }
-
- private:
-  const std::string& bytes_;
-  std::size_t pos_ = 0;
-  std::size_t line_no_ = 0;
-};
 
 // Whitespace-separated tokens from `start` on, counting lines as the file does (from 1).
 class BodyTokens {
@@ -87,59 +53,6 @@ class BodyTokens {
   std::size_t pos_;
   std::size_t line_ = 1;
 };
-
-void check_off(const std::string& bytes, const std::string& name) {
-  LineReader reader(bytes);
-  std::vector<std::string> t;
-  if (!reader.next(t)) fail(name, "no OFF header (the file holds only blanks or comments)");
-  const std::string& key = t[0];
-  if (key.size() < 3 || key.compare(key.size() - 3, 3, "OFF") != 0)
-    fail(name, "not an OFF file: the first word is '" + key.substr(0, 40) + "', expected 'OFF'");
-  if (key.find('n') != std::string::npos || key.find('4') != std::string::npos)
-    fail(name, "'" + key + "' (non-3D OFF) is not supported");
-  std::size_t i = 1;
-  if (i < t.size() && t[i] == "BINARY") fail(name, "binary OFF is not supported; use ASCII OFF, PLY or STL");
-  if (i >= t.size()) {
-    if (!reader.next(t)) fail(name, "truncated OFF header: the vertex and face counts are missing");
-    i = 0;
-  }
-  if (t.size() - i < 2) fail(name, "OFF header: expected 'vertices faces edges' counts, got '" + t[i] + "'");
-  long long nv = 0, nf = 0;
-  if (!parse_count(t[i], nv) || !parse_count(t[i + 1], nf))
-    fail(name, "OFF header: counts must be non-negative integers, got '" + t[i] + " " + t[i + 1] + "'");
-  // The shortest vertex line is "0 0 0\n" (6 bytes), the shortest face line "3 0 1 2\n" (8 bytes).
-  const long long size = static_cast<long long>(bytes.size());
-  if (nv > size / 6 || nf > size / 8 || nv * 6 + nf * 8 > size)
-    fail(name, "OFF header announces " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
-                   " faces, more than a file of " + std::to_string(size) + " bytes can hold");
-  for (long long v = 0; v < nv; ++v) {
-    if (!reader.next(t))
-      fail(name, "truncated: the header announces " + std::to_string(nv) + " vertices, the file ends after " +
-                     std::to_string(v));
-    if (t.size() < 3 || !parse_number(t[0]) || !parse_number(t[1]) || !parse_number(t[2]))
-      fail(name, "line " + std::to_string(reader.line()) + ": vertex " + std::to_string(v) +
-                     " needs three finite coordinates");
-  }
-  for (long long f = 0; f < nf; ++f) {
-    if (!reader.next(t))
-      fail(name, "truncated: the header announces " + std::to_string(nf) + " faces, the file ends after " +
-                     std::to_string(f));
-    long long k = 0;
-    if (!parse_count(t[0], k) || k + 1 > static_cast<long long>(t.size()))
-      fail(name, "line " + std::to_string(reader.line()) + ": face " + std::to_string(f) +
-                     " announces '" + t[0].substr(0, 20) + "' corners but the line holds " +
-                     std::to_string(t.size() - 1) + " indices");
-    if (k < 3)
-      fail(name, "line " + std::to_string(reader.line()) + ": face " + std::to_string(f) + " has " +
-                     std::to_string(k) + " corners; a face needs at least 3");
-    for (long long j = 1; j <= k; ++j) {
-      long long id = 0;
-      if (!parse_count(t[j], id) || id >= nv)
-        fail(name, "line " + std::to_string(reader.line()) + ": face " + std::to_string(f) + " refers to vertex '" +
-                       t[j].substr(0, 20) + "', but vertex indices run from 0 to " + std::to_string(nv - 1));
-    }
-  }
-}
 
 // --- PLY ---
 struct PlyProperty {
@@ -351,8 +264,8 @@ void check_ply(const std::string& bytes, const std::string& name) {
 
 void check_mesh_file_structure(const std::string& bytes, MeshFormat format, const std::string& name) {
   switch (format) {
-    case MeshFormat::Off: return check_off(bytes, name);
     case MeshFormat::Ply: return check_ply(bytes, name);
+    case MeshFormat::Off:
     case MeshFormat::Stl:
     case MeshFormat::Obj: return;  // read by our own readers (text_readers.cpp), which check as they go
   }

@@ -1,5 +1,6 @@
 #pragma once
-// Structural pre-check of mesh files before CGAL parses them: every count a file announces is
+// Structural pre-check of PLY files before CGAL parses them (OFF, OBJ and STL are read by our own
+// readers, text_readers.h, which check as they go): every count a file announces is
 // compared with what the file can hold, so that no reader sizes a buffer from an unchecked number.
 #include <string>
 

@@ -2,7 +2,6 @@
 #include "mesh/read_mesh.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/IO/OFF.h>
 #include <CGAL/IO/PLY.h>
 
 #include <algorithm>
@@ -52,7 +51,7 @@ MeshFormat mesh_format_from_path(const std::string& path) {
 
 namespace {
 
-// OFF and PLY through CGAL, after the structural pre-check.
+// PLY through CGAL, after the structural pre-check.
 PolygonSoup read_with_cgal(const std::string& bytes, MeshFormat format, const std::string& name) {
   check_mesh_file_structure(bytes, format, name);
   std::vector<Kernel::Point_3> points;
@@ -61,10 +60,7 @@ PolygonSoup read_with_cgal(const std::string& bytes, MeshFormat format, const st
   try {
     std::istringstream is(bytes, std::ios::in | std::ios::binary);
     // CGAL's readers print diagnostics on std::cerr when verbose; keep them quiet and report ourselves.
-    if (format == MeshFormat::Off)
-      ok = CGAL::IO::read_OFF(is, points, polygons, CGAL::parameters::verbose(false));
-    else
-      ok = CGAL::IO::read_PLY(is, points, polygons, CGAL::parameters::verbose(false));
+    ok = CGAL::IO::read_PLY(is, points, polygons, CGAL::parameters::verbose(false));
   } catch (const std::bad_alloc&) {
     throw InputError(name + ": out of memory while parsing (the file announces more data than fits)");
   } catch (const std::exception& e) {
@@ -92,11 +88,7 @@ PolygonSoup read_polygon_soup_from_bytes(const std::string& bytes, const std::st
   switch (format) {
     case MeshFormat::Obj: soup = read_obj(bytes, name); break;
     case MeshFormat::Stl: soup = read_stl(bytes, name); break;
-    case MeshFormat::Off: {
-      const std::size_t bom = check_text_encoding(bytes, name);
-      soup = read_with_cgal(bom ? bytes.substr(bom) : bytes, format, name);
-      break;
-    }
+    case MeshFormat::Off: soup = read_off(bytes, name); break;
     case MeshFormat::Ply: {
       // The header is text, the body may be binary: only the header's encoding is checked.
       const std::size_t header = std::min(bytes.find("end_header"), bytes.size());
@@ -137,10 +129,15 @@ PolygonSoup read_polygon_soup(const std::string& path) {
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open the file (missing or unreadable)");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": read error");
-  return read_polygon_soup_from_bytes(buffer.str(), path);
+  // Read in one piece into a string of the file's size (a stream buffer copied it twice).
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  if (size < 0 || !in) throw InputError(path + ": cannot determine the file's size");
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  in.read(bytes.data(), size);
+  if (in.gcount() != size) throw InputError(path + ": read error (the file changed or could not be read whole)");
+  return read_polygon_soup_from_bytes(bytes, path);
 }
 
 TriangleMesh read_triangle_mesh(const std::string& path) {

@@ -230,6 +230,95 @@ PolygonSoup read_obj(const std::string& bytes, const std::string& name) {
 
 namespace {
 
+// A count or an index: decimal digits only (no sign), at most 18 of them.
+bool parse_count(std::string_view t, long long& v) {
+  if (t.empty() || t.size() > 18) return false;
+  for (char c : t)
+    if (c < '0' || c > '9') return false;
+  return parse_int(t, v);
+}
+
+// The next line holding a token once its '#' comment is cut; false at the end.
+bool next_tokens(Lines& lines, std::vector<std::string_view>& tok) {
+  std::string_view line;
+  while (lines.next(line)) {
+    const std::size_t hash = line.find('#');
+    if (hash != std::string_view::npos) line = line.substr(0, hash);
+    split(line, tok);
+    if (!tok.empty()) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+PolygonSoup read_off(const std::string& bytes, const std::string& name) {
+  Lines lines(bytes, check_text_encoding(bytes, name));
+  std::vector<std::string_view> t;
+  if (!next_tokens(lines, t)) fail(name, "no OFF header (the file holds only blanks or comments)");
+  const std::string key(t[0]);
+  if (key.size() < 3 || key.compare(key.size() - 3, 3, "OFF") != 0)
+    fail(name, "not an OFF file: the first word is '" + key.substr(0, 40) + "', expected 'OFF'");
+  if (key.find('n') != std::string::npos || key.find('4') != std::string::npos)
+    fail(name, "'" + key + "' (non-3D OFF) is not supported");
+  std::size_t i = 1;
+  if (i < t.size() && t[i] == "BINARY") fail(name, "binary OFF is not supported; use ASCII OFF, PLY or STL");
+  if (i >= t.size()) {
+    if (!next_tokens(lines, t)) fail(name, "truncated OFF header: the vertex and face counts are missing");
+    i = 0;
+  }
+  if (t.size() - i < 2)
+    fail(name, "OFF header: expected 'vertices faces edges' counts, got '" + std::string(t[i]) + "'");
+  long long nv = 0, nf = 0;
+  if (!parse_count(t[i], nv) || !parse_count(t[i + 1], nf))
+    fail(name, "OFF header: counts must be non-negative integers, got '" + std::string(t[i]) + " " +
+                   std::string(t[i + 1]) + "'");
+  // The shortest vertex line is "0 0 0\n" (6 bytes), the shortest face line "3 0 1 2\n" (8 bytes):
+  // a count the file cannot hold is refused before anything is sized from it.
+  const long long size = static_cast<long long>(bytes.size());
+  if (nv > size / 6 || nf > size / 8 || nv * 6 + nf * 8 > size)
+    fail(name, "OFF header announces " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                   " faces, more than a file of " + std::to_string(size) + " bytes can hold");
+  PolygonSoup soup;
+  soup.points.reserve(static_cast<std::size_t>(nv));
+  soup.polygons.reserve(static_cast<std::size_t>(nf));
+  for (long long v = 0; v < nv; ++v) {
+    if (!next_tokens(lines, t))
+      fail(name, "truncated: the header announces " + std::to_string(nv) + " vertices, the file ends after " +
+                     std::to_string(v));
+    double x, y, z;
+    if (t.size() < 3 || !parse_double(t[0], x) || !parse_double(t[1], y) || !parse_double(t[2], z))
+      fail(name, at_line(lines.number()) + "vertex " + std::to_string(v) + " needs three finite coordinates");
+    soup.points.emplace_back(x, y, z);  // colours or normals after the coordinates are ignored
+  }
+  for (long long f = 0; f < nf; ++f) {
+    if (!next_tokens(lines, t))
+      fail(name, "truncated: the header announces " + std::to_string(nf) + " faces, the file ends after " +
+                     std::to_string(f));
+    long long k = 0;
+    if (!parse_count(t[0], k) || k + 1 > static_cast<long long>(t.size()))
+      fail(name, at_line(lines.number()) + "face " + std::to_string(f) + " announces '" +
+                     std::string(t[0].substr(0, 20)) + "' corners but the line holds " + std::to_string(t.size() - 1) +
+                     " indices");
+    if (k < 3)
+      fail(name, at_line(lines.number()) + "face " + std::to_string(f) + " has " + std::to_string(k) +
+                     " corners; a face needs at least 3");
+    std::vector<std::size_t> poly(static_cast<std::size_t>(k));
+    for (long long j = 1; j <= k; ++j) {
+      long long id = 0;
+      if (!parse_count(t[j], id) || id >= nv)
+        fail(name, at_line(lines.number()) + "face " + std::to_string(f) + " refers to vertex '" +
+                       std::string(t[j].substr(0, 20)) + "', but vertex indices run from 0 to " +
+                       std::to_string(nv - 1));
+      poly[static_cast<std::size_t>(j - 1)] = static_cast<std::size_t>(id);
+    }
+    soup.polygons.push_back(std::move(poly));  // colours after the indices are ignored
+  }
+  return soup;
+}
+
+namespace {
+
 std::string triangle_at(std::size_t i) {
   return "triangle " + std::to_string(i) + " (byte " + std::to_string(84 + 50 * i) + ")";
 }

@@ -56,8 +56,8 @@ struct HalfEdge {
   std::uint32_t lo, hi;  // undirected key
   std::uint32_t face;
   bool forward;          // the face runs lo -> hi
-  bool operator<(const HalfEdge& o) const {
-    return lo != o.lo ? lo < o.lo : hi != o.hi ? hi < o.hi : face < o.face;
+  bool operator<(const HalfEdge& o) const {  // a total order: any sort gives one sequence
+    return lo != o.lo ? lo < o.lo : hi != o.hi ? hi < o.hi : face != o.face ? face < o.face : forward < o.forward;
   }
 };
 
@@ -186,16 +186,25 @@ ValidatedMesh validate_mesh(const PolygonSoup& input, const ValidateOptions& opt
   mesh.faces = faces;
 
   // 4. Edges: boundary (1 face), non-manifold (> 2 faces), orientation consistency (2 faces).
+  // Sorted by (lo, hi, face, forward): bucketed by lo (a counting sort, linear), then each bucket,
+  // a vertex's few edges, sorted (a comparison sort of 2.5 million edges took 0.6 s at 832K faces).
   std::vector<HalfEdge> edges;
-  edges.reserve(3 * faces.size());
-  for (std::uint32_t i = 0; i < faces.size(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = faces[i][k], b = faces[i][(k + 1) % 3];
-      if (a == b) continue;
-      edges.push_back({std::min(a, b), std::max(a, b), i, a < b});
-    }
+  {
+    std::vector<std::uint32_t> start(mesh.vertices.size() + 1, 0);
+    const auto for_each_edge = [&](const auto& emit) {
+      for (std::uint32_t i = 0; i < faces.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t a = faces[i][k], b = faces[i][(k + 1) % 3];
+          if (a != b) emit(HalfEdge{std::min(a, b), std::max(a, b), i, a < b});
+        }
+    };
+    for_each_edge([&](const HalfEdge& e) { ++start[e.lo + 1]; });
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) start[v + 1] += start[v];
+    edges.resize(start.back());
+    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+    for_each_edge([&](const HalfEdge& e) { edges[next[e.lo]++] = e; });
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) std::sort(edges.begin() + start[v], edges.begin() + start[v + 1]);
   }
-  std::sort(edges.begin(), edges.end());
   std::size_t boundary = 0, nonmanifold = 0, undirected = 0;
   std::string boundary_example, nonmanifold_example;
   UnionFind components(faces.size());
@@ -276,10 +285,18 @@ ValidatedMesh validate_mesh(const PolygonSoup& input, const ValidateOptions& opt
                         !report.has("untriangulable-polygon");
   // 7. Orientability: make the two faces at every edge run it in opposite directions (flip by BFS).
   if (manifold && !faces.empty()) {
-    std::vector<std::vector<std::pair<std::uint32_t, bool>>> neighbours(faces.size());
-    for (const Adjacent& a : adjacency) {
-      neighbours[a.f1].push_back({a.f2, a.same_direction});
-      neighbours[a.f2].push_back({a.f1, a.same_direction});
+    // Neighbours in one array (at most three per face here: every edge is manifold), in the order
+    // of `adjacency`, as separate lists per face had them.
+    std::vector<std::uint32_t> first(faces.size() + 1, 0);
+    for (const Adjacent& a : adjacency) ++first[a.f1 + 1], ++first[a.f2 + 1];
+    for (std::size_t f = 0; f < faces.size(); ++f) first[f + 1] += first[f];
+    std::vector<std::pair<std::uint32_t, bool>> neighbour(first.back());
+    {
+      std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+      for (const Adjacent& a : adjacency) {
+        neighbour[fill[a.f1]++] = {a.f2, a.same_direction};
+        neighbour[fill[a.f2]++] = {a.f1, a.same_direction};
+      }
     }
     std::vector<signed char> flip(faces.size(), -1);
     std::size_t flipped = 0;
@@ -292,7 +309,8 @@ ValidatedMesh validate_mesh(const PolygonSoup& input, const ValidateOptions& opt
       while (!queue.empty() && orientable) {
         const std::uint32_t f = queue.back();
         queue.pop_back();
-        for (const auto& [g, same] : neighbours[f]) {
+        for (std::uint32_t j = first[f]; j < first[f + 1]; ++j) {
+          const auto [g, same] = neighbour[j];
           const signed char want = static_cast<signed char>(flip[f] ^ (same ? 1 : 0));
           if (flip[g] < 0) {
             flip[g] = want;
@@ -324,6 +342,9 @@ ValidatedMesh validate_mesh(const PolygonSoup& input, const ValidateOptions& opt
     return out;
   }
   SurfaceMesh sm;
+  sm.reserve(static_cast<SurfaceMesh::size_type>(mesh.vertices.size()),
+             static_cast<SurfaceMesh::size_type>(3 * mesh.faces.size() / 2),
+             static_cast<SurfaceMesh::size_type>(mesh.faces.size()));
   for (const Vec3& v : mesh.vertices) sm.add_vertex(to_point(v));
   for (const Face& f : mesh.faces) {
     if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) {

@@ -7,6 +7,8 @@
 #include <numeric>
 #include <tuple>
 
+#include <tbb/parallel_sort.h>
+
 #include "util/error.h"
 #include "util/union_find.h"
 
@@ -20,7 +22,8 @@ void exact_clusters(const std::vector<Vec3>& p, UnionFind& uf) {
   const auto less = [&](std::size_t a, std::size_t b) {
     return std::tie(p[a].x(), p[a].y(), p[a].z()) < std::tie(p[b].x(), p[b].y(), p[b].z());
   };
-  std::sort(order.begin(), order.end(), less);
+  // Equal points are united whatever their order, so a parallel sort gives the same clusters.
+  tbb::parallel_sort(order.begin(), order.end(), less);
   for (std::size_t k = 1; k < order.size(); ++k)
     if (!less(order[k - 1], order[k])) uf.unite(order[k - 1], order[k]);
 }

@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <iostream>
+#include <numeric>
 #include <limits>
 #include <tuple>
 #include <random>
@@ -84,7 +87,7 @@ TEST(Bvh, EveryPrimitiveInOneLeafAndBoxesNest) {
   }
 }
 
-// Above 8,192 primitives the subtrees are built in parallel and appended in a fixed order: every
+// Above 8,192 primitives the subtrees are built in parallel, numbered in a fixed order: every
 // node reachable once from the root, boxes nested, every primitive in one leaf, and the same node
 // arrays (numbering included) in a one-thread arena as on all threads.
 TEST(Bvh, ParallelBuildIsValidAndIndependentOfTheThreadCount) {
@@ -103,6 +106,82 @@ TEST(Bvh, ParallelBuildIsValidAndIndependentOfTheThreadCount) {
       ASSERT_TRUE(bvh.nodes[k].bv.lo == serial.nodes[k].bv.lo && bvh.nodes[k].bv.hi == serial.nodes[k].bv.hi) << k;
     }
     expect_valid_tree(rb, bvh, leaf_size);
+  }
+}
+
+// The parallel build against a plain serial one written out here (fit a node from its primitives
+// in their current order, then split at the median, children numbered in pairs, left subtree
+// first), with a volume that depends on the order of the primitives it is fitted from: the same
+// tree. Fails if a top node were fitted after its split had reordered its primitives.
+struct OrderHash {
+  std::uint64_t h = 0;
+};
+TEST(Bvh, ParallelBuildEqualsASerialBuildWithAnOrderDependentFit) {
+  const auto fit = [](const std::uint32_t* ids, std::size_t n) {
+    OrderHash v{1469598103934665603ull};
+    for (std::size_t i = 0; i < n; ++i) v.h = (v.h ^ ids[i]) * 1099511628211ull;
+    return v;
+  };
+  for (std::uint32_t leaf_size : {1u, 5u}) {
+    const RandomBoxes rb(40000, 21);
+    const Bvh<OrderHash> bvh = build_bvh<OrderHash>(rb.centroids, fit, BvhBuildOptions{leaf_size});
+    struct Node {
+      OrderHash bv;
+      std::uint32_t first = 0, count = 0;
+    };
+    std::vector<Node> nodes(1);
+    std::vector<std::uint32_t> order(rb.centroids.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::vector<std::array<std::uint32_t, 3>> stack{{0u, 0u, static_cast<std::uint32_t>(order.size())}};
+    while (!stack.empty()) {
+      const auto [node, begin, end] = stack.back();
+      stack.pop_back();
+      const std::uint32_t count = end - begin;
+      nodes[node].bv = fit(order.data() + begin, count);
+      if (count <= leaf_size) {
+        nodes[node].first = begin;
+        nodes[node].count = count;
+        continue;
+      }
+      Eigen::Vector3d lo = rb.centroids[order[begin]], hi = lo;
+      for (std::uint32_t i = begin; i < end; ++i) {
+        lo = lo.cwiseMin(rb.centroids[order[i]]);
+        hi = hi.cwiseMax(rb.centroids[order[i]]);
+      }
+      int axis = 0;
+      (hi - lo).maxCoeff(&axis);
+      const std::uint32_t mid = begin + count / 2;
+      std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                       [&](std::uint32_t a, std::uint32_t b) {
+                         const double ca = rb.centroids[a][axis], cb = rb.centroids[b][axis];
+                         return ca < cb || (ca == cb && a < b);
+                       });
+      const auto left = static_cast<std::uint32_t>(nodes.size());
+      nodes.resize(nodes.size() + 2);
+      nodes[node].first = left;
+      stack.push_back({left + 1, mid, end});
+      stack.push_back({left, begin, mid});
+    }
+    // The same tree node for node from the root (the numbering differs: above 8,192 primitives the
+    // subtrees are numbered after the top, which the thread-count test above pins).
+    ASSERT_EQ(bvh.nodes.size(), nodes.size());
+    EXPECT_EQ(bvh.order, order);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> walk{{0u, 0u}};
+    std::size_t visited = 0;
+    while (!walk.empty()) {
+      const auto [a, b] = walk.back();
+      walk.pop_back();
+      ++visited;
+      ASSERT_EQ(bvh.nodes[a].bv.h, nodes[b].bv.h) << a;
+      ASSERT_EQ(bvh.nodes[a].count, nodes[b].count) << a;
+      if (nodes[b].count > 0) {
+        ASSERT_EQ(bvh.nodes[a].first, nodes[b].first) << a;
+      } else {
+        walk.push_back({bvh.nodes[a].first, nodes[b].first});
+        walk.push_back({bvh.nodes[a].first + 1, nodes[b].first + 1});
+      }
+    }
+    EXPECT_EQ(visited, nodes.size());
   }
 }
 
