@@ -10,6 +10,7 @@
 #include "distance/exact_predicates.h"
 #include "distance/point_triangle_distance.h"
 #include "distance/triangle_distance.h"
+#include "util/least_key.h"
 
 namespace cdbench {
 namespace {
@@ -23,21 +24,18 @@ struct NearestPolicy {
   const TriangleMesh& mesh;
   Vec3 p;
   double stop_sq = -1.0;  // stop once best_hi_sq <= stop_sq
-  double best_hi_sq = kInf;
+  LeastKey best{};  // (upper end squared, face); ties to the least index, whatever the visiting order
   double min_lo_sq = kInf;
-  std::uint32_t best_face = 0;
 
+  double best_hi_sq() const { return best.key; }
+  std::uint32_t best_face() const { return best.index; }
   double bound(const Aabb& box) const { return squared_distance_lower_bound(box, p); }
-  double prune_bound() const { return best_hi_sq; }
-  bool done() const { return best_hi_sq <= stop_sq; }
+  double prune_bound() const { return best.key; }
+  bool done() const { return best.key <= stop_sq; }
   void leaf(std::uint32_t f) {
     const Face& t = mesh.faces[f];
     const Interval d2 = point_triangle_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
-    // Ties go to the least index, so that the order of the visits plays no part.
-    if (d2.hi < best_hi_sq || (d2.hi == best_hi_sq && f < best_face)) {
-      best_hi_sq = d2.hi;
-      best_face = f;
-    }
+    best.offer(d2.hi, f);
     min_lo_sq = std::min(min_lo_sq, d2.lo);
   }
 };
@@ -82,8 +80,8 @@ struct FastNearestPolicy {
   Vec3 p;
   double margin_sq;
   std::vector<std::pair<double, std::uint32_t>>& near;  // (slab bound squared, face) below the threshold
-  double best_est_sq = kInf, threshold_sq = kInf;
-  std::uint32_t best_face = 0;
+  LeastKey best{};  // (estimate squared, face)
+  double threshold_sq = kInf;
 
   double bound(const Aabb& box) const { return squared_distance_lower_bound(box, p); }
   double prune_bound() const { return threshold_sq; }
@@ -96,11 +94,7 @@ struct FastNearestPolicy {
     const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
     double e2 = 0.0;
     const double lb_sq = slab_lower_bound_sq(p, a, b, c, &e2);
-    if (e2 < best_est_sq || (e2 == best_est_sq && f < best_face)) {
-      best_est_sq = e2;
-      threshold_sq = e2 * (1.0 + 1e-6) + margin_sq;
-      best_face = f;
-    }
+    if (best.offer(e2, f)) threshold_sq = e2 * (1.0 + 1e-6) + margin_sq;
     if (lb_sq < threshold_sq) near.emplace_back(lb_sq, f);
   }
 };
@@ -219,22 +213,19 @@ namespace {
 // not lie at or below the final pruning threshold (the caller then runs the rigorous query).
 bool finish_fast(const SignedDistance& sd, const FastNearestPolicy& fast,
                  const std::vector<std::pair<double, std::uint32_t>>& near, Interval* out, std::uint32_t* nearest) {
-  if (!(fast.best_est_sq < kInf)) return false;
-  const Interval best = sd.face_squared_distance(fast.p, fast.best_face);
+  if (!(fast.best.key < kInf)) return false;
+  const Interval best = sd.face_squared_distance(fast.p, fast.best.index);
   if (!(best.hi <= fast.threshold_sq)) return false;
-  Interval d2 = best;
-  std::uint32_t face = fast.best_face;
+  double lo = best.lo;
+  LeastKey upper{best.hi, fast.best.index};  // ties: the least index, whatever the order of `near`
   for (const auto& [lb_sq, f] : near)
-    if (lb_sq < best.hi && f != fast.best_face) {
+    if (lb_sq < best.hi && f != fast.best.index) {
       const Interval x = sd.face_squared_distance(fast.p, f);
-      d2.lo = std::min(d2.lo, x.lo);
-      if (x.hi < d2.hi || (x.hi == d2.hi && f < face)) {  // ties: the least index, whatever the order
-        d2.hi = x.hi;
-        face = f;
-      }
+      lo = std::min(lo, x.lo);
+      upper.offer(x.hi, f);
     }
-  if (nearest) *nearest = face;
-  *out = sqrt_interval(d2);
+  if (nearest) *nearest = upper.index;
+  *out = sqrt_interval({lo, upper.key});
   return true;
 }
 
@@ -252,8 +243,8 @@ Interval nearest_distance(const SignedDistance& sd, const Vec3& p, const Visit& 
   if (finish_fast(sd, fast, near, &d, nearest)) return d;
   NearestPolicy q{sd.mesh(), p};
   visit(q);
-  if (nearest) *nearest = q.best_face;
-  return sqrt_interval({q.min_lo_sq, q.best_hi_sq});
+  if (nearest) *nearest = q.best_face();
+  return sqrt_interval({q.min_lo_sq, q.best_hi_sq()});
 }
 
 }  // namespace
@@ -292,7 +283,7 @@ Interval SignedDistance::face_squared_distance(const Vec3& p, std::uint32_t f) c
 std::uint32_t SignedDistance::nearest_face(const Vec3& p) const {
   NearestPolicy q{mesh_, p};
   traverse_nearest_first(tree_, q);
-  return q.best_face;
+  return q.best_face();
 }
 
 bool SignedDistance::distance_at_most(const Vec3& p, double bound, Interval* full) const {
@@ -301,7 +292,7 @@ bool SignedDistance::distance_at_most(const Vec3& p, double bound, Interval* ful
   q.stop_sq = bound > 0.0 ? bound * bound * (1.0 - kRoundingSlack) : -1.0;
   traverse_nearest_first(tree_, q);
   if (q.done()) return true;
-  if (full) *full = sqrt_interval({q.min_lo_sq, q.best_hi_sq});
+  if (full) *full = sqrt_interval({q.min_lo_sq, q.best_hi_sq()});
   return false;
 }
 

@@ -8,6 +8,7 @@
 #include "distance/depth_bound.h"
 #include "distance/point_triangle_distance.h"
 #include "distance/triangle_distance.h"
+#include "util/thread_scratch.h"
 
 namespace cdbench {
 namespace {
@@ -179,12 +180,11 @@ struct CellOrder {
 // The storage of one branch and bound, kept per thread between runs: on a plateau the queue and
 // the set-aside cells reach 10^4 cells per certificate, and growing them afresh each time spent
 // 10-15 % of the run in reallocation and page faults (rotor_small, doc/performance.md). A run
-// that finds its thread's storage in use (none does today) gets its own.
+// that finds its thread's storage in use (none does today) gets its own (util/thread_scratch.h).
 struct BranchAndBoundStorage {
   std::vector<Cell> heap, discarded;
   std::vector<CellDepthBound> depth;
   std::vector<std::uint32_t> ids, parent_ids;
-  bool busy = false;
   void clear() {
     heap.clear();
     discarded.clear();
@@ -202,14 +202,13 @@ class BranchAndBound {
   BranchAndBound(const SignedDistance& fixed, const TriangleMesh& mover, const MoverOrientation& o, const PlacedView& P,
                  const Vec3& t, const ClearanceOptions& opt, bool keep_frontier)
       : fixed_(fixed), mover_(mover), o_(o), P_(P), t_(t), tol_(opt.tolerance), rel_(opt.relative_tolerance),
-        target_(opt.target), keep_discarded_(keep_frontier), store_(claim_storage(own_)), heap_(store_.heap),
+        target_(opt.target), keep_discarded_(keep_frontier), store_(scratch_.get()), heap_(store_.heap),
         discarded_(store_.discarded), depth_(store_.depth), ids_(store_.ids) {
     store_.clear();
     std::swap(parent_.ids, store_.parent_ids);
   }
   ~BranchAndBound() {
     std::swap(parent_.ids, store_.parent_ids);
-    store_.busy = false;
   }
   BranchAndBound(const BranchAndBound&) = delete;
   BranchAndBound& operator=(const BranchAndBound&) = delete;
@@ -358,13 +357,6 @@ class BranchAndBound {
   void pop() {
     std::pop_heap(heap_.begin(), heap_.end(), CellOrder());
     heap_.pop_back();
-  }
-
-  static BranchAndBoundStorage& claim_storage(BranchAndBoundStorage& own) {
-    static thread_local BranchAndBoundStorage shared;
-    BranchAndBoundStorage& s = shared.busy ? own : shared;
-    s.busy = true;
-    return s;
   }
 
   // s at x from its unsigned distance; the side from `ball` when x lies in it, else a ray test.
@@ -748,7 +740,7 @@ class BranchAndBound {
   std::int64_t argmin_face_ = -1;
   std::array<double, 2> argmin_bary_{0.0, 0.0};
   bool keep_discarded_;
-  BranchAndBoundStorage own_;  // used only when this thread's storage is taken
+  ThreadScratch<BranchAndBoundStorage> scratch_;
   BranchAndBoundStorage& store_;
   std::vector<Cell>& heap_;  // a binary heap under CellOrder, kept as std::priority_queue keeps one
   std::vector<Cell>& discarded_;

@@ -1,14 +1,22 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <random>
+#include <vector>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/interval.h"
+#include "util/large_pages.h"
+#include "util/least_key.h"
 #include "util/sha256.h"
+#include "util/thread_scratch.h"
 
 namespace cdbench {
 namespace {
@@ -61,6 +69,69 @@ TEST(Interval, OutwardRoundingMovesOneUlp) {
   EXPECT_TRUE(i.contains(2.0));
   EXPECT_FALSE(i.contains(3.5));
   EXPECT_DOUBLE_EQ(i.width(), 2.0);
+}
+
+// Keys with many ties offered in shuffled orders: always the least (key, index), so the nearest-
+// triangle queries answer the same whatever order a hint makes them visit triangles in. Without
+// the tie rule (strict < alone) the first of the tied offers would win and this fails.
+TEST(LeastKey, TheChoiceDoesNotDependOnTheOrderOfTheOffers) {
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<std::pair<double, std::uint32_t>> offers;
+    const int n = 2 + trial % 9;
+    for (int i = 0; i < n; ++i) offers.push_back({static_cast<double>(rng() % 3), rng() % 1000});
+    if (trial % 7 == 0) offers.push_back({std::nan(""), 0});  // never taken
+    const auto expected = *std::min_element(offers.begin(), offers.end(), [](const auto& a, const auto& b) {
+      if (std::isnan(a.first) || std::isnan(b.first)) return !std::isnan(a.first) && std::isnan(b.first);
+      return a < b;
+    });
+    for (int shuffle = 0; shuffle < 10; ++shuffle) {
+      std::shuffle(offers.begin(), offers.end(), rng);
+      LeastKey least;
+      for (const auto& [k, i] : offers) least.offer(k, i);
+      ASSERT_EQ(least.key, expected.first);
+      ASSERT_EQ(least.index, expected.second);
+    }
+  }
+}
+
+// Large blocks come 2 MiB-aligned (advised as huge pages), small ones from operator new; both
+// hold their contents through a vector's growth.
+TEST(LargePageAllocator, LargeBlocksAreAlignedAndBothKindsHoldTheirContents) {
+  std::vector<double, LargePageAllocator<double>> small(100, 1.5), large;
+  for (std::size_t i = 0; i < (kLargeBlock / sizeof(double)) * 2; ++i) large.push_back(static_cast<double>(i));
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(large.data()) % kHugePage, 0u);
+  for (std::size_t i = 0; i < large.size(); i += 4099) ASSERT_EQ(large[i], static_cast<double>(i));
+  EXPECT_EQ(small[99], 1.5);
+}
+
+// One T per thread kept between uses; a nested use gets its own; other threads have theirs.
+TEST(ThreadScratch, KeptBetweenUsesOwnWhenNestedAndPerThread) {
+  std::vector<int>* first = nullptr;
+  {
+    ThreadScratch<std::vector<int>> a;
+    a.get().assign(1000, 7);
+    first = &a.get();
+    {
+      ThreadScratch<std::vector<int>> nested;  // the slot is taken: its own, empty
+      EXPECT_NE(&nested.get(), first);
+      EXPECT_TRUE(nested.get().empty());
+      nested.get().push_back(1);
+    }
+    EXPECT_EQ(a.get().size(), 1000u);  // the nested one left the outer's alone
+  }
+  {
+    ThreadScratch<std::vector<int>> again;  // the slot is free again: the same storage, as left
+    EXPECT_EQ(&again.get(), first);
+    EXPECT_EQ(again.get().size(), 1000u);
+    again.get().clear();
+  }
+  std::vector<int>* other = nullptr;
+  std::thread([&] {
+    ThreadScratch<std::vector<int>> t;
+    other = &t.get();
+  }).join();
+  EXPECT_NE(other, first);
 }
 
 TEST(Sha256, KnownVectors) {
