@@ -22,6 +22,7 @@ struct Cell {
   Vec3 center;
   signed char sign;    // -1 inside, +1 outside, 0 unknown (a certified fact about the centre)
   double parent_upper;  // certified depth bound over the parent cell (covers this one)
+  std::int64_t near = -1;  // a triangle near the parent's centre: the first guess of the queries
 };
 
 struct Outcome {
@@ -33,6 +34,7 @@ struct Outcome {
   Vec3 point = Vec3::Zero();
   double upper = 0.0;      // certified upper bound of the depth over the cell's interior points
   double child_margin = 0.0;  // dist lower bound at the centre: children closer than it share the sign
+  std::uint32_t near = 0;      // the triangle found nearest to the centre (or one proving the bound)
 };
 
 // The convexity bound over a cube: its 8 corners (see distance/depth_bound.h).
@@ -95,12 +97,11 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
         // depth over the cell <= dist(c) + r <= snapshot + eps.
         const double theta = snapshot + eps - r;
         Interval d;
-        if (theta > 0.0 && sdf.distance_at_most(cell.center, theta, &d)) {
+        if (sdf.distance_at_most(cell.center, theta, &d, &o.near, cell.near)) {
           o.upper = round_up(theta + r);
           if (options.progress) progress.advance();
           continue;
         }
-        if (!(theta > 0.0)) d = sdf.unsigned_distance(cell.center);
         o.full = true;
         o.sign = cell.sign;
         if (o.sign == 0) {
@@ -121,7 +122,11 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
             o.upper = std::min(o.upper,
                                convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate, 0.25 * eps));
             if (((candidate - cell.center).cwiseAbs().array() <= half).all()) {
-              const Interval sc = sdf.signed_distance(candidate);
+              // Within the ball of radius d.lo about the centre (inside F), which holds no point of
+              // F: the candidate is inside too, and needs no ray test.
+              const bool in_ball = (candidate - cell.center).norm() * (1.0 + 1e-12) < d.lo;
+              const Interval sc = in_ball ? with_side(sdf.unsigned_distance(candidate, nullptr, o.near), -1)
+                                          : sdf.signed_distance(candidate);
               if (-sc.hi > o.lower) {
                 o.lower = -sc.hi;
                 o.point = candidate;
@@ -156,7 +161,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
       for (int k = 0; k < 8; ++k) {
         const Vec3 offset((k & 1) ? child_half : -child_half, (k & 2) ? child_half : -child_half,
                           (k & 4) ? child_half : -child_half);
-        next.push_back({frontier[i].center + offset, child_sign, o.upper});
+        next.push_back({frontier[i].center + offset, child_sign, o.upper, o.near});
       }
     }
     // Kept cells whose children were computed are replaced by them; the children cover the parent

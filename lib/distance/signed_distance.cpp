@@ -23,7 +23,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 struct NearestPolicy {
   const TriangleMesh& mesh;
   Vec3 p;
-  double stop_sq = -1.0;  // stop once best_hi_sq <= stop_sq
   LeastKey best{};  // (upper end squared, face); ties to the least index, whatever the visiting order
   double min_lo_sq = kInf;
 
@@ -31,7 +30,7 @@ struct NearestPolicy {
   std::uint32_t best_face() const { return best.index; }
   double bound(const Aabb& box) const { return squared_distance_lower_bound(box, p); }
   double prune_bound() const { return best.key; }
-  bool done() const { return best.key <= stop_sq; }
+  bool done() const { return false; }
   void leaf(std::uint32_t f) {
     const Face& t = mesh.faces[f];
     const Interval d2 = point_triangle_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
@@ -96,6 +95,31 @@ struct FastNearestPolicy {
     const double lb_sq = slab_lower_bound_sq(p, a, b, c, &e2);
     if (best.offer(e2, f)) threshold_sq = e2 * (1.0 + 1e-6) + margin_sq;
     if (lb_sq < threshold_sq) near.emplace_back(lb_sq, f);
+  }
+};
+
+// Whether some triangle is proven within sqrt(stop_sq) of p, nearest boxes first: a triangle is
+// enclosed rigorously only when the double estimate of its distance is about the bound or below
+// (most visited ones are not: an enclosure costs several estimates), and the first whose upper end
+// is at most stop_sq ends the search. Boxes beyond the bound cannot prove it and are pruned.
+struct AtMostPolicy {
+  const SignedDistance& sd;
+  Vec3 p;
+  double stop_sq;
+  bool proven = false;
+  std::uint32_t face = 0;  // the triangle that proved it
+  double bound(const Aabb& box) const { return squared_distance_lower_bound(box, p); }
+  double prune_bound() const { return stop_sq; }
+  bool done() const { return proven; }
+  void leaf(std::uint32_t f) {
+    if (proven) return;
+    const Face& t = sd.mesh().faces[f];
+    const auto& v = sd.mesh().vertices;
+    const double e2 = (closest_point_on_triangle(p, v[t[0]], v[t[1]], v[t[2]]) - p).squaredNorm();
+    if (e2 <= stop_sq * (1.0 + 1e-9) && sd.face_squared_distance(p, f).hi <= stop_sq) {
+      proven = true;
+      face = f;
+    }
   }
 };
 
@@ -286,13 +310,23 @@ std::uint32_t SignedDistance::nearest_face(const Vec3& p) const {
   return q.best_face();
 }
 
-bool SignedDistance::distance_at_most(const Vec3& p, double bound, Interval* full) const {
-  NearestPolicy q{mesh_, p};
-  // bound^2 rounded down: best_hi_sq <= stop_sq then implies dist <= bound in exact arithmetic.
-  q.stop_sq = bound > 0.0 ? bound * bound * (1.0 - kRoundingSlack) : -1.0;
-  traverse_nearest_first(tree_, q);
-  if (q.done()) return true;
-  if (full) *full = sqrt_interval({q.min_lo_sq, q.best_hi_sq()});
+bool SignedDistance::distance_at_most(const Vec3& p, double bound, Interval* full, std::uint32_t* nearest,
+                                      std::int64_t hint) const {
+  const bool hinted = hint >= 0 && static_cast<std::size_t>(hint) < mesh_.faces.size();
+  if (bound > 0.0) {
+    // bound^2 rounded down: an upper end <= stop_sq then implies dist <= bound in exact arithmetic.
+    AtMostPolicy q{*this, p, bound * bound * (1.0 - kRoundingSlack)};
+    if (hinted) q.leaf(static_cast<std::uint32_t>(hint));
+    if (!q.proven) traverse_nearest_first(tree_, q);
+    if (q.proven) {
+      if (nearest) *nearest = q.face;
+      return true;
+    }
+  }
+  std::uint32_t face = 0;
+  const Interval d = unsigned_distance(p, &face, hint);
+  if (full) *full = d;
+  if (nearest) *nearest = face;
   return false;
 }
 

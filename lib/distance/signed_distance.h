@@ -52,7 +52,10 @@ class SignedDistance {
 
   // True when dist(p, F) <= bound is proven; may stop at the first triangle that proves it.
   // False means the full query ran; then `*full` (if given) receives the enclosure of dist(p, F).
-  bool distance_at_most(const Vec3& p, double bound, Interval* full = nullptr) const;
+  // `nearest` (optional) receives the triangle that proved it, or the nearest one; `hint`, as for
+  // unsigned_distance, only orders the search (a triangle near p is tried first).
+  bool distance_at_most(const Vec3& p, double bound, Interval* full = nullptr, std::uint32_t* nearest = nullptr,
+                        std::int64_t hint = -1) const;
 
   // A rigorous lower bound of dist(T, F)^2 for the triangle T = (v0, v1, v2), tight up to rounding
   // where T and F are disjoint. F's tree is searched nearest first from T's box; per triangle the

@@ -259,19 +259,33 @@ TEST(SignedDistance, DistanceAtMostStopsEarlyButIsRigorous) {
   const SignedDistance sdf(m);
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-1.5, 1.5), b(0.0, 1.0);
+  std::uniform_int_distribution<std::int64_t> face(0, static_cast<std::int64_t>(m.faces.size()) - 1);
   for (int k = 0; k < 500; ++k) {
     const Vec3 p(u(rng), u(rng), u(rng));
     const double bound = b(rng);
     Interval full;
-    const bool proven = sdf.distance_at_most(p, bound, &full);
+    std::uint32_t prover = 0;
+    const bool proven = sdf.distance_at_most(p, bound, &full, &prover);
     const Interval d = sdf.unsigned_distance(p);
     if (proven) {
       EXPECT_LE(d.lo, bound);
+      // The triangle reported proves it on its own.
+      EXPECT_LE(std::sqrt(sdf.face_squared_distance(p, prover).hi), bound * (1 + 1e-12));
     } else {
       EXPECT_GE(full.hi, bound * (1 - 1e-12));
+      EXPECT_EQ(full.lo, d.lo);
+      EXPECT_EQ(full.hi, d.hi);
     }
     if (d.hi < bound * (1 - 1e-9)) {
       EXPECT_TRUE(proven);
+    }
+    // A hint (a triangle tried first) changes the work, not the answer.
+    for (const std::int64_t hint : {face(rng), static_cast<std::int64_t>(prover)}) {
+      Interval hinted_full;
+      EXPECT_EQ(sdf.distance_at_most(p, bound, &hinted_full, nullptr, hint), proven) << "hint " << hint;
+      if (!proven) {
+        EXPECT_EQ(hinted_full.hi, full.hi);
+      }
     }
   }
 }
