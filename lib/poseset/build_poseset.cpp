@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -303,6 +304,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
       shard_rows.push_back(parse_pose_row(line, journal.path()));
     }
   });
+  // poses.csv is in place: an interrupt before poseset.json is removes it (the journal stays).
+  std::optional<RemovedIfInterrupted> pair(std::in_place, opt.out + "/poses.csv");
   if (rows_written != expected)
     throw InputError("internal: " + std::to_string(rows_written) + " rows for " + std::to_string(expected) + " poses");
 
@@ -375,6 +378,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
                    {"poses_per_second", seconds_poses > 0 ? computed / seconds_poses : 0.0},
                    {"total", total.seconds()}};
   write_file_atomically(opt.out + "/poseset.json", [&](std::ostream& out) { out << std::setw(2) << ps << "\n"; });
+  pair.reset();
   journal.remove();
 
   PoseSetResult result;

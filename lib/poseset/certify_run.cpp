@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "distance/max_penetration.h"
@@ -180,6 +181,8 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
       lc.clearance_max = std::max(lc.clearance_max, r.clearance_hi);
     }
   });
+  // poses.csv is in place: an interrupt before poseset.json is removes it (the journal stays).
+  std::optional<RemovedIfInterrupted> pair(std::in_place, out_dir + "/poses.csv");
   result.poses = rows_by_id.size();
 
   nlohmann::json ps;
@@ -238,6 +241,7 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
                    {"poses_per_second", result.seconds_poses > 0 ? computed / result.seconds_poses : 0.0},
                    {"total", result.seconds_total}};
   write_file_atomically(out_dir + "/poseset.json", [&](std::ostream& out) { out << std::setw(2) << ps << "\n"; });
+  pair.reset();
   journal.remove();
   return result;
 }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <utility>
 
 #include "util/error.h"
 #include "util/interrupt.h"
@@ -44,6 +45,11 @@ void write_path_atomically(const std::string& path, const std::function<bool(con
     throw InputError("cannot write '" + path + "': " + why);
   }
 }
+
+RemovedIfInterrupted::RemovedIfInterrupted(std::string path)
+    : path_(std::move(path)), slot_(register_temporary_file(path_.c_str())) {}
+
+RemovedIfInterrupted::~RemovedIfInterrupted() { unregister_temporary_file(slot_); }
 
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
   write_path_atomically(path, [&](const std::string& tmp) {

@@ -12,6 +12,22 @@ namespace cdbench {
 // file is removed, `path` is left as it was, and an InputError naming the file is thrown.
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
+// An output written whole that belongs with another still to come (poses.csv before its
+// poseset.json): while this lives, an interrupt (util/interrupt.h) removes it, so that an
+// interrupted run never leaves one without the other. Destroy it once the second is written (on
+// an error the first stays, and the error is reported).
+class RemovedIfInterrupted {
+ public:
+  explicit RemovedIfInterrupted(std::string path);
+  ~RemovedIfInterrupted();
+  RemovedIfInterrupted(const RemovedIfInterrupted&) = delete;
+  RemovedIfInterrupted& operator=(const RemovedIfInterrupted&) = delete;
+
+ private:
+  std::string path_;
+  int slot_;
+};
+
 // Same, for producers that can only write to a path (e.g. a library's own writer).
 // write(tmp_path) must create tmp_path and return false (or throw) on failure.
 void write_path_atomically(const std::string& path, const std::function<bool(const std::string&)>& write);

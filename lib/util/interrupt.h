@@ -9,6 +9,11 @@ namespace cdbench {
 // `hint` (a string literal: the handler may only read it) ends the message.
 void install_interrupt_handlers(const char* hint);
 
+// The run's outputs are all in place: from now on SIGINT and SIGTERM are ignored, and the process
+// finishes normally instead of reporting an interruption that cost nothing (called by a command
+// once its last output is written, before printing its summary and exiting).
+void mark_outputs_complete();
+
 // The handler's list of temporary files (a fixed number of slots; -1 when all are taken, in
 // which case the file is only removed by its writer).
 int register_temporary_file(const char* path);

@@ -10,6 +10,7 @@
 #include "number_text.h"
 #include "poseset/certify_run.h"
 #include "poseset/user_poses.h"
+#include "util/interrupt.h"
 
 namespace cdbench::cli {
 namespace {
@@ -44,6 +45,7 @@ int run_certify_command(const CertifyCliOptions& opt) {
   rq.resume = opt.resume;
   rq.command_line = opt.command_line;
   const CertifyRunResult r = run_certify(rq, opt.out);
+  mark_outputs_complete();  // poses.csv and poseset.json are in place
 
   std::cout << "poses:           " << opt.poses << " (" << r.poses << " poses, "
             << (file.form == RotationForm::Matrix ? "rotation matrices" : "quaternions") << ")\n";

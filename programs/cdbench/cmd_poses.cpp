@@ -12,6 +12,7 @@
 #include "poseset/build_poseset.h"
 #include "poseset_summary.h"
 #include "util/error.h"
+#include "util/interrupt.h"
 
 namespace cdbench::cli {
 namespace {
@@ -74,6 +75,7 @@ int run_poses(PosesCliOptions opt) {
   rq.fixed = mesh_source(fixed);
   if (!opt.mover.empty()) rq.mover = mesh_source(mover);
   const PoseSetResult r = build_poseset(rq);
+  mark_outputs_complete();  // poses.csv and poseset.json are in place
 
   std::cout << "fixed:           " << opt.mesh << " (" << fixed.validated.mesh.faces.size() << " faces, diagonal "
             << std::setprecision(9) << r.diagonal << ")\n";
