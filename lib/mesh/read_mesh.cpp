@@ -52,8 +52,8 @@ MeshFormat mesh_format_from_path(const std::string& path) {
 namespace {
 
 // PLY through CGAL, after the structural pre-check.
-PolygonSoup read_with_cgal(const std::string& bytes, MeshFormat format, const std::string& name) {
-  check_mesh_file_structure(bytes, format, name);
+PolygonSoup read_ply_with_cgal(const std::string& bytes, const std::string& name) {
+  check_mesh_file_structure(bytes, MeshFormat::Ply, name);
   std::vector<Kernel::Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
   bool ok = false;
@@ -97,7 +97,7 @@ PolygonSoup read_polygon_soup_from_bytes(const std::string& bytes, const std::st
       const unsigned char first = static_cast<unsigned char>(bytes[0]);
       if (bytes.compare(0, 3, "ply") != 0 && (utf16_pattern || first == 0xEF || first == 0xFE || first == 0xFF))
         bom = check_text_encoding(bytes.substr(0, std::min<std::size_t>(header, 4096)), name);
-      soup = read_with_cgal(bom ? bytes.substr(bom) : bytes, format, name);
+      soup = read_ply_with_cgal(bom ? bytes.substr(bom) : bytes, name);
       break;
     }
   }
