@@ -339,14 +339,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
                             {"target_over_diagonal", targets[l] / diag},
                             {"start", to_string(start[l])},
                             {"start_note", level_note[l]},
-                            {"swept_offset", swept_offset},
-                            {"poses", x.poses},
-                            {"certified", x.certified},
-                            {"on_target", x.on_target},
-                            {"no_contact", x.no_contact},
-                            {"raw_placement_error",
-                             {{"max", x.raw_error_max}, {"mean", x.placed() ? x.raw_error_sum / x.placed() : 0.0}}},
-                            {"mean_polish_steps", x.placed() ? x.steps_sum / x.placed() : 0.0}});
+                            {"swept_offset", swept_offset}});
+    set_level_counts(ps["levels"].back(), x);
   }
   ps["sampling"] = {{"directions", {{"kind", opt.direction_sampling}, {"count", N}}},
                     {"orientations", {{"kind", opt.orientation_sampling}, {"count", K}, {"seed", opt.seed}}},

@@ -24,4 +24,14 @@ std::vector<LevelSummary> summarize_levels(const std::vector<PoseRow>& rows, std
   return s;
 }
 
+void set_level_counts(nlohmann::json& e, const LevelSummary& x) {
+  const double placed = static_cast<double>(x.placed());
+  e["poses"] = x.poses;
+  e["certified"] = x.certified;
+  e["on_target"] = x.on_target;
+  e["no_contact"] = x.no_contact;
+  e["raw_placement_error"] = {{"max", x.raw_error_max}, {"mean", placed > 0 ? x.raw_error_sum / placed : 0.0}};
+  e["mean_polish_steps"] = placed > 0 ? x.steps_sum / placed : 0.0;
+}
+
 }  // namespace cdbench

@@ -1,5 +1,6 @@
 // The pose-set module: poses.csv rows, user pose files (both header forms, every error names its
-// line), the journal (a cut tail is dropped; a resumed run must be the same run), poseset.json.
+// line), the journal (a cut tail is dropped; a resumed run must be the same run), poseset.json,
+// the merge of shards (byte-identical to one run; every bad set of shards named).
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -7,7 +8,11 @@
 #include <fstream>
 #include <sstream>
 
+#include "mesh/shapes.h"
+#include "mesh/write_mesh.h"
+#include "poseset/build_poseset.h"
 #include "poseset/journal.h"
+#include "poseset/merge_shards.h"
 #include "poseset/pose_csv.h"
 #include "poseset/poseset_manifest.h"
 #include "poseset/user_poses.h"
@@ -223,6 +228,69 @@ TEST(PoseSetManifest, NamesTheMissingKey) {
   j["levels"][0].erase("spec");
   write(j.dump());
   EXPECT_NE(error_of([&] { read_poseset_manifest(dir); }).find("missing key 'levels[0].spec'"), std::string::npos);
+}
+
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Shards of a small pose set (a torus against itself, two levels), merged: the same poses.csv as
+// the unsharded run, byte for byte, and the counts of all rows; then every bad set of shards is
+// refused with its reason, and nothing is written for it.
+TEST(MergeShards, EqualsTheUnshardedRunAndNamesBadShards) {
+  const std::string dir = testing::TempDir() + "/merge_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const TriangleMesh torus = make_torus(1.0, 0.35, 24, 12);
+  write_off(torus, dir + "/torus.off");
+  const auto run = [&](const std::string& out, const std::string& shard, std::size_t directions) {
+    PoseSetRequest rq;
+    rq.fixed = {dir + "/torus.off", &torus};
+    rq.levels = "-10%,0";
+    rq.out = dir + "/" + out;
+    rq.directions = directions;
+    rq.orientations = 2;
+    rq.shard = shard;
+    return build_poseset(rq);
+  };
+  run("whole", "0/1", 3);
+  run("s0", "0/3", 3);
+  run("s1", "1/3", 3);
+  run("s2", "2/3", 3);
+  const MergeResult m = merge_poseset_shards({dir + "/s2", dir + "/s0", dir + "/s1"}, dir + "/merged");
+  EXPECT_EQ(m.shards, 3u);
+  EXPECT_EQ(m.poses, 12u);
+  EXPECT_EQ(read_text(dir + "/merged/poses.csv"), read_text(dir + "/whole/poses.csv"));
+  const PoseSetManifest merged = read_poseset_manifest(dir + "/merged");
+  const PoseSetManifest whole = read_poseset_manifest(dir + "/whole");
+  for (const char* key : {"poses", "certified", "on_target", "no_contact", "mean_polish_steps"})
+    for (std::size_t l = 0; l < 2; ++l) EXPECT_EQ(merged.json["levels"][l][key], whole.json["levels"][l][key]) << key;
+  EXPECT_EQ(merged.json["shard"]["count"], 1);
+  EXPECT_EQ(merged.json["run_key"], whole.json["run_key"]);
+
+  const auto refused = [&](const std::vector<std::string>& shards) {
+    const std::string out = dir + "/refused";
+    std::filesystem::remove_all(out);
+    const std::string e = error_of([&] { merge_poseset_shards(shards, out); });
+    EXPECT_FALSE(std::filesystem::exists(out + "/poses.csv")) << e;
+    return e;
+  };
+  EXPECT_NE(refused({dir + "/s0", dir + "/s1"}).find("missing shard(s) 2 of 3"), std::string::npos);
+  EXPECT_NE(refused({dir + "/s0", dir + "/s1", dir + "/s1"}).find("shard 1 given twice"), std::string::npos);
+  run("other", "2/3", 4);  // another run: the options differ
+  EXPECT_NE(refused({dir + "/s0", dir + "/s1", dir + "/other"}).find("a shard of a different run"), std::string::npos);
+  EXPECT_NE(refused({dir + "/s0", dir + "/whole"}).find("shard count differs"), std::string::npos);
+  EXPECT_NE(refused({dir + "/torus.off"}).find("poseset.json"), std::string::npos);
+  // A row of one shard copied into another: the pose appears twice.
+  std::filesystem::copy(dir + "/s1", dir + "/s1dup", std::filesystem::copy_options::recursive);
+  const std::string s0 = read_text(dir + "/s0/poses.csv");
+  const std::string first_row = s0.substr(s0.find('\n') + 1, s0.find('\n', s0.find('\n') + 1) - s0.find('\n'));
+  std::ofstream(dir + "/s1dup/poses.csv", std::ios::app) << first_row;
+  EXPECT_NE(refused({dir + "/s0", dir + "/s1dup", dir + "/s2"}).find("appears in two shards"), std::string::npos);
 }
 
 }  // namespace
