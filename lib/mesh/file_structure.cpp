@@ -10,20 +10,13 @@
 #include <vector>
 
 #include "mesh/read_mesh.h"
+#include "mesh/text_numbers.h"
 #include "util/error.h"
 
 namespace cdbench {
 namespace {
 
 [[noreturn]] void fail(const std::string& name, const std::string& what) { throw InputError(name + ": " + what); }
-
-bool parse_count(const std::string& t, long long& value) {
-  if (t.empty() || t.size() > 18) return false;
-  for (char c : t)
-    if (c < '0' || c > '9') return false;
-  value = std::stoll(t);
-  return true;
-}
 
 bool parse_number(const std::string& t) {
   if (t.empty()) return false;

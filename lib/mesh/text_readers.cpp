@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "mesh/text_numbers.h"
 #include "util/error.h"
 
 namespace cdbench {
@@ -231,13 +232,6 @@ PolygonSoup read_obj(const std::string& bytes, const std::string& name) {
 namespace {
 
 // A count or an index: decimal digits only (no sign), at most 18 of them.
-bool parse_count(std::string_view t, long long& v) {
-  if (t.empty() || t.size() > 18) return false;
-  for (char c : t)
-    if (c < '0' || c > '9') return false;
-  return parse_int(t, v);
-}
-
 // The next line holding a token once its '#' comment is cut; false at the end.
 bool next_tokens(Lines& lines, std::vector<std::string_view>& tok) {
   std::string_view line;

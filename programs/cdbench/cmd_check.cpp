@@ -5,12 +5,12 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <thread>
 
 #include "commands.h"
 #include "distance/max_penetration.h"
 #include "mesh_loading.h"
+#include "number_text.h"
 #include "util/timer.h"
 
 namespace cdbench::cli {
@@ -25,14 +25,8 @@ struct CheckOptions {
   int threads = 0;
 };
 
-std::string num(double x, int digits = 17) {
-  std::ostringstream os;
-  os << std::setprecision(digits) << x;
-  return os.str();
-}
-
 std::string vec(const Vec3& v, int digits = 17) {
-  return "(" + num(v.x(), digits) + ", " + num(v.y(), digits) + ", " + num(v.z(), digits) + ")";
+  return "(" + number_text(v.x(), digits) + ", " + number_text(v.y(), digits) + ", " + number_text(v.z(), digits) + ")";
 }
 
 int run_check(const CheckOptions& opt) {
@@ -97,15 +91,15 @@ int run_check(const CheckOptions& opt) {
     std::cout << "mesh:               " << opt.mesh << "\n";
     std::cout << "input:              " << r.input_vertices << " vertices, " << r.input_polygons << " polygons\n";
     std::cout << "mesh:               " << mesh.vertices.size() << " vertices, " << mesh.faces.size() << " triangles\n";
-    std::cout << "bbox:               " << vec(box.lo, 9) << " - " << vec(box.hi, 9) << ", diagonal " << num(diag, 9)
+    std::cout << "bbox:               " << vec(box.lo, 9) << " - " << vec(box.hi, 9) << ", diagonal " << number_text(diag, 9)
               << "\n";
     std::cout << "topology:           " << (r.closed ? "closed" : "open") << ", " << r.components
               << (r.components == 1 ? " component" : " components");
     if (r.genus >= 0) std::cout << ", genus " << r.genus;
     std::cout << "\n";
     if (r.valid())
-      std::cout << "volume:             " << num(0.5 * (r.volume_lo + r.volume_hi), 12) << " (certified in ["
-                << num(r.volume_lo) << ", " << num(r.volume_hi) << "])\n";
+      std::cout << "volume:             " << number_text(0.5 * (r.volume_lo + r.volume_hi), 12) << " (certified in ["
+                << number_text(r.volume_lo) << ", " << number_text(r.volume_hi) << "])\n";
     std::cout << "self-intersections: "
               << (r.self_intersections_checked ? (r.has("self-intersection") ? "found (exact test)" : "none (exact test)")
                                                : "not checked")
@@ -114,9 +108,9 @@ int run_check(const CheckOptions& opt) {
     for (const auto& e : r.errors) std::cout << "error:              " << e.message << "\n";
     std::cout << "verdict:            " << (r.valid() ? "valid closed solid" : "INVALID") << "\n";
     if (run_mp) {
-      std::cout << "max penetration:    [" << num(mp.depth.lo) << ", " << num(mp.depth.hi) << "] = ["
-                << num(100 * mp.depth.lo / diag, 9) << "%, " << num(100 * mp.depth.hi / diag, 9)
-                << "%] of the diagonal, width " << num(mp.depth.width() / diag, 3) << " x diagonal"
+      std::cout << "max penetration:    [" << number_text(mp.depth.lo) << ", " << number_text(mp.depth.hi) << "] = ["
+                << number_text(100 * mp.depth.lo / diag, 9) << "%, " << number_text(100 * mp.depth.hi / diag, 9)
+                << "%] of the diagonal, width " << number_text(mp.depth.width() / diag, 3) << " x diagonal"
                 << (mp.tolerance_reached ? "" : " (TOLERANCE NOT REACHED)") << "\n";
       std::cout << "deepest point:      " << vec(mp.point) << "\n";
       std::cout << "branch and bound:   " << mp.cells << " cells, " << mp.full_queries << " full distance queries, "

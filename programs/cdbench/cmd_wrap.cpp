@@ -5,13 +5,13 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "commands.h"
 #include "distance/hausdorff.h"
 #include "mesh/read_mesh.h"
 #include "mesh/repair.h"
 #include "mesh/write_mesh.h"
+#include "number_text.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/progress.h"
@@ -27,12 +27,6 @@ struct RepairCliOptions {
   double weld_tolerance = 0.0, distance_tolerance = 1e-2;
   bool wrap_only = false, no_wrap = false;
 };
-
-std::string num(double x) {
-  std::ostringstream os;
-  os << std::setprecision(17) << x;
-  return os.str();
-}
 
 nlohmann::json to_json(const HausdorffResult& h) {
   return {{"lo", h.distance.lo},      {"hi", h.distance.hi},   {"witness", {h.witness.x(), h.witness.y(), h.witness.z()}},
@@ -71,7 +65,7 @@ int run_repair(const RepairCliOptions& opt, const char* command) {
   for (const auto& e : r.input_report.errors) std::cout << "problem:  " << e.message << "\n";
   std::cout << "method:   " << to_string(r.method);
   if (r.method == RepairMethod::ExactUnion) std::cout << " of " << r.parts << " closed parts (CGAL corefinement)";
-  if (r.method == RepairMethod::AlphaWrap) std::cout << ", alpha " << num(r.alpha) << ", offset " << num(r.offset);
+  if (r.method == RepairMethod::AlphaWrap) std::cout << ", alpha " << number_text(r.alpha) << ", offset " << number_text(r.offset);
   std::cout << std::fixed << std::setprecision(2) << " (" << r.seconds << " s)\n" << std::defaultfloat;
   if (!r.exact_note.empty()) std::cout << "note:     exact union not used: " << r.exact_note << "\n";
   if (!r.result.report.valid()) {
@@ -90,10 +84,10 @@ int run_repair(const RepairCliOptions& opt, const char* command) {
   ho.relative_tolerance = opt.distance_tolerance;
   if (Progress::enabled()) std::cerr << "certifying the distance between input and output...\n";
   const SurfaceDeviation d = two_sided_hausdorff(fan_triangulation(soup), out, ho);
-  std::cout << "distance: input -> output in [" << num(d.first_to_second.distance.lo) << ", "
-            << num(d.first_to_second.distance.hi) << "] (every input point is within the upper end of the output)\n";
-  std::cout << "distance: output -> input in [" << num(d.second_to_first.distance.lo) << ", "
-            << num(d.second_to_first.distance.hi) << "] (every output point is within the upper end of the input)\n";
+  std::cout << "distance: input -> output in [" << number_text(d.first_to_second.distance.lo) << ", "
+            << number_text(d.first_to_second.distance.hi) << "] (every input point is within the upper end of the output)\n";
+  std::cout << "distance: output -> input in [" << number_text(d.second_to_first.distance.lo) << ", "
+            << number_text(d.second_to_first.distance.hi) << "] (every output point is within the upper end of the input)\n";
   if (!d.first_to_second.converged || !d.second_to_first.converged)
     std::cout << "note:     the distance search hit its work limit: the intervals are valid but wider\n";
 
