@@ -23,6 +23,7 @@
 #include "poseset/poseset_manifest.h"
 #include "sweep/mesh_sweep.h"
 #include "util/atomic_file.h"
+#include "util/gnuplot.h"
 #include "util/error.h"
 #include "util/number_format.h"
 #include "util/progress.h"
@@ -390,12 +391,12 @@ void write_validation_plots(const std::string& dir, const std::vector<ValidateRe
     for (const char* term : {"pngcairo size 900,600", "svg size 900,600"}) {
       const std::string ext = std::string(term).substr(0, 3) == "png" ? "png" : "svg";
       gp << "set terminal " << term << "\nset output 'error_distribution_" << k << "." << ext << "'\n"
-         << "set title \"|c - target| per level: " << names[k] << "\" noenhanced\n"
+         << "set title " << gnuplot_string("|c - target| per level: " + names[k]) << " noenhanced\n"
          << "set xlabel '|c - target| (% of the certified max penetration)'\nset ylabel 'fraction of poses'\n"
          << "set logscale x\nplot ";
       for (std::size_t l = 0; l < v.levels.size(); ++l)
-        gp << (l ? ", " : "") << "'" << data << "' index " << l << " using 3:2 with lines lw 2 title \"" << v.levels[l].spec
-           << "\" noenhanced";
+        gp << (l ? ", " : "") << "'" << data << "' index " << l << " using 3:2 with lines lw 2 title "
+           << gnuplot_string(v.levels[l].spec) << " noenhanced";
       gp << "\nunset logscale x\n";
     }
   }
@@ -425,8 +426,8 @@ void write_validation_plots(const std::string& dir, const std::vector<ValidateRe
          << "set title 'p95 of |c - target| against the grid voxel'\nset xlabel 'voxel / diagonal'\n"
          << "set ylabel 'p95 |c - target| (% of max penetration)'\nset logscale xy\nplot ";
       for (std::size_t l = 0; l < L; ++l)
-        gp << (l ? ", " : "") << "'error_vs_voxel.csv' index " << l << " using 2:3 with linespoints lw 2 title \""
-           << runs[gridded.front()].levels[l].spec << "\" noenhanced";
+        gp << (l ? ", " : "") << "'error_vs_voxel.csv' index " << l << " using 2:3 with linespoints lw 2 title "
+           << gnuplot_string(runs[gridded.front()].levels[l].spec) << " noenhanced";
       gp << "\nunset logscale xy\n";
     }
   }

@@ -1,20 +1,11 @@
 // cdbench plot DIR: gnuplot figures of a benchmark's summary.json (PNG and SVG) and an error table.
-#include <cstdio>
-#include <cmath>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "commands.h"
-#include "number_text.h"
-#include "score/scoring.h"
-#include "util/atomic_file.h"
+#include "score/bench_plot.h"
 #include "util/error.h"
+#include "util/gnuplot.h"
 
 namespace cdbench::cli {
 namespace {
@@ -24,93 +15,11 @@ struct PlotCliOptions {
 };
 
 int run_plot(const PlotCliOptions& opt) {
-  const std::string path = opt.dir + "/summary.json";
-  const std::vector<BenchSummaryImpl> impls = read_bench_summary(path);
-  if (std::system("gnuplot --version > /dev/null 2>&1") != 0)
-    throw InputError("gnuplot not found (Debian: apt-get install gnuplot-nox)");
-
-  // One data block per implementation: percent of max penetration, mean us, median us, p95 us, BV tests,
-  // p5 us.
-  std::ostringstream data, errors;
-  errors << std::left << std::setw(21) << "impl" << std::setw(10) << "level" << std::setw(9) << "% maxpen" << std::setw(7)
-         << "poses" << std::setw(7) << "FP" << std::setw(7) << "FN" << std::setw(10) << "missed*" << std::setw(11)
-         << "ambiguous" << "max distance error (relative)\n";
-  std::vector<std::string> names;
-  std::vector<bool> counted;  // whether the implementation reports its own BV tests
-  bool timed = false;         // some level has a time
-  for (const BenchSummaryImpl& impl : impls) {
-    names.push_back(impl.name);
-    counted.push_back(impl.counts_tests);
-    data << "# " << names.back() << "\n";
-    for (const LevelScore& l : impl.levels) {
-      timed = timed || std::isfinite(l.mean_us);
-      data << std::setprecision(10) << l.percent_of_max_penetration << " " << l.mean_us << " " << l.median_us << " "
-           << l.p95_us << " " << l.mean_bv_tests << " " << l.p05_us << "\n";
-      errors << std::left << std::setw(21) << names.back() << std::setw(10) << l.level << std::setw(9)
-             << std::setprecision(4) << l.percent_of_max_penetration << std::setw(7) << l.poses << std::setw(7)
-             << l.false_positives << std::setw(7) << l.false_negatives << std::setw(10) << l.missed_or_contained
-             << std::setw(11) << l.ambiguous
-             << (l.distance_answers > 0 ? number_text(l.max_distance_error, 3) + " (" +
-                                              number_text(l.max_relative_distance_error, 3) + ")"
-                                        : std::string("-"))
-             << "\n";
-    }
-    data << "\n\n";
-  }
-  errors << "* surface-only libraries: penetrating poses reported free (mover inside the solid, or a miss)\n";
-  write_file_atomically(opt.dir + "/plot.dat", [&](std::ostream& out) { out << data.str(); });
-  write_file_atomically(opt.dir + "/errors.txt", [&](std::ostream& out) { out << errors.str(); });
-
-  std::ostringstream gp;
-  const auto plots = [&](const std::string& term, const std::string& ext) {
-    const auto series = [&](int column) {
-      std::ostringstream p;
-      bool first = true;
-      for (std::size_t i = 0; i < names.size(); ++i) {
-        if (column == 5 && !counted[i]) continue;
-        // Colours repeat after 8 series: a different dash pattern and point type tell them apart.
-        p << (first ? "" : ", ") << "'plot.dat' index " << i << " using 1:" << column << " with linespoints lc "
-          << (i % 8 + 1) << " dt " << (i / 8 + 1) << " pt " << (i % 13 + 1) << " title '" << names[i] << "'";
-        first = false;
-      }
-      return p.str();
-    };
-    gp << "set terminal " << term << "\n";
-    gp << "set grid\nset key outside right\nset xlabel 'level (% of the maximum penetration; < 0: penetrating)'\n";
-    gp << "set logscale y\n";
-    gp << "set output 'time_vs_level." << ext << "'\nset ylabel 'mean query time (us)'\n";
-    gp << "set title 'Static collision query time vs distance'\n";
-    if (timed) gp << "plot " << series(2) << "\n";
-    else gp << "set label 1 'no times given' at graph 0.5, 0.5 center\nunset logscale y\nplot [0:1] [0:1] NaN notitle\nunset label 1\nset logscale y\n";
-    // The paper's figures: mean time per level with a band for the spread (5th to 95th percentile).
-    gp << "set output 'time_band_vs_level." << ext << "'\nset ylabel 'query time (us): mean, band 5-95 %'\n";
-    gp << "set title 'Static collision query time vs distance, with its spread'\n";
-    if (timed) {
-      gp << "plot ";
-      for (std::size_t i = 0; i < names.size(); ++i)
-        gp << (i ? ", " : "") << "'plot.dat' index " << i << " using 1:6:4 with filledcurves lc " << (i % 8 + 1)
-           << " fs transparent solid 0.15 noborder notitle, 'plot.dat' index " << i
-           << " using 1:2 with linespoints lc " << (i % 8 + 1) << " dt " << (i / 8 + 1) << " pt " << (i % 13 + 1)
-           << " title '" << names[i] << "'";
-      gp << "\n";
-    } else {
-      gp << "set label 1 'no times given' at graph 0.5, 0.5 center\nunset logscale y\nplot [0:1] [0:1] NaN notitle\nunset label 1\nset logscale y\n";
-    }
-    gp << "set output 'bv_tests_vs_level." << ext << "'\nset ylabel 'mean bounding-volume tests'\n";
-    gp << "set title 'Bounding-volume tests vs distance'\n";
-    if (series(5).empty()) gp << "set label 1 'no bounding-volume tests given' at graph 0.5, 0.5 center\nunset logscale y\nplot [0:1] [0:1] NaN notitle\nunset label 1\n";
-    else gp << "plot " << series(5) << "\n";
-    gp << "unset logscale y\n";
-  };
-  plots("pngcairo size 1000,600 noenhanced", "png");
-  plots("svg size 1000,600 noenhanced", "svg");
-  write_file_atomically(opt.dir + "/plot.gp", [&](std::ostream& out) { out << gp.str(); });
-  const std::string cmd = "cd '" + opt.dir + "' && gnuplot plot.gp";
-  if (std::system(cmd.c_str()) != 0) throw InputError("gnuplot failed on " + opt.dir + "/plot.gp");
-  std::cout << errors.str();
-  for (const char* f : {"time_vs_level.png", "time_vs_level.svg", "time_band_vs_level.png", "time_band_vs_level.svg",
-                        "bv_tests_vs_level.png", "bv_tests_vs_level.svg"})
-    std::cout << "plot: " << opt.dir << "/" << f << "\n";
+  if (!gnuplot_available()) throw InputError("gnuplot not found (Debian: apt-get install gnuplot-nox)");
+  const BenchPlotFiles files = write_bench_plot_files(opt.dir);
+  if (run_gnuplot(opt.dir, "plot.gp") != GnuplotRun::Ok) throw InputError("gnuplot failed on " + opt.dir + "/plot.gp");
+  std::cout << files.errors;
+  for (const std::string& f : files.figures) std::cout << "plot: " << opt.dir << "/" << f << "\n";
   std::cout << "errors: " << opt.dir << "/errors.txt\n";
   return kExitOk;
 }

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "util/gnuplot.h"
 #include "mesh_loading.h"
 #include "poseset/poseset_manifest.h"
 #include "util/error.h"
@@ -94,9 +95,9 @@ int run_validate_cmd(const ValidateCliOptions& opt) {
               << std::setprecision(1) << v.seconds_total << std::defaultfloat << " s)\n";
   }
   write_validation_plots(opt.out, runs, names);
-  if (std::system("gnuplot --version > /dev/null 2>&1") != 0) {
+  if (!gnuplot_available()) {
     std::cerr << "cdbench validate: note: gnuplot not found; the plots' script is " << opt.out << "/plot.gp\n";
-  } else if (std::system(("cd '" + opt.out + "' && gnuplot plot.gp").c_str()) != 0) {
+  } else if (run_gnuplot(opt.out, "plot.gp") != GnuplotRun::Ok) {
     throw InputError("gnuplot failed on " + opt.out + "/plot.gp");
   }
   std::cout << "plots: " << opt.out << "/error_distribution_*.png|svg"

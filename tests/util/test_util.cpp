@@ -12,6 +12,7 @@
 
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/gnuplot.h"
 #include "util/interval.h"
 #include "util/large_pages.h"
 #include "util/least_key.h"
@@ -141,6 +142,26 @@ TEST(Sha256, KnownVectors) {
   write_file_atomically(path, [](std::ostream& o) { o << "abc"; });
   EXPECT_EQ(sha256_file(path), sha256_hex("abc"));
   EXPECT_THROW(sha256_file("/nonexistent/file"), InputError);
+}
+
+// Text quoted for gnuplot reads back unchanged through gnuplot itself, and the script runs in a
+// directory whose name holds a quote and a space (the former `sh -c "cd '...'"` broke on it).
+TEST(Gnuplot, QuotedTextAndAnyDirectoryName) {
+  EXPECT_EQ(gnuplot_string("it's"), "'it''s'");
+  EXPECT_EQ(gnuplot_string(""), "''");
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  const std::string dir = testing::TempDir() + "/gnuplot it's";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string text = "a 'quoted' name, \\ \"double\" $HOME `x`";
+  std::ofstream(dir + "/p.gp") << "set print " << gnuplot_string("out.txt") << "\nprint " << gnuplot_string(text) << "\n";
+  ASSERT_EQ(run_gnuplot(dir, "p.gp"), GnuplotRun::Ok);
+  std::ifstream in(dir + "/out.txt");
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, text);
+  std::ofstream(dir + "/bad.gp") << "this is not gnuplot\n";
+  EXPECT_EQ(run_gnuplot(dir, "bad.gp"), GnuplotRun::Failed);
 }
 
 }  // namespace
