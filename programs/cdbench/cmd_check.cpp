@@ -115,6 +115,11 @@ int run_check(const CheckOptions& opt) {
       std::cout << "deepest point:      " << vec(mp.point) << "\n";
       std::cout << "branch and bound:   " << mp.cells << " cells, " << mp.full_queries << " full distance queries, "
                 << mp.side_queries << " exact side tests, " << mp.levels << " levels\n";
+      if (!mp.tolerance_reached)
+        std::cout << "note:               the interval is certified, but wider than --tolerance "
+                  << number_text(opt.tolerance, 3) << ": the search stopped at its memory bound (thin walls\n"
+                  << "                    of tessellated tubes need many cells); --tolerance "
+                  << number_text(2 * mp.depth.width() / diag, 1) << " needs far fewer\n";
     }
     std::cout << std::fixed << std::setprecision(3) << "timings (s):        read " << loaded.seconds_read
               << ", validate " << loaded.seconds_validate << " (self-intersections " << r.seconds_self_intersections
