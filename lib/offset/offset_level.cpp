@@ -97,15 +97,6 @@ BandOptions offset_band_options(double tol) {
   return bo;
 }
 
-const char* to_string(OffsetStatus status) {
-  switch (status) {
-    case OffsetStatus::Certified: return "certified";
-    case OffsetStatus::Empty: return "empty";
-    case OffsetStatus::Original: return "original";
-    case OffsetStatus::Failed: return "failed";
-  }
-  return "?";
-}
 
 OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetrationResult& mp, double d,
                                  const OffsetOptions& options) {

@@ -9,6 +9,7 @@
 #include "distance/max_penetration.h"
 #include "mesh/validate_mesh.h"
 #include "offset/certify_band.h"
+#include "offset/offset_status.h"
 
 namespace cdbench {
 
@@ -26,8 +27,6 @@ struct OffsetOptions {
   // Called with a line per attempt and phase (what was done, how long, the outcome); may be empty.
   std::function<void(const std::string&)> log;
 };
-
-enum class OffsetStatus { Certified, Empty, Original, Failed };
 
 struct OffsetLevel {
   double d = 0.0;
@@ -52,6 +51,5 @@ BandOptions offset_band_options(double tol);
 OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetrationResult& max_penetration, double d,
                                  const OffsetOptions& options);
 
-const char* to_string(OffsetStatus status);
 
 }  // namespace cdbench

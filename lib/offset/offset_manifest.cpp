@@ -22,14 +22,13 @@ PreviousOffsets read_offset_manifest(const std::string& path) {
       // What a reusing run reads or prints of the entry must have its type.
       k.number(levels[i], "d", where);
       k.text(levels[i], "message", where);
-      k.number(levels[i], "epsilon", where, true);
+      e.epsilon = k.number(levels[i], "epsilon", where, true);
       k.number(levels[i], "epsilon_over_diagonal", where, true);
-      k.count(levels[i], "faces", where);
-      const std::string status = k.text(levels[i], "status", where);
-      if (status != "certified" && status != "empty" && status != "original" && status != "failed")
+      e.faces = k.count(levels[i], "faces", where);
+      if (!offset_status_from_string(k.text(levels[i], "status", where), &e.status))
         k.fail(where + "status", "is not certified, empty, original or failed");
       const nlohmann::json& file = k.at(levels[i], "file", where);
-      if ((status == "certified") != !file.is_null()) k.fail(where + "file", "does not match the status");
+      if ((e.status == OffsetStatus::Certified) != !file.is_null()) k.fail(where + "file", "does not match the status");
       if (!file.is_null()) {
         e.file = k.text(levels[i], "file", where);
         e.sha256 = k.text(levels[i], "sha256", where);

@@ -8,11 +8,16 @@
 #include <optional>
 #include <string>
 
+#include "offset/offset_status.h"
+
 namespace cdbench {
 
 struct OffsetManifestEntry {
   std::string key;
+  OffsetStatus status = OffsetStatus::Failed;
   std::optional<std::string> file, sha256;  // none: the level was not certified (no mesh written)
+  double epsilon = 0.0;                     // NaN when the manifest has none (null)
+  std::size_t faces = 0;
   nlohmann::json json;                      // the entry as written (copied into the new manifest)
 };
 

@@ -122,8 +122,7 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
   };
   const std::size_t n = r.distances.size();
   std::vector<nlohmann::json> entries(n);
-  std::vector<double> seconds(n, 0.0);
-  std::vector<char> failed(n, 0), reused(n, 0);
+  std::vector<OffsetSetLevel> typed(n);
   const auto key_of = [&](std::size_t i) { return r.input_sha + "|" + number_text(r.distances[i]) + "|" + option_key.str(); };
   // Reused levels first (sequentially: hashing files), so that every partial manifest lists them.
   for (std::size_t i = 0; i < n; ++i) {
@@ -134,12 +133,12 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
     if (!e.file || (std::filesystem::is_regular_file(file) && sha256_file(file) == *e.sha256)) {
       entries[i] = e.json;
       entries[i]["level"] = r.names[i];
-      reused[i] = 1;
+      typed[i] = {e.status, e.file.value_or(std::string()), e.epsilon, e.faces, true, 0.0};
     }
   }
   Progress progress("offset levels", n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    if (reused[i]) {
+    if (typed[i].reused) {
       progress.advance();
       return;
     }
@@ -178,10 +177,10 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
       e["vertices"] = 0;
       e["faces"] = 0;
     }
-    if (level.status == OffsetStatus::Failed) failed[i] = 1;
     e["seconds"] = {{"mesh", level.seconds_mesh}, {"band", level.seconds_band},
                     {"completeness", level.seconds_completeness}};
-    seconds[i] = t_level.seconds();
+    typed[i] = {level.status, level.status == OffsetStatus::Certified ? name : std::string(), level.epsilon,
+                level.status == OffsetStatus::Certified ? level.mesh.faces.size() : 0, false, t_level.seconds()};
     {
       std::lock_guard<std::mutex> lock(manifest_mutex);
       entries[i] = e;
@@ -197,7 +196,7 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
   timings["read"] = r.source.seconds_read;
   timings["validate"] = r.source.seconds_validate;
   for (std::size_t i = 0; i < n; ++i)
-    timings["levels"].push_back({{"level", r.names[i]}, {"reused", reused[i] != 0}, {"seconds", seconds[i]},
+    timings["levels"].push_back({{"level", r.names[i]}, {"reused", typed[i].reused}, {"seconds", typed[i].seconds},
                                  {"detail", entries[i].contains("seconds") ? entries[i]["seconds"] : nlohmann::json()}});
   const nlohmann::json manifest = manifest_of(entries, true);
   timings["total"] = total.seconds() + r.seconds_max_penetration;
@@ -206,11 +205,7 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
 
   OffsetSetResult result;
   result.manifest = manifest;
-  result.seconds = seconds;
-  result.failed = failed;
-  result.reused = reused;
-  for (std::size_t i = 0; i < n; ++i)
-    result.files.push_back(manifest["levels"][i]["file"].is_null() ? std::string() : manifest["levels"][i]["file"].get<std::string>());
+  result.levels = std::move(typed);
   return result;
 }
 

@@ -33,11 +33,19 @@ struct OffsetSetRequest {
   const char* log_prefix = "cdbench offset: ";
 };
 
+// A level of the set, typed for the callers (the pose-set builder decides its starts from it).
+struct OffsetSetLevel {
+  OffsetStatus status = OffsetStatus::Failed;
+  std::string file;      // in out_dir; empty when the level has no mesh
+  double epsilon = 0.0;  // the certified band; NaN when there is none
+  std::size_t faces = 0;
+  bool reused = false;   // taken over from an earlier run's manifest
+  double seconds = 0.0;  // this run's time on it (0 when reused)
+};
+
 struct OffsetSetResult {
   nlohmann::json manifest;  // also written to out_dir/manifest.json
-  std::vector<double> seconds;
-  std::vector<char> failed, reused;
-  std::vector<std::string> files;  // per level, empty when the level has no mesh
+  std::vector<OffsetSetLevel> levels;
 };
 
 OffsetSetResult write_offset_set(const OffsetSetRequest& request);

@@ -164,16 +164,15 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   const OffsetSetResult offsets = write_offset_set(req);
   const double seconds_offsets = t_offsets.seconds();
   std::vector<std::unique_ptr<SweepMesh>> level_mesh(L);
-  std::vector<std::string> level_state(L), level_note(L);
+  std::vector<std::string> level_note(L);
   for (std::size_t l = 0; l < L; ++l) {
     if (offset_of[l] < 0) continue;
-    const std::size_t i = static_cast<std::size_t>(offset_of[l]);
-    const std::string status = offsets.manifest["levels"][i]["status"].get<std::string>();
-    level_state[l] = status;
-    if (status == "certified") {
-      const TriangleMesh m = read_triangle_mesh(req.out_dir + "/" + offsets.files[i]);
+    const OffsetSetLevel& level = offsets.levels[static_cast<std::size_t>(offset_of[l])];
+    if (level.status == OffsetStatus::Certified) {
+      // Its mesh from the file (a reused level exists only there).
+      const TriangleMesh m = read_triangle_mesh(req.out_dir + "/" + level.file);
       level_mesh[l] = std::make_unique<SweepMesh>(make_sweep_mesh(m.vertices, m.faces));
-    } else if (status == "failed") {
+    } else if (level.status == OffsetStatus::Failed) {
       // The level's poses must not depend on an offset that could not be certified.
       if (fallback_start(targets[l], polish, &start[l])) {
         level_note[l] = std::string("offset failed; conservative advance from the ") +
@@ -181,7 +180,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
         std::cerr << "cdbench poses: note: level " << specs[l].text << ": " << level_note[l] << std::endl;
       }
     }
-    // "empty": no point that deep (or far) exists on this side; its rows say so.
+    // Empty: no point that deep (or far) exists on this side; its rows say so.
   }
   // F's own sweep mesh: the first contact of surface starts, and (with the mover's) the trees of the
   // separated advance and of the pair-distance path.
@@ -258,7 +257,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
       };
       const SweepMesh* swept_against = swept_surface(l);
       if (!swept_against && start[l] != PoseStart::Far) {
-        unplaced(level_state[l] == "empty" ? PoseStatus::OffsetEmpty : PoseStatus::OffsetFailed);
+        const OffsetStatus offset = offsets.levels[static_cast<std::size_t>(offset_of[l])].status;
+        unplaced(offset == OffsetStatus::Empty ? PoseStatus::OffsetEmpty : PoseStatus::OffsetFailed);
       } else {
         PoseOptions level_po = po;
         level_po.start = start[l];
@@ -324,13 +324,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     const LevelSummary& x = summary[l];
     nlohmann::json swept_offset;  // null: the level's poses use no offset
     if (offset_of[l] >= 0) {
-      const std::size_t i = static_cast<std::size_t>(offset_of[l]);
-      const nlohmann::json& e = offsets.manifest["levels"][i];
+      const OffsetSetLevel& o = offsets.levels[static_cast<std::size_t>(offset_of[l])];
       swept_offset = {{"d", swept[l]},
-                      {"status", level_state[l]},
-                      {"file", offsets.files[i].empty() ? nlohmann::json() : nlohmann::json("offsets/" + offsets.files[i])},
-                      {"epsilon", e["epsilon"]},
-                      {"faces", e["faces"]}};
+                      {"status", to_string(o.status)},
+                      {"file", o.file.empty() ? nlohmann::json() : nlohmann::json("offsets/" + o.file)},
+                      {"epsilon", o.epsilon},
+                      {"faces", o.faces}};
     }
     ps["levels"].push_back({{"index", l},
                             {"spec", specs[l].text},

@@ -67,9 +67,6 @@ int run_offset(const OffsetCliOptions& opt) {
   req.verbose = opt.verbose;
   const OffsetSetResult set = write_offset_set(req);
   const nlohmann::json& manifest = set.manifest;
-  const std::vector<double>& seconds = set.seconds;
-  const std::vector<char>& failed = set.failed;
-  const std::vector<char>& reused = set.reused;
   const OffsetOptions& oo = req.options;
   const std::size_t n = specs.size();
   const std::string manifest_path = opt.out + "/manifest.json";
@@ -89,14 +86,14 @@ int run_offset(const OffsetCliOptions& opt) {
               << e["faces"].get<std::size_t>() << std::setw(7) << (e.contains("genus") ? e["genus"].dump() : "-")
               << std::setw(6) << (e.contains("components") ? e["components"].dump() : "-") << std::setw(14)
               << std::setprecision(3) << e["epsilon_over_diagonal"].get<double>() << std::setw(9) << std::fixed
-              << std::setprecision(1) << seconds[i] << std::defaultfloat
-              << (e["file"].is_null() ? "-" : e["file"].get<std::string>()) << (reused[i] ? " (reused)" : "") << "\n";
+              << std::setprecision(1) << set.levels[i].seconds << std::defaultfloat
+              << (e["file"].is_null() ? "-" : e["file"].get<std::string>()) << (set.levels[i].reused ? " (reused)" : "") << "\n";
     if (!e["message"].get<std::string>().empty()) std::cout << "    " << e["message"].get<std::string>() << "\n";
   }
   std::cout << "manifest:        " << manifest_path << " (total " << std::fixed << std::setprecision(1)
             << total.seconds() << " s)\n";
-  for (char f : failed)
-    if (f) {
+  for (const OffsetSetLevel& level : set.levels)
+    if (level.status == OffsetStatus::Failed) {
       std::cerr << "cdbench: error: some levels could not be certified (see the messages above)\n";
       return kExitInvalidMesh;
     }

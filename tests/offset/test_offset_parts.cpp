@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <algorithm>
 #include <fstream>
 #include <random>
@@ -76,6 +78,20 @@ TEST(OffsetManifest, ReusableEntriesOnlyFromAWellFormedManifest) {
   ASSERT_EQ(p.by_key.size(), 2u);
   EXPECT_EQ(*p.by_key.at("k1").file, "a.off");
   EXPECT_FALSE(p.by_key.at("k2").file.has_value());
+  // Typed as the builder uses them.
+  EXPECT_EQ(p.by_key.at("k1").status, OffsetStatus::Certified);
+  EXPECT_EQ(p.by_key.at("k1").epsilon, 1e-3);
+  EXPECT_EQ(p.by_key.at("k1").faces, 12u);
+  EXPECT_EQ(p.by_key.at("k2").status, OffsetStatus::Empty);
+  EXPECT_TRUE(std::isnan(p.by_key.at("k2").epsilon));
+  for (OffsetStatus s : {OffsetStatus::Certified, OffsetStatus::Empty, OffsetStatus::Original, OffsetStatus::Failed}) {
+    OffsetStatus back = s == OffsetStatus::Failed ? OffsetStatus::Certified : OffsetStatus::Failed;
+    EXPECT_TRUE(offset_status_from_string(to_string(s), &back));
+    EXPECT_EQ(back, s);
+  }
+  OffsetStatus untouched = OffsetStatus::Original;
+  EXPECT_FALSE(offset_status_from_string("Certified", &untouched));
+  EXPECT_EQ(untouched, OffsetStatus::Original);
   for (const auto& [key, value] : std::vector<std::pair<std::string, nlohmann::json>>{
            {"faces", -1}, {"status", "maybe"}, {"file", "../x.off"}, {"file", nullptr}, {"d", "0.1"}}) {
     nlohmann::json bad = good;
