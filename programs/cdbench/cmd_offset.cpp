@@ -82,7 +82,7 @@ int run_offset(const OffsetCliOptions& opt) {
   for (std::size_t i = 0; i < n; ++i) {
     const nlohmann::json& e = manifest["levels"][i];
     std::cout << std::left << std::setw(static_cast<int>(width)) << specs[i].text << std::setw(14) << std::setprecision(6)
-              << e["d"].get<double>() << std::setw(11) << e["status"].get<std::string>() << std::setw(10)
+              << e["d"].get<double>() << std::setw(11) << to_string(set.levels[i].status) << std::setw(10)
               << e["faces"].get<std::size_t>() << std::setw(7) << (e.contains("genus") ? e["genus"].dump() : "-")
               << std::setw(6) << (e.contains("components") ? e["components"].dump() : "-") << std::setw(14)
               << std::setprecision(3) << e["epsilon_over_diagonal"].get<double>() << std::setw(9) << std::fixed
