@@ -152,6 +152,8 @@ const char* to_string(PoseStart s) {
   return "?";
 }
 
+const char* to_string(StartPolicy p) { return p == StartPolicy::Offsets ? "offset" : "auto"; }
+
 PoseStart planned_start(double target, bool polish, StartPolicy policy) {
   if (target == 0.0) return PoseStart::Surface;
   if (!polish || policy == StartPolicy::Offsets) return PoseStart::Offset;

@@ -73,6 +73,8 @@ const char* to_string(PoseStart s);
 // (no offset mesh at all; measured cheaper overall, doc/poses.md). Offsets: a certified offset at
 // target + 2 band for every target != 0.
 enum class StartPolicy { NoOffsets, Offsets };
+// The words of `cdbench poses --start` and of the run key: "auto" (NoOffsets), "offset".
+const char* to_string(StartPolicy p);
 // The start of a level's poses. Target 0 always starts at the surface (its exact first contact is
 // the pose); without polishing the raw first contact with the level's own offset is the pose.
 PoseStart planned_start(double target, bool polish, StartPolicy policy);

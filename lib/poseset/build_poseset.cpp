@@ -120,7 +120,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   std::vector<PoseStart> start(L);
   for (std::size_t l = 0; l < L; ++l) {
     targets[l] = level_distance(specs[l], mp.depth.lo);
-    start[l] = planned_start(targets[l], polish, opt.start == "offset" ? StartPolicy::Offsets : StartPolicy::NoOffsets);
+    start[l] = planned_start(targets[l], polish, opt.start);
     swept[l] = start[l] == PoseStart::Offset && polish ? targets[l] + 2.0 * opt.band_tolerance * diag : targets[l];
   }
 
@@ -136,7 +136,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
                             {"tolerance", opt.tolerance},
                             {"band_tolerance", opt.band_tolerance},
                             {"polish", polish},
-                            {"start", opt.start},
+                            {"start", to_string(opt.start)},
                             {"max_steps", opt.max_steps},
                             {"shard", opt.shard},
                             {"generator", std::string("cdbench ") + CDBENCH_VERSION}};
@@ -156,7 +156,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   req.options.tolerance_relative = opt.band_tolerance;
   req.log_prefix = "cdbench poses: ";
   std::cerr << "cdbench poses: max penetration [" << number_text(mp.depth.lo) << ", " << number_text(mp.depth.hi)
-            << "]; " << (req.distances.empty() ? std::string("no offset meshes needed (--start ") + opt.start + ")"
+            << "]; " << (req.distances.empty() ? std::string("no offset meshes needed (--start ") + to_string(opt.start) + ")"
                                                 : "offsets for " + std::to_string(req.distances.size()) + " of " +
                                                       std::to_string(L) + " level(s) in " + req.out_dir)
             << std::endl;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "offset/offset_set.h"
+#include "placement/place_pose.h"
 #include "util/interval.h"
 
 namespace cdbench {
@@ -21,7 +22,7 @@ struct PoseSetRequest {
   std::uint64_t seed = 1;
   std::string shard = "0/1";
   bool resume = false, no_polish = false;
-  std::string start = "auto";
+  StartPolicy start = StartPolicy::NoOffsets;  // --start auto | offset
   double tolerance = 1e-6;       // certification tolerance, relative to the fixed mesh's diagonal
   double band_tolerance = 1e-3;  // offsets' band tolerance, relative
   // The least width of the max penetration (relative); percentage levels loosen it to what their

@@ -20,6 +20,7 @@ namespace {
 struct PosesCliOptions {
   PoseSetRequest request;
   std::string mesh, mover;
+  std::string start = "auto";  // --start, into request.start
   int threads = 0;
   std::string pipeline = "certified";
   int grid = 256;
@@ -41,7 +42,7 @@ int run_float_poses(const PosesCliOptions& opt) {
   rq.voxel = opt.voxel;
   rq.keep_offsets = opt.keep_offsets;
   rq.command_line = opt.request.command_line;
-  if (opt.request.resume || opt.request.no_polish || opt.request.shard != "0/1" || opt.request.start != "auto")
+  if (opt.request.resume || opt.request.no_polish || opt.request.shard != "0/1" || opt.request.start != StartPolicy::NoOffsets)
     throw InputError("--pipeline float: --resume, --shard, --start and --no-polish belong to the certified pipeline");
   check_float_poseset_request(rq);
   LoadedMesh fixed, mover;
@@ -128,14 +129,17 @@ void register_poses(CLI::App& app, int& exit_code, const std::string& command_li
   cmd->add_option("--band-tolerance", opt->request.band_tolerance, "offset surfaces' band tolerance, relative to the diagonal")
       ->capture_default_str()
       ->check(CLI::Range(1e-6, 0.1));
-  cmd->add_option("--start", opt->request.start,
+  cmd->add_option("--start", opt->start,
                   "where the conservative advance of each pose starts. auto: level 0 and penetrating levels at the "
                   "exact first contact with the surface itself, separated levels far away (no offset meshes). "
                   "offset: every level != 0 at the exact first contact with a certified offset at level + 2 bands "
                   "(computed into DIR/offsets, reused across runs). Without polishing, levels != 0 always use "
                   "their own offset")
       ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "offset"}));
+      ->check(CLI::IsMember({"auto", "offset"}))
+      ->each([opt](const std::string& s) {
+        opt->request.start = s == "offset" ? StartPolicy::Offsets : StartPolicy::NoOffsets;
+      });
   cmd->add_flag("--no-polish", opt->request.no_polish, "keep the raw placement (first contact with the level's own offset)");
   cmd->add_option("--max-steps", opt->request.max_steps, "polishing steps per pose before it is reported as stalled")
       ->capture_default_str()
