@@ -1,7 +1,8 @@
 #include "placement/mover.h"
 
 #include <cmath>
-#include <numeric>
+
+#include "util/union_find.h"
 
 namespace cdbench {
 
@@ -44,24 +45,16 @@ double MoverOrientation::transform_error(const Vec3& t) const {
 }
 
 std::vector<std::uint32_t> component_representatives(const TriangleMesh& mesh) {
-  std::vector<std::uint32_t> parent(mesh.vertices.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  const auto find = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  UnionFind sets(mesh.vertices.size());
   for (const Face& f : mesh.faces)
-    for (int k = 1; k < 3; ++k) {
-      const std::uint32_t a = find(f[0]), b = find(f[k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
+    for (int k = 1; k < 3; ++k) sets.unite(f[0], f[k]);
   std::vector<char> used(mesh.vertices.size(), 0);
   for (const Face& f : mesh.faces) used[f[0]] = 1;
   std::vector<std::uint32_t> reps;
   std::vector<char> seen(mesh.vertices.size(), 0);
   for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
     if (!used[v]) continue;
-    const std::uint32_t r = find(v);
+    const std::size_t r = sets.find(v);
     if (!seen[r]) {
       seen[r] = 1;
       reps.push_back(v);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <iomanip>
 #include <random>
 
@@ -69,6 +70,22 @@ struct Case {
 // Axis-aligned boxes are the worst case of the branch and bound (the deepest points form plateaus
 // split between coplanar triangles, or whole faces coincide; see doc/poses.md), so a coarser
 // tolerance here; the answers are known exactly.
+// One vertex per connected component of the mover (the side tests of the distance path need one
+// each), the least index of each, and none for a vertex no face uses.
+TEST(Mover, OneRepresentativePerComponent) {
+  TriangleMesh m = merge_meshes(make_box(Vec3(0, 0, 0), Vec3(1, 1, 1)), make_icosphere(0.5, 1, Vec3(3, 0, 0)));
+  const std::size_t box_vertices = make_box(Vec3(0, 0, 0), Vec3(1, 1, 1)).vertices.size();
+  m = merge_meshes(m, make_torus(1.0, 0.2, 12, 6));
+  m.vertices.push_back(Vec3(9, 9, 9));  // used by no face
+  const std::vector<std::uint32_t> reps = component_representatives(m);
+  ASSERT_EQ(reps.size(), 3u);
+  EXPECT_EQ(reps[0], 0u);
+  EXPECT_EQ(reps[1], box_vertices);
+  // Reversing the faces' order changes nothing (the least index of a component is its root).
+  std::reverse(m.faces.begin(), m.faces.end());
+  EXPECT_EQ(component_representatives(m), reps);
+}
+
 TEST(Clearance, BoxesWithKnownAnswers) {
   Case c(make_box(Vec3(-2, -2, -2), Vec3(2, 2, 2)), make_box(Vec3(-1, -1, -1), Vec3(1, 1, 1)));
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
