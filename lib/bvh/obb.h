@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bvh/aabb.h"
+#include "core/aabb.h"
 
 namespace cdbench {
 

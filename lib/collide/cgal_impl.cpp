@@ -6,7 +6,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include "collide/collision_impl.h"
-#include "placement/mover.h"
+#include "core/pose_transform.h"
 
 namespace cdbench {
 namespace {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

@@ -5,7 +5,7 @@
 #include <memory>
 #include <vector>
 
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

@@ -5,12 +5,13 @@
 
 #include <cmath>
 
-#include "bvh/aabb.h"
 #include "bvh/bvh.h"
 #include "bvh/obb.h"
 #include "bvh/sphere.h"
+#include "core/aabb.h"
+#include "core/pose_transform.h"
 #include "distance/signed_distance.h"
-#include "placement/mover.h"
+#include "mesh/components.h"
 
 namespace cdbench {
 namespace {

@@ -1,7 +1,7 @@
 #pragma once
 // Exact geometric predicates on double input (CGAL's filtered predicates: doubles when the sign is
 // certain, exact arithmetic otherwise). Non-template functions so that callers need no CGAL headers.
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

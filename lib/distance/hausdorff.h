@@ -22,9 +22,9 @@
 // bound known to it; triangles are independent, so the result does not depend on thread count.
 #include <cstddef>
 
+#include "core/interval.h"
+#include "core/triangle_mesh.h"
 #include "distance/signed_distance.h"
-#include "mesh/triangle_mesh.h"
-#include "util/interval.h"
 
 namespace cdbench {
 

@@ -4,8 +4,8 @@
 // over an octree with the 1-Lipschitz bound of the signed distance. See doc/distance.md.
 #include <cstdint>
 
+#include "core/interval.h"
 #include "distance/signed_distance.h"
-#include "util/interval.h"
 
 namespace cdbench {
 

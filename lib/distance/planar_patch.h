@@ -25,8 +25,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/triangle_mesh.h"
 #include "distance/point_triangle_distance.h"
-#include "mesh/triangle_mesh.h"
 
 namespace cdbench {
 

@@ -1,8 +1,8 @@
 #pragma once
 // Rigorous enclosure of the distance between a point and a triangle, in interval arithmetic with
 // outward rounding (CGAL::Interval_nt). See doc/distance.md for the case analysis.
-#include "mesh/triangle_mesh.h"
-#include "util/interval.h"
+#include "core/interval.h"
+#include "core/triangle_mesh.h"
 
 #include <cmath>
 #include <vector>

@@ -9,11 +9,11 @@
 #include <limits>
 #include <vector>
 
-#include "bvh/aabb.h"
 #include "bvh/bvh.h"
+#include "core/aabb.h"
+#include "core/interval.h"
+#include "core/triangle_mesh.h"
 #include "distance/point_triangle_distance.h"
-#include "mesh/triangle_mesh.h"
-#include "util/interval.h"
 
 namespace cdbench {
 

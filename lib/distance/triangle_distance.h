@@ -1,8 +1,8 @@
 #pragma once
 // Rigorous enclosure of the distance between two triangles (and two segments), in interval
 // arithmetic with outward rounding plus CGAL's exact intersection predicate.
-#include "mesh/triangle_mesh.h"
-#include "util/interval.h"
+#include "core/interval.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

@@ -2,7 +2,7 @@
 // Repair of real-world input by CGAL's 3D alpha wrapping: any soup (open, self-intersecting,
 // non-manifold) becomes a closed, 2-manifold, self-intersection-free, outward mesh that encloses it
 // at distance about `offset`.
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

@@ -7,7 +7,7 @@
 // against the bytes or tokens that follow, binary floats finite) and only then parsed by CGAL.
 #include <string>
 
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

@@ -13,8 +13,8 @@
 // The caller measures how far the result is from the input (distance/hausdorff.h).
 #include <string>
 
+#include "core/triangle_mesh.h"
 #include "mesh/alpha_wrap.h"
-#include "mesh/triangle_mesh.h"
 #include "mesh/validate_mesh.h"
 
 namespace cdbench {

@@ -1,6 +1,6 @@
 #pragma once
 // Small closed test meshes generated exactly from parameters (used by tests and data/).
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

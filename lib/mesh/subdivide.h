@@ -4,7 +4,7 @@
 // smooths the vertices, so a closed 2-manifold stays closed and 2-manifold with the same genus;
 // the surface moves slightly (Loop is approximating), so the result is a new mesh to validate,
 // not a refinement of the input's geometry.
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

@@ -9,7 +9,7 @@
 // 832,000-face mesh; doc/mesh-intake.md.)
 #include <string>
 
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

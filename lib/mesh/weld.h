@@ -4,7 +4,7 @@
 // surface they mean. By default only exactly equal coordinates are merged, which moves nothing.
 #include <cstddef>
 
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

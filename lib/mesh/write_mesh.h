@@ -2,7 +2,7 @@
 #include <ostream>
 #include <string>
 
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

@@ -5,7 +5,7 @@
 #include <functional>
 #include <vector>
 
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/triangle_mesh.h"
 #include "distance/max_penetration.h"
-#include "mesh/triangle_mesh.h"
 #include "offset/offset_level.h"
 
 namespace cdbench {

@@ -14,11 +14,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/interval.h"
 #include "distance/depth_bound.h"
 #include "distance/signed_distance.h"
 #include "placement/mover.h"
 #include "sweep/mesh_sweep.h"
-#include "util/interval.h"
 
 namespace cdbench {
 

@@ -2,8 +2,6 @@
 
 #include <cmath>
 
-#include "util/union_find.h"
-
 namespace cdbench {
 
 MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::Matrix3d& R) {
@@ -42,25 +40,6 @@ double MoverOrientation::transform_error(const Vec3& t) const {
   // abs_max is itself a double evaluation (relative error << 1e-12); the factor covers it.
   const Vec3 e = gamma4 * (abs_max + t.cwiseAbs()) * (1.0 + 1e-10);
   return std::nextafter(e.norm() * (1.0 + 1e-12), HUGE_VAL);
-}
-
-std::vector<std::uint32_t> component_representatives(const TriangleMesh& mesh) {
-  UnionFind sets(mesh.vertices.size());
-  for (const Face& f : mesh.faces)
-    for (int k = 1; k < 3; ++k) sets.unite(f[0], f[k]);
-  std::vector<char> used(mesh.vertices.size(), 0);
-  for (const Face& f : mesh.faces) used[f[0]] = 1;
-  std::vector<std::uint32_t> reps;
-  std::vector<char> seen(mesh.vertices.size(), 0);
-  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
-    if (!used[v]) continue;
-    const std::size_t r = sets.find(v);
-    if (!seen[r]) {
-      seen[r] = 1;
-      reps.push_back(v);
-    }
-  }
-  return reps;
 }
 
 }  // namespace cdbench

@@ -9,37 +9,14 @@
 #include <cstdint>
 #include <vector>
 
-#include "bvh/aabb.h"
 #include "bvh/bvh.h"
 #include "bvh/sphere.h"
-#include "mesh/triangle_mesh.h"
+#include "core/aabb.h"
+#include "core/pose_transform.h"
+#include "core/triangle_mesh.h"
+#include "mesh/components.h"
 
 namespace cdbench {
-
-// fl(R x), in the fixed order ((r0 x0 + r1 x1) + r2 x2) per coordinate.
-inline Vec3 rotate_point(const Eigen::Matrix3d& R, const Vec3& x) {
-  Vec3 y;
-  for (int i = 0; i < 3; ++i) y[i] = R(i, 0) * x[0] + R(i, 1) * x[1] + R(i, 2) * x[2];
-  return y;
-}
-
-// fl(fl(R x) + t): how every placed vertex is evaluated (poses, clearances, collision queries).
-inline Vec3 place_point(const Eigen::Matrix3d& R, const Vec3& t, const Vec3& x) {
-  const Vec3 r = rotate_point(R, x);
-  return Vec3(r[0] + t[0], r[1] + t[1], r[2] + t[2]);
-}
-
-// The placed vertices fl(rotated[k] + t) of one pose, each computed when read, exactly as
-// MoverOrientation::placed computes it: a certificate reads only the vertices near the contact,
-// so it need not place all of them (O(n) per certificate on large movers).
-struct PlacedView {
-  const std::vector<Vec3>* rotated = nullptr;
-  Vec3 t = Vec3::Zero();
-  Vec3 operator[](std::size_t k) const {
-    const Vec3& r = (*rotated)[k];
-    return Vec3(r[0] + t[0], r[1] + t[1], r[2] + t[2]);
-  }
-};
 
 struct MoverOrientation {
   Eigen::Matrix3d R;             // the stored rotation (row-major in files)
@@ -60,8 +37,5 @@ MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::
 // trees from the rotated vertices at the same time.
 MoverOrientation rotate_mover(const TriangleMesh& mover, const Eigen::Matrix3d& R);
 void build_mover_boxes(MoverOrientation& o);
-
-// One vertex index per connected component (faces sharing vertices) of a mesh, ascending.
-std::vector<std::uint32_t> component_representatives(const TriangleMesh& mesh);
 
 }  // namespace cdbench

@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/interval.h"
 #include "offset/offset_set.h"
 #include "placement/place_pose.h"
-#include "util/interval.h"
 
 namespace cdbench {
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "mesh/triangle_mesh.h"
+#include "core/interval.h"
+#include "core/triangle_mesh.h"
 #include "poseset/user_poses.h"
-#include "util/interval.h"
 
 namespace cdbench {
 

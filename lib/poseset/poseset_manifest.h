@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 #include "poseset/pose_csv.h"
 
 namespace cdbench {

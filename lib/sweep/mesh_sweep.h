@@ -12,7 +12,7 @@
 #include "bvh/bvh.h"
 #include "bvh/obb.h"
 #include "bvh/sphere.h"
-#include "mesh/triangle_mesh.h"
+#include "core/triangle_mesh.h"
 #include "sweep/triangle_sweep.h"
 
 namespace cdbench {

@@ -20,8 +20,8 @@
 #include <cstdint>
 #include <optional>
 
-#include "mesh/triangle_mesh.h"
-#include "util/interval.h"
+#include "core/interval.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

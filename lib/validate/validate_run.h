@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "mesh/triangle_mesh.h"
-#include "util/interval.h"
+#include "core/interval.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench {
 

@@ -8,10 +8,10 @@
 #include <tuple>
 #include <random>
 
-#include "bvh/aabb.h"
 #include "bvh/bvh.h"
 #include "bvh/obb.h"
 #include "bvh/sphere.h"
+#include "core/aabb.h"
 
 #include <Eigen/Geometry>
 #include <tbb/task_arena.h>

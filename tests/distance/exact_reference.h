@@ -4,8 +4,8 @@
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
-#include "mesh/triangle_mesh.h"
-#include "util/interval.h"
+#include "core/interval.h"
+#include "core/triangle_mesh.h"
 
 namespace cdbench::testing {
 

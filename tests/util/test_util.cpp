@@ -10,10 +10,10 @@
 #include <sstream>
 #include <thread>
 
+#include "core/interval.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/gnuplot.h"
-#include "util/interval.h"
 #include "util/large_pages.h"
 #include "util/least_key.h"
 #include "util/sha256.h"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "bvh/aabb.h"
+#include "core/aabb.h"
 
 namespace cdbench {
 
