@@ -1,8 +1,5 @@
 #include "collide/own_trees.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/intersections.h>
-
 #include <cmath>
 
 #include "bvh/bvh.h"
@@ -10,46 +7,12 @@
 #include "bvh/sphere.h"
 #include "core/aabb.h"
 #include "core/pose_transform.h"
+#include "distance/exact_predicates.h"
 #include "distance/signed_distance.h"
 #include "mesh/components.h"
 
 namespace cdbench {
 namespace {
-
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-
-K::Point_3 P(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
-
-// Exact intersection of two closed triangles (degenerate ones as segments or points).
-bool triangles_intersect(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e, const Vec3& f) {
-  const K::Triangle_3 t1(P(a), P(b), P(c)), t2(P(d), P(e), P(f));
-  const bool dg1 = t1.is_degenerate(), dg2 = t2.is_degenerate();
-  if (!dg1 && !dg2) return CGAL::do_intersect(t1, t2);
-  // A degenerate triangle is the union of its edges (segments or points).
-  const auto edges_hit = [](const K::Triangle_3& deg, const K::Triangle_3& other, bool other_degenerate) {
-    for (int k = 0; k < 3; ++k) {
-      const K::Point_3 p = deg.vertex(k), q = deg.vertex((k + 1) % 3);
-      if (!other_degenerate) {
-        if (p == q ? other.has_on(p) : CGAL::do_intersect(K::Segment_3(p, q), other)) return true;
-      } else {
-        for (int m = 0; m < 3; ++m) {
-          const K::Point_3 r = other.vertex(m), s = other.vertex((m + 1) % 3);
-          if (p == q && r == s) {
-            if (p == r) return true;
-          } else if (p == q) {
-            if (K::Segment_3(r, s).has_on(p)) return true;
-          } else if (r == s) {
-            if (K::Segment_3(p, q).has_on(r)) return true;
-          } else if (CGAL::do_intersect(K::Segment_3(p, q), K::Segment_3(r, s))) {
-            return true;
-          }
-        }
-      }
-    }
-    return false;
-  };
-  return dg1 ? edges_hit(t1, t2, dg2) : edges_hit(t2, t1, false);
-}
 
 // Overlap of a fixed-frame volume with a mover volume moved by (R, t); conservative.
 inline bool overlap(const Obb& a, const Obb& b, const Eigen::Matrix3d& R, const Vec3& t) { return obb_overlap(a, b, R, t); }

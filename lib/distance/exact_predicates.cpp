@@ -1,12 +1,15 @@
 #include "distance/exact_predicates.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/intersections.h>
 
 namespace cdbench {
 namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 inline K::Point_3 P(const Vec3& v) { return K::Point_3(v.x(), v.y(), v.z()); }
 }  // namespace
+
+bool corners_collinear(const Vec3& a, const Vec3& b, const Vec3& c) { return CGAL::collinear(P(a), P(b), P(c)); }
 
 bool point_on_triangle(const Vec3& pd, const Vec3& ad, const Vec3& bd, const Vec3& cd) {
   const K::Point_3 p = P(pd), a = P(ad), b = P(bd), c = P(cd);
@@ -35,6 +38,36 @@ SegmentCrossing segment_crosses_triangle(const Vec3& pd, const Vec3& qd, const V
   if (pos && neg) return SegmentCrossing::None;
   if (o1 == CGAL::COPLANAR || o2 == CGAL::COPLANAR || o3 == CGAL::COPLANAR) return SegmentCrossing::Degenerate;
   return SegmentCrossing::Proper;
+}
+
+bool triangles_intersect(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e, const Vec3& f) {
+  const K::Triangle_3 t1(P(a), P(b), P(c)), t2(P(d), P(e), P(f));
+  const bool dg1 = t1.is_degenerate(), dg2 = t2.is_degenerate();
+  if (!dg1 && !dg2) return CGAL::do_intersect(t1, t2);
+  // A degenerate triangle is the union of its edges (segments or points).
+  const auto edges_hit = [](const K::Triangle_3& deg, const K::Triangle_3& other, bool other_degenerate) {
+    for (int k = 0; k < 3; ++k) {
+      const K::Point_3 p = deg.vertex(k), q = deg.vertex((k + 1) % 3);
+      if (!other_degenerate) {
+        if (p == q ? other.has_on(p) : CGAL::do_intersect(K::Segment_3(p, q), other)) return true;
+      } else {
+        for (int m = 0; m < 3; ++m) {
+          const K::Point_3 r = other.vertex(m), s = other.vertex((m + 1) % 3);
+          if (p == q && r == s) {
+            if (p == r) return true;
+          } else if (p == q) {
+            if (K::Segment_3(r, s).has_on(p)) return true;
+          } else if (r == s) {
+            if (K::Segment_3(p, q).has_on(r)) return true;
+          } else if (CGAL::do_intersect(K::Segment_3(p, q), K::Segment_3(r, s))) {
+            return true;
+          }
+        }
+      }
+    }
+    return false;
+  };
+  return dg1 ? edges_hit(t1, t2, dg2) : edges_hit(t2, t1, false);
 }
 
 }  // namespace cdbench

@@ -8,6 +8,14 @@ namespace cdbench {
 // Whether p lies on the closed triangle abc (exact).
 bool point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
+// Whether a, b and c lie on one line (exact): a zero-area triangle.
+bool corners_collinear(const Vec3& a, const Vec3& b, const Vec3& c);
+
+// Whether the closed triangles abc and def share a point (exact). A degenerate triangle (collinear
+// corners) is the union of its edges, a segment or a point. The one exact triangle-triangle
+// intersection test: certified distances and our collision trees both use it.
+bool triangles_intersect(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e, const Vec3& f);
+
 enum class SegmentCrossing { None, Proper, Degenerate };
 
 // How the segment pq meets triangle abc, for ray parity: Proper = crosses the open triangle

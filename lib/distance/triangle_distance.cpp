@@ -1,18 +1,17 @@
 #include "distance/triangle_distance.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Interval_nt.h>
 
 #include <algorithm>
 #include <limits>
 
+#include "distance/exact_predicates.h"
 #include "distance/point_triangle_distance.h"
 
 namespace cdbench {
 namespace {
 
 using I = CGAL::Interval_nt<false>;
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 
 struct V {
   I x, y, z;
@@ -69,9 +68,7 @@ Interval segment_segment_squared_distance(const Vec3& p0, const Vec3& p1, const 
 
 Interval triangle_triangle_squared_distance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
                                             const Vec3& e, const Vec3& f) {
-  const auto P = [](const Vec3& v) { return K::Point_3(v.x(), v.y(), v.z()); };
-  const K::Triangle_3 t1(P(a), P(b), P(c)), t2(P(d), P(e), P(f));
-  if (!t1.is_degenerate() && !t2.is_degenerate() && CGAL::do_intersect(t1, t2)) return {0.0, 0.0};
+  if (triangles_intersect(a, b, c, d, e, f)) return {0.0, 0.0};
   Interval r{HUGE_VAL, HUGE_VAL};
   for (const Vec3* p : {&a, &b, &c}) take(r, point_triangle_squared_distance(*p, d, e, f));
   for (const Vec3* p : {&d, &e, &f}) take(r, point_triangle_squared_distance(*p, a, b, c));
@@ -81,7 +78,7 @@ Interval triangle_triangle_squared_distance(const Vec3& a, const Vec3& b, const 
     for (auto& y : s2) take(r, segment_segment_squared_distance(*x[0], *x[1], *y[0], *y[1]));
   // A zero-area triangle may cross the other's interior without any of the pairs above seeing it:
   // no positive lower bound is claimed then.
-  if (t1.is_degenerate() || t2.is_degenerate()) r.lo = 0.0;
+  if (corners_collinear(a, b, c) || corners_collinear(d, e, f)) r.lo = 0.0;
   return r;
 }
 

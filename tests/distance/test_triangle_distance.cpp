@@ -2,6 +2,7 @@
 
 #include <random>
 
+#include "distance/exact_predicates.h"
 #include "distance/point_triangle_distance.h"
 #include "distance/triangle_distance.h"
 #include "exact_reference.h"
@@ -196,6 +197,46 @@ TEST(TriangleDistance, ReachTimeLowerBoundAgainstExactRationals) {
     EXPECT_NEAR(sp, (H - r) / 0.8, 1e-12 * H + 1e-13) << H;  // the plane's error terms scale with the face (100)
     EXPECT_LE(sp, (H - r) / 0.8) << H;
   }
+}
+
+// The one exact triangle-triangle intersection test, degenerate triangles included (a zero-area
+// triangle is its edges): the certified distance is exactly 0 for every intersecting pair,
+// including a segment that pierces a triangle's interior, which no vertex or edge pair sees.
+TEST(TriangleDistance, IntersectionTestWithDegenerateTriangles) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  const Vec3 up(0.25, 0.25, 1), down(0.25, 0.25, -1), mid(0.25, 0.25, 0);
+  struct Case {
+    Vec3 d, e, f;
+    bool hit;
+  };
+  const Case cases[] = {
+      {up, down, Vec3(0.25, 0.25, 0.5), true},       // a segment (collinear corners) through the interior
+      {up, Vec3(0.25, 0.25, 0.5), up, false},        // a segment above the triangle
+      {mid, mid, mid, true},                         // a point in the interior
+      {Vec3(0.5, 0.5, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, 0.5, 0), true},  // a point on the hypotenuse
+      {Vec3(0.5, 0.5 + 1e-15, 0), Vec3(0.5, 0.5 + 1e-15, 0), Vec3(0.5, 0.5 + 1e-15, 0), false},  // just beside it
+      {Vec3(0, 0, 1), Vec3(0, 0, 1), a, true},       // a segment ending at a corner
+      {Vec3(-1, 0, 0), Vec3(2, 0, 0), Vec3(0.5, 0, 0), true},  // along an edge
+      {Vec3(2, 0, 0), Vec3(3, 0, 0), Vec3(2.5, 0, 0), false},  // on the edge's line, beyond it
+      {Vec3(0.2, 0.2, -1), Vec3(0.2, 0.2, 1), Vec3(1, 1, 1), true},  // a proper triangle through it
+      {Vec3(0, 0, 1e-300), Vec3(1, 0, 1e-300), Vec3(0, 1, 1e-300), false},  // parallel, a hair above
+  };
+  for (const Case& k : cases) {
+    EXPECT_EQ(triangles_intersect(a, b, c, k.d, k.e, k.f), k.hit) << k.d.transpose() << " / " << k.e.transpose();
+    EXPECT_EQ(triangles_intersect(k.d, k.e, k.f, a, b, c), k.hit);
+    const Interval d2 = triangle_triangle_squared_distance(a, b, c, k.d, k.e, k.f);
+    if (k.hit) {
+      EXPECT_EQ(d2.lo, 0.0);
+      EXPECT_EQ(d2.hi, 0.0);
+    } else {
+      EXPECT_GT(d2.hi, 0.0);
+    }
+  }
+  // Two degenerate triangles: overlapping and disjoint collinear segments, crossing segments.
+  EXPECT_TRUE(triangles_intersect(a, b, b, Vec3(0.5, 0, 0), Vec3(2, 0, 0), Vec3(2, 0, 0)));
+  EXPECT_FALSE(triangles_intersect(a, b, b, Vec3(1.5, 0, 0), Vec3(2, 0, 0), Vec3(2, 0, 0)));
+  EXPECT_TRUE(triangles_intersect(a, b, b, Vec3(0.5, -1, 0), Vec3(0.5, 1, 0), Vec3(0.5, 1, 0)));
+  EXPECT_FALSE(triangles_intersect(a, b, b, Vec3(0.5, -1, 1e-9), Vec3(0.5, 1, 1e-9), Vec3(0.5, 1, 1e-9)));
 }
 
 }  // namespace
