@@ -76,8 +76,9 @@ Interval triangle_triangle_squared_distance(const Vec3& a, const Vec3& b, const 
   const Vec3* s2[3][2] = {{&d, &e}, {&e, &f}, {&f, &d}};
   for (auto& x : s1)
     for (auto& y : s2) take(r, segment_segment_squared_distance(*x[0], *x[1], *y[0], *y[1]));
-  // A zero-area triangle may cross the other's interior without any of the pairs above seeing it:
-  // no positive lower bound is claimed then.
+  // No positive lower bound is claimed for a zero-area triangle. The vertex and edge pairs alone
+  // miss a segment through the other's interior; the exact test above now rules that out, but the
+  // bound stays as conservative as it was.
   if (corners_collinear(a, b, c) || corners_collinear(d, e, f)) r.lo = 0.0;
   return r;
 }

@@ -231,7 +231,6 @@ PolygonSoup read_obj(const std::string& bytes, const std::string& name) {
 
 namespace {
 
-// A count or an index: decimal digits only (no sign), at most 18 of them.
 // The next line holding a token once its '#' comment is cut; false at the end.
 bool next_tokens(Lines& lines, std::vector<std::string_view>& tok) {
   std::string_view line;

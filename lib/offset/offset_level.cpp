@@ -97,7 +97,6 @@ BandOptions offset_band_options(double tol) {
   return bo;
 }
 
-
 OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetrationResult& mp, double d,
                                  const OffsetOptions& options) {
   OffsetLevel level;

@@ -51,5 +51,4 @@ BandOptions offset_band_options(double tol);
 OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetrationResult& max_penetration, double d,
                                  const OffsetOptions& options);
 
-
 }  // namespace cdbench

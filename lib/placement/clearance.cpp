@@ -8,6 +8,7 @@
 #include "distance/depth_bound.h"
 #include "distance/point_triangle_distance.h"
 #include "distance/triangle_distance.h"
+#include "mesh/components.h"
 #include "util/thread_scratch.h"
 
 namespace cdbench {

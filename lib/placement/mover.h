@@ -14,7 +14,6 @@
 #include "core/aabb.h"
 #include "core/pose_transform.h"
 #include "core/triangle_mesh.h"
-#include "mesh/components.h"
 
 namespace cdbench {
 

@@ -8,6 +8,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include "distance/triangle_distance.h"
+#include "mesh/components.h"
 #include "placement/advance.h"
 
 namespace cdbench {

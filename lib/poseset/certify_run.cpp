@@ -14,6 +14,7 @@
 
 #include "distance/max_penetration.h"
 #include "distance/signed_distance.h"
+#include "mesh/components.h"
 #include "placement/clearance.h"
 #include "placement/mover.h"
 #include "placement/rotation_groups.h"

@@ -13,6 +13,7 @@
 
 #include "distance/max_penetration.h"
 #include "distance/signed_distance.h"
+#include "mesh/components.h"
 #include "mesh/read_mesh.h"
 #include "mesh/validate_mesh.h"
 #include "offset/certify_band.h"
@@ -23,8 +24,8 @@
 #include "poseset/poseset_manifest.h"
 #include "sweep/mesh_sweep.h"
 #include "util/atomic_file.h"
-#include "util/gnuplot.h"
 #include "util/error.h"
+#include "util/gnuplot.h"
 #include "util/number_format.h"
 #include "util/progress.h"
 #include "util/timer.h"

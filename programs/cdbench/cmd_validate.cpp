@@ -10,10 +10,10 @@
 #include <sstream>
 
 #include "commands.h"
-#include "util/gnuplot.h"
 #include "mesh_loading.h"
 #include "poseset/poseset_manifest.h"
 #include "util/error.h"
+#include "util/gnuplot.h"
 #include "util/number_format.h"
 #include "validate/validate_run.h"
 

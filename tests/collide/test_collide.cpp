@@ -8,6 +8,7 @@
 #include <random>
 
 #include "collide/collision_impl.h"
+#include "mesh/components.h"
 #include "mesh/shapes.h"
 #include "placement/clearance.h"
 

@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <random>
 
+#include "mesh/components.h"
 #include "mesh/shapes.h"
 #include "placement/advance.h"
 #include "placement/clearance.h"
