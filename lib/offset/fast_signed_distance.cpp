@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 
+#include "core/interval.h"
 #include "distance/point_triangle_distance.h"
 
 namespace cdbench {
@@ -85,7 +86,7 @@ double FastSignedDistance::value_and_gradient(const Vec3& p, Vec3& gradient) con
   q.leaf(hint);
   // Prune with a bound one ulp above the hint's distance: every triangle at least as near as the
   // hint is still visited (node bounds are rounded down), so the tie-break above decides.
-  q.best_sq = std::nextafter(q.best_sq, HUGE_VAL);
+  q.best_sq = round_up(q.best_sq);
   q.best_face = std::numeric_limits<std::uint32_t>::max();
   traverse_nearest_first(exact_.tree(), q);
   hint = q.best_face;

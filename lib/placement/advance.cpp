@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/interval.h"
 #include "distance/triangle_distance.h"
 #include "sweep/mesh_sweep.h"
 
@@ -121,7 +122,7 @@ SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrien
   Vec3 far_t;
   for (int k = 0; k < 3; ++k) far_t[k] = std::abs(t[k]) + 1.001 * h_max * std::abs(d[k]) + slack;
   const double margin = slack + orientation.transform_error(t) + orientation.transform_error(far_t);
-  const double reach = std::nextafter(target + margin, HUGE_VAL);
+  const double reach = round_up(target + margin);
   CGAL::Protect_FPU_rounding<true> guard;
   AdvancePolicy policy{fixed.mesh(), fixed.planes(), orientation, t, -d, reach, h_max};
   if (hint_fixed >= 0 && hint_mover >= 0 && static_cast<std::size_t>(hint_fixed) < fixed.mesh().faces.size() &&

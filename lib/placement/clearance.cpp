@@ -16,8 +16,8 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-inline double down(double x) { return std::nextafter(x, -kInf); }
-inline double up(double x) { return std::nextafter(x, kInf); }
+inline double down(double x) { return round_down(x); }
+inline double up(double x) { return round_up(x); }
 
 // The box of a tree node after translation by t: rounding to nearest is monotone, so it contains
 // fl(p + t) for every p in the box.

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/interval.h"
+
 namespace cdbench {
 
 MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::Matrix3d& R) {
@@ -39,7 +41,7 @@ double MoverOrientation::transform_error(const Vec3& t) const {
   constexpr double gamma4 = 4 * u / (1 - 4 * u);
   // abs_max is itself a double evaluation (relative error << 1e-12); the factor covers it.
   const Vec3 e = gamma4 * (abs_max + t.cwiseAbs()) * (1.0 + 1e-10);
-  return std::nextafter(e.norm() * (1.0 + 1e-12), HUGE_VAL);
+  return round_up(e.norm() * (1.0 + 1e-12));
 }
 
 }  // namespace cdbench

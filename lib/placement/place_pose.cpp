@@ -7,6 +7,7 @@
 
 #include <tbb/parallel_invoke.h>
 
+#include "core/interval.h"
 #include "distance/triangle_distance.h"
 #include "mesh/components.h"
 #include "placement/advance.h"
@@ -70,13 +71,13 @@ ClearanceResult touching_certificate(const OrientationFrame& frame, const Vec3& 
                                      const std::array<double, 2>& hint) {
   // |lambda - lambda*| rounded up (get_d is within a relative 2^-52 of the rational).
   const mpq_class gap = abs(lambda_exact - mpq_class(lambda));
-  const double dl = std::nextafter(gap.get_d() * (1.0 + 1e-15), HUGE_VAL);
+  const double dl = round_up(gap.get_d() * (1.0 + 1e-15));
   const double slack = pose_rounding_slack(frame, std::abs(lambda));
   ClearanceResult r;
   r.transform_error = frame.orientation.transform_error(pose_translation(frame, dir, lambda));
   // |d| <= 1 + 2^-52 (a normalised double vector): the factor covers it and the sums' rounding.
-  const double w = std::nextafter(
-      (frame.orientation.transform_error(frame.t0) + slack + dl + r.transform_error) * (1.0 + 1e-14), HUGE_VAL);
+  const double w =
+      round_up((frame.orientation.transform_error(frame.t0) + slack + dl + r.transform_error) * (1.0 + 1e-14));
   r.clearance = {-w, w};
   r.tolerance_reached = 2.0 * w <= tolerance;
   r.argmin_face = face;

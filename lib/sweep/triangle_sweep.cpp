@@ -5,6 +5,8 @@
 #include <cassert>
 #include <cmath>
 
+#include "core/interval.h"
+
 namespace cdbench {
 namespace {
 
@@ -216,8 +218,8 @@ Interval enclose(const mpq_class& q) {
   const double d = q.get_d();  // truncates towards zero
   const int c = cmp(mpq_class(d), q);
   if (c == 0) return {d, d};
-  if (c < 0) return {d, std::nextafter(d, HUGE_VAL)};
-  return {std::nextafter(d, -HUGE_VAL), d};
+  if (c < 0) return {d, round_up(d)};
+  return {round_down(d), d};
 }
 
 LineContact line_contact(const Triangle& A, const Triangle& B, const Vec3& v) {
