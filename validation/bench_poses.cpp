@@ -41,8 +41,17 @@ TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_s
 }  // namespace
 
 static int run(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]\n");
+  const char* usage =
+      "usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]\n"
+      "  times certified polished poses of a pose set made by `cdbench poses` against FCL's conservative\n"
+      "  advancement on the same approaches (M: how many, default 200); the two --no-* switches select\n"
+      "  the former ways of the separated advance and of the touching certificate (A/B)\n";
+  if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
+    std::fputs(usage, stdout);
+    return 0;
+  }
+  if (argc < 2 || argv[1][0] == '-') {
+    std::fputs(usage, stderr);
     return 2;
   }
   const std::string dir = argv[1];
@@ -52,6 +61,10 @@ static int run(int argc, char** argv) {
     if (std::strcmp(argv[i], "--approaches") == 0 && i + 1 < argc) wanted = std::stoul(argv[++i]);
     else if (std::strcmp(argv[i], "--no-separated-advance") == 0) separated_advance = false;  // A/B
     else if (std::strcmp(argv[i], "--no-sweep-certificate") == 0) no_sweep_certificate = true;  // A/B
+    else {
+      std::fprintf(stderr, "bench_poses: unknown option '%s'\n%s", argv[i], usage);
+      return 2;
+    }
   }
   std::ifstream in(dir + "/poseset.json");
   if (!in) {

@@ -2,10 +2,11 @@
 # The certified pose pipeline on every closed solid of a mesh collection (by default CGAL's data
 # up to MAX_FACES faces): for each mesh that `cdbench check` accepts, the whole `cdbench poses`
 # command (levels -20%, 0, +5 % of the maximum penetration; 20 directions x 2 orientations, all
-# cores), then validation/check_poses on a sample of its certificates. Prints one row per mesh and
-# a summary: meshes tried, failed levels, certified fraction, sampled certificates confirmed, the
-# slowest run. Meshes that are not closed solids are counted and skipped (their rejection is
-# `cdbench check`'s business, tested elsewhere).
+# cores), then validation/check_poses on a sample of its certificates. Prints one row per mesh (its
+# max-steps column: the most polishing steps one pose took) and a summary: meshes tried, failed
+# levels, certified fraction, sampled certificates confirmed, the slowest run. Meshes that are not
+# closed solids are counted and skipped (their rejection is `cdbench check`'s business, tested
+# elsewhere).
 # Usage: validation/sweep_meshes.sh [MESH ...]
 # Environment: MAX_FACES (10000), LEVELS (-20%,0,5%), DIRECTIONS (20), ORIENTATIONS (2),
 #   CHECK_POSES (6: certificates sampled per mesh), TIME_LIMIT (300 s per command), OUT
@@ -29,7 +30,7 @@ if [ ${#meshes[@]} -eq 0 ]; then
 fi
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //');" \
      "levels $levels; $directions directions x $orientations orientations; at most $max_faces faces"
-printf '%-28s %8s %8s %11s %8s %10s %s\n' mesh faces seconds certified failed confirmed note
+printf '%-28s %8s %8s %11s %8s %10s %9s %s\n' mesh faces seconds certified failed confirmed max-steps note
 tried=0 skipped=0 too_big=0 failed_levels=0 poses=0 certified=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
 for mesh in "${meshes[@]}"; do
   name=$(basename "$mesh")
@@ -55,10 +56,11 @@ for mesh in "${meshes[@]}"; do
   note=""
   [ $rc -eq 124 ] && note="time limit"
   [ $rc -ne 0 ] && [ $rc -ne 124 ] && note="exit $rc"
-  n=0 c=0 f=0 ok="-"
+  n=0 c=0 f=0 ok="-" most=0
   if [ -f "$dir/poses.csv" ]; then
-    read -r n c < <(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "status") s = i; next }
-                           { n++; if ($s == "certified") c++ } END { print n + 0, c + 0 }' "$dir/poses.csv")
+    # Poses, certified poses, and the most polishing steps one pose took (long plateaus).
+    read -r n c most < <(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "status") s = i; if ($i == "polish_steps") p = i }; next }
+                           { n++; if ($s == "certified") c++; if ($p + 0 > m) m = $p + 0 } END { print n + 0, c + 0, m + 0 }' "$dir/poses.csv")
     # A failed level: a pose neither certified nor certified to have no contact, or an offset
     # that could not be certified (--start offset).
     f=$(python3 -c "
@@ -83,7 +85,7 @@ print(sum(1 for l in levels if l['certified'] + l['no_contact'] < l['poses']
     slowest=$secs
     slowest_name=$name
   fi
-  printf '%-28s %8s %8s %11s %8s %10s %s\n' "$name" "$faces" "$secs" "$c/$n" "$f" "$ok" "$note"
+  printf '%-28s %8s %8s %11s %8s %10s %9s %s\n' "$name" "$faces" "$secs" "$c/$n" "$f" "$ok" "$most" "$note"
 done
 echo
 echo "meshes run: $tried (not closed solids: $skipped; more than $max_faces faces: $too_big)"

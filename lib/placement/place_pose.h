@@ -85,7 +85,7 @@ bool fallback_start(double target, bool polish, PoseStart* start);
 struct PoseOptions {
   double tolerance = 0.0;  // absolute: certificate width and polishing target band
   bool polish = true;
-  int max_steps = 400;     // conservative-advancement steps before giving up (reported)
+  int max_steps = 10000;   // conservative-advancement steps before giving up (reported)
   std::uint64_t max_cells = 400000;
   PoseStart start = PoseStart::Offset;
   // Where c is flat (slope below 1/2), try steps of up to twice the gap proved from both ends
