@@ -50,6 +50,9 @@ double convexity_bound(const SignedDistance& sdf, const Vec3& c, double h, doubl
                            coplanar_slack);
 }
 
+// Candidates of a deep point refined from the previous candidate, per kept cell (see the loop).
+constexpr int kCandidateRounds = 6;
+
 // sqrt(3) rounded up to a double (the nearest double is below sqrt(3)).
 constexpr double kSqrt3Up = 1.7320508075688774;
 
@@ -121,7 +124,13 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
             Vec3 candidate;
             o.upper = std::min(o.upper,
                                convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate, 0.25 * eps));
-            if (((candidate - cell.center).cwiseAbs().array() <= half).all()) {
+            // The candidate (the weighted mean of the nearest points) is a medial point only along
+            // the directions its weights balance: on a bar, weights on two opposite faces give a
+            // point on the mid-plane between them, not on the axis. Candidates from the candidate
+            // (up to kCandidateRounds, while the cell is still kept) balance the others; each is a
+            // heuristic only, certified below like the first.
+            for (int round = 0; round <= kCandidateRounds; ++round) {
+              if (!((candidate - cell.center).cwiseAbs().array() <= half).all()) break;
               // Within the ball of radius d.lo about the centre (inside F), which holds no point of
               // F: the candidate is inside too, and needs no ray test.
               const bool in_ball = (candidate - cell.center).norm() * (1.0 + 1e-12) < d.lo;
@@ -131,6 +140,9 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
                 o.lower = -sc.hi;
                 o.point = candidate;
               }
+              if (round == kCandidateRounds || !(o.upper > std::max(snapshot, o.lower) + eps)) break;
+              const Vec3 from = candidate;
+              depth_upper_bound_among(sdf, from, ids, &from, 1, &candidate);
             }
           }
         } else {
