@@ -162,7 +162,96 @@ double patched_depth_bound(const SignedDistance& sdf, const Vec3& c, const std::
   if (worst_corner) *worst_corner = best_corner;
   return round_up(best);
 }
+// Weights lambda on the simplex minimising max_k sum_j lambda_j D[k][j] (K corners, M members,
+// D > 0 row-major). With u = lambda / t this is the standard-form program max 1.u subject to
+// D u <= 1, u >= 0, whose origin is feasible: a dense simplex with Bland's rule (K, M <= 16).
+// Returns false when it does not finish (the caller then keeps its other bound).
+bool minimax_weights(const double* D, int K, int M, std::vector<double>& lambda) {
+  const int W = M + K + 1;  // members, slacks, right-hand side
+  thread_local std::vector<double> T;
+  thread_local std::vector<int> basis;
+  T.assign(static_cast<std::size_t>((K + 1) * W), 0.0);
+  basis.resize(static_cast<std::size_t>(K));
+  const auto at = [&](int r, int c) -> double& { return T[static_cast<std::size_t>(r * W + c)]; };
+  for (int k = 0; k < K; ++k) {
+    for (int j = 0; j < M; ++j) at(k, j) = D[k * M + j];
+    at(k, M + k) = 1.0;
+    at(k, W - 1) = 1.0;
+    basis[k] = M + k;
+  }
+  for (int j = 0; j < M; ++j) at(K, j) = -1.0;  // objective row: -c
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    int p = -1;
+    for (int j = 0; j < W - 1 && p < 0; ++j)
+      if (at(K, j) < -1e-12) p = j;
+    if (p < 0) {
+      lambda.assign(static_cast<std::size_t>(M), 0.0);
+      double total = 0.0;
+      for (int k = 0; k < K; ++k)
+        if (basis[k] < M) {
+          lambda[basis[k]] = std::max(0.0, at(k, W - 1));
+          total += lambda[basis[k]];
+        }
+      if (!(total > 0.0) || !std::isfinite(total)) return false;
+      for (double& l : lambda) l /= total;
+      return true;
+    }
+    int r = -1;
+    double best = 0.0;
+    for (int k = 0; k < K; ++k) {
+      if (!(at(k, p) > 1e-12)) continue;
+      const double ratio = at(k, W - 1) / at(k, p);
+      if (r < 0 || ratio < best || (ratio == best && basis[k] < basis[r])) {
+        r = k;
+        best = ratio;
+      }
+    }
+    if (r < 0) return false;  // unbounded: some member is at distance 0 from every corner
+    const double pivot = at(r, p);
+    for (int c = 0; c < W; ++c) at(r, c) /= pivot;
+    for (int k = 0; k <= K; ++k) {
+      if (k == r) continue;
+      const double f = at(k, p);
+      if (f == 0.0) continue;
+      for (int c = 0; c < W; ++c) at(k, c) -= f * at(r, c);
+    }
+    basis[r] = p;
+  }
+  return false;
+}
+
 }  // namespace
+
+double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uint32_t>& ids, const Vec3* corners,
+                           int n_corners, std::size_t max_members) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const std::size_t M = std::min({ids.size(), max_members, std::size_t{16}});
+  if (M == 0 || n_corners <= 0 || n_corners > 16) return kInf;
+  const TriangleMesh& m = sdf.mesh();
+  // Certified upper ends of the corner-to-member distances (sqrt is correctly rounded: one ulp up).
+  thread_local std::vector<double> D;
+  thread_local std::vector<double> lambda;
+  D.resize(static_cast<std::size_t>(n_corners) * M);
+  for (int k = 0; k < n_corners; ++k)
+    for (std::size_t j = 0; j < M; ++j) {
+      const Face& f = m.faces[ids[j]];
+      D[k * M + j] = round_up(std::sqrt(
+          point_triangle_squared_distance(corners[k], m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]).hi));
+    }
+  if (!minimax_weights(D.data(), n_corners, static_cast<int>(M), lambda)) return kInf;
+  double worst = 0.0;
+  for (int k = 0; k < n_corners; ++k) {
+    double sum = 0.0, weights = 0.0;
+    for (std::size_t j = 0; j < M; ++j) {
+      if (!(lambda[j] > 0.0)) continue;
+      sum += lambda[j] * D[k * M + j];
+      weights += lambda[j];
+    }
+    if (!(weights > 0.0)) return kInf;
+    worst = std::max(worst, weighted_mean_up(sum, weights));
+  }
+  return round_up(worst);
+}
 
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
                          std::vector<std::uint32_t>& ids, Vec3* candidate, const Vec3* plane_normal, int* worst_corner,

@@ -53,6 +53,14 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
                                const Vec3* corners, int n_corners, Vec3* candidate = nullptr,
                                const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
                                TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0);
+// The same bound with the weights that minimise its largest corner value (a linear program over
+// the first max_members triangles of `ids`, e.g. the nearest ones as depth_upper_bound_among leaves
+// them): tighter than the min-norm weights where the nearest feature changes across the cell, as
+// at the seams of a faceted wall whose deepest points lie where several facets are equally near.
+// The program only picks the weights (any weights are valid); the bound is evaluated rigorously at
+// the corners. +inf when `ids` is empty.
+double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uint32_t>& ids, const Vec3* corners,
+                           int n_corners, std::size_t max_members = 12);
 // coplanar_slack > 0 (flat cells of at most 3 corners, or the 8 corners of an axis-aligned box):
 // triangles within that distance of a
 // common plane that provably cover the cell's projection form one member, a planar patch

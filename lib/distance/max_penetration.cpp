@@ -41,13 +41,17 @@ struct Outcome {
 // Near-coplanar triangles within coplanar_slack of a plane count as one planar patch where they
 // cover the cube's projection (distance/planar_patch.h): machined parts' plateaus between parallel
 // faces tiled by many triangles.
+// When that bound still exceeds `enough`, the weights minimising it over the corners are tried too
+// (minimax_depth_bound: the seams of faceted walls).
 double convexity_bound(const SignedDistance& sdf, const Vec3& c, double h, double radius,
-                       std::vector<std::uint32_t>& ids, Vec3& candidate, double coplanar_slack) {
+                       std::vector<std::uint32_t>& ids, Vec3& candidate, double coplanar_slack, double enough) {
   std::array<Vec3, 8> corners;
   for (int corner = 0; corner < 8; ++corner)
     corners[corner] = c + Vec3((corner & 1) ? h : -h, (corner & 2) ? h : -h, (corner & 4) ? h : -h);
-  return depth_upper_bound(sdf, c, radius, corners.data(), 8, ids, &candidate, nullptr, nullptr, nullptr,
-                           coplanar_slack);
+  double bound = depth_upper_bound(sdf, c, radius, corners.data(), 8, ids, &candidate, nullptr, nullptr, nullptr,
+                                   coplanar_slack);
+  if (bound > enough) bound = std::min(bound, minimax_depth_bound(sdf, ids, corners.data(), 8));
+  return bound;
 }
 
 // Candidates of a deep point refined from the previous candidate, per kept cell (see the loop).
@@ -123,7 +127,8 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
             thread_local std::vector<std::uint32_t> ids;
             Vec3 candidate;
             o.upper = std::min(o.upper,
-                               convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate, 0.25 * eps));
+                               convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate, 0.25 * eps,
+                                               snapshot + eps));
             // The candidate (the weighted mean of the nearest points) is a medial point only along
             // the directions its weights balance: on a bar, weights on two opposite faces give a
             // point on the mid-plane between them, not on the axis. Candidates from the candidate

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <utility>
 
 namespace cdbench {
 
@@ -66,6 +67,29 @@ TriangleMesh make_box(const Vec3& lo, const Vec3& hi) {
     m.vertices.emplace_back((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(), (i & 4) ? hi.z() : lo.z());
   m.faces = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
              {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return m;
+}
+
+TriangleMesh make_tube(double r_in, double r_out, double length, int n) {
+  TriangleMesh m;
+  const double pi = std::acos(-1.0);
+  // Rings: outer bottom, outer top, inner bottom, inner top.
+  for (const auto& [r, z] : {std::pair{r_out, 0.0}, {r_out, length}, {r_in, 0.0}, {r_in, length}})
+    for (int i = 0; i < n; ++i)
+      m.vertices.emplace_back(r * std::cos(2 * pi * i / n), r * std::sin(2 * pi * i / n), z);
+  const auto id = [&](int ring, int i) { return static_cast<std::uint32_t>(ring * n + (i + n) % n); };
+  for (int i = 0; i < n; ++i) {
+    const std::uint32_t ob = id(0, i), ob1 = id(0, i + 1), ot = id(1, i), ot1 = id(1, i + 1);
+    const std::uint32_t ib = id(2, i), ib1 = id(2, i + 1), it = id(3, i), it1 = id(3, i + 1);
+    m.faces.push_back({ob, ob1, ot1});  // outer wall, facing away from the axis
+    m.faces.push_back({ob, ot1, ot});
+    m.faces.push_back({ib, it1, ib1});  // inner wall, facing the axis
+    m.faces.push_back({ib, it, it1});
+    m.faces.push_back({ob, ib, ib1});   // bottom, facing -z
+    m.faces.push_back({ob, ib1, ob1});
+    m.faces.push_back({ot, ot1, it1});  // top, facing +z
+    m.faces.push_back({ot, it1, it});
+  }
   return m;
 }
 

@@ -13,6 +13,10 @@ TriangleMesh make_torus(double major_radius, double minor_radius, int nu, int nv
 // Axis-aligned box, 12 triangles, outward.
 TriangleMesh make_box(const Vec3& lo, const Vec3& hi);
 
+// Thick-walled tube around the z axis, z in [0, length]: inner and outer n-gons of circumradii
+// r_in < r_out with vertices at the same angles (a faceted pipe), annular ends; outward.
+TriangleMesh make_tube(double r_in, double r_out, double length, int n);
+
 // Concatenation of meshes (several components).
 TriangleMesh merge_meshes(const TriangleMesh& a, const TriangleMesh& b);
 

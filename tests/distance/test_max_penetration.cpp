@@ -125,6 +125,24 @@ TEST(MaxPenetration, BarsReachTheirAxisWithoutCellsAlongIt) {
   }
 }
 
+// A faceted thick-walled tube (CGAL's pipe has these proportions): its deepest points lie on the
+// bisectors of the outer facets, where the nearest facet changes. With the min-norm weights alone
+// the cubes across those seams stayed loose by about their size and doubled per level (CGAL's pipe
+// stopped at 29.2 M cubes at this tolerance); the minimax weights bound them.
+TEST(MaxPenetration, FacetedTubeWithinTheCellBudget) {
+  const TriangleMesh m = make_tube(0.17, 0.31, 1.0, 40);
+  MaxPenetrationOptions o;
+  o.relative_tolerance = 1e-6;
+  o.progress = false;
+  o.max_cells = 3000000;
+  const auto r = certified_max_penetration(SignedDistance(m), o);
+  EXPECT_TRUE(r.tolerance_reached) << r.cells << " cells";
+  EXPECT_LE(r.depth.width(), 1e-6 * m.bbox().diagonal());
+  // Between parallel facets the wall is (r_out - r_in) cos(pi / n) thick; at the seams thicker.
+  EXPECT_GT(r.depth.lo, 0.5 * (0.31 - 0.17) * std::cos(M_PI / 40));
+  expect_no_sample_deeper(m, r);
+}
+
 TEST(MaxPenetration, CoarseToleranceIsHonoured) {
   const TriangleMesh m = make_icosphere(1.0, 3);
   const auto r = run(m, 1e-2);
