@@ -247,8 +247,9 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
       sum += lambda[j] * D[k * M + j];
       weights += lambda[j];
     }
-    if (!(weights > 0.0)) return kInf;
-    worst = std::max(worst, weighted_mean_up(sum, weights));
+    const double bound = weighted_mean_up(sum, weights);
+    if (!(weights > 0.0) || std::isnan(bound)) return kInf;  // never drop a corner
+    worst = std::max(worst, bound);
   }
   return round_up(worst);
 }
