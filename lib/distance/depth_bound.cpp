@@ -162,6 +162,7 @@ double patched_depth_bound(const SignedDistance& sdf, const Vec3& c, const std::
   if (worst_corner) *worst_corner = best_corner;
   return round_up(best);
 }
+
 // Weights lambda on the simplex minimising max_k sum_j lambda_j D[k][j] (K corners, M members,
 // D > 0 row-major). With u = lambda / t this is the standard-form program max 1.u subject to
 // D u <= 1, u >= 0, whose origin is feasible: a dense simplex with Bland's rule (K, M <= 16).

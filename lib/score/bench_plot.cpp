@@ -11,6 +11,16 @@
 
 namespace cdbench {
 
+namespace {
+// A name on one line of plot.dat or errors.txt: a line break in a plugin's name would start a line
+// that gnuplot reads as data, so control characters become spaces (the scripts quote the name).
+std::string one_line(std::string name) {
+  for (char& c : name)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+  return name;
+}
+}  // namespace
+
 BenchPlotFiles write_bench_plot_files(const std::string& dir) {
   const std::vector<BenchSummaryImpl> impls = read_bench_summary(dir + "/summary.json");
   // One data block per implementation: percent of max penetration, mean us, median us, p95 us, BV tests,
@@ -25,12 +35,12 @@ BenchPlotFiles write_bench_plot_files(const std::string& dir) {
   for (const BenchSummaryImpl& impl : impls) {
     names.push_back(impl.name);
     counted.push_back(impl.counts_tests);
-    data << "# " << names.back() << "\n";
+    data << "# " << one_line(names.back()) << "\n";
     for (const LevelScore& l : impl.levels) {
       timed = timed || std::isfinite(l.mean_us);
       data << std::setprecision(10) << l.percent_of_max_penetration << " " << l.mean_us << " " << l.median_us << " "
            << l.p95_us << " " << l.mean_bv_tests << " " << l.p05_us << "\n";
-      errors << std::left << std::setw(21) << names.back() << std::setw(10) << l.level << std::setw(9)
+      errors << std::left << std::setw(21) << one_line(names.back()) << std::setw(10) << l.level << std::setw(9)
              << std::setprecision(4) << l.percent_of_max_penetration << std::setw(7) << l.poses << std::setw(7)
              << l.false_positives << std::setw(7) << l.false_negatives << std::setw(10) << l.missed_or_contained
              << std::setw(11) << l.ambiguous

@@ -2,9 +2,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "score/answers_csv.h"
+#include "score/bench_plot.h"
 #include "score/scoring.h"
 #include "util/error.h"
 
@@ -60,6 +64,38 @@ TEST(Summary, ReadsWhatItWritesAndNamesAWrongKey) {
   }
   std::ofstream(dir + "/summary.json") << "{\"format\": 7}";
   EXPECT_THROW(read_bench_summary(dir + "/summary.json"), InputError);
+}
+
+// A line break in an implementation's name (a plugin names itself) must not start a line of plot.dat
+// that gnuplot would read as data: every line is a comment, numbers or empty.
+TEST(Summary, PlotDataKeepsAnyNameOnItsCommentLine) {
+  const ImplScore s = score_answers("evil\n1 2 3 4 5 6\r", manifest(), {row(0, 0, -1.0, -0.99)}, {Answer{true}}, true);
+  const std::string dir = testing::TempDir() + "/plot_names";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/summary.json") << summary_json(manifest(), 1, {s}, {}).dump(2);
+  write_bench_plot_files(dir);
+  std::ifstream in(dir + "/plot.dat");
+  std::string line;
+  int comments = 0;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    if (line[0] == '#') {
+      ++comments;
+      EXPECT_EQ(line, "# evil 1 2 3 4 5 6 ");
+      continue;
+    }
+    std::istringstream fields(line);
+    std::string field;
+    int n = 0;
+    while (fields >> field) {  // numbers, nan for an untimed level
+      char* end = nullptr;
+      std::strtod(field.c_str(), &end);
+      EXPECT_EQ(*end, '\0') << "not a data line: " << line;
+      ++n;
+    }
+    EXPECT_EQ(n, 6) << line;
+  }
+  EXPECT_EQ(comments, 1);
 }
 
 TEST(Score, CountsExactlyTheWrongAnswersPerLevel) {
