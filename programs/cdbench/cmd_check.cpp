@@ -29,6 +29,99 @@ std::string vec(const Vec3& v, int digits = 17) {
   return "(" + number_text(v.x(), digits) + ", " + number_text(v.y(), digits) + ", " + number_text(v.z(), digits) + ")";
 }
 
+// What one check found, for the two printers below.
+struct CheckFindings {
+  const LoadedMesh& loaded;
+  bool run_mp = false;
+  MaxPenetrationResult mp;
+  double seconds_tree = 0.0;
+};
+
+void print_json(const CheckOptions& opt, const CheckFindings& f) {
+  const MeshReport& r = f.loaded.validated.report;
+  const TriangleMesh& mesh = f.loaded.validated.mesh;
+  const Aabb box = mesh.bbox();
+  const double diag = box.diagonal();
+  const MaxPenetrationResult& mp = f.mp;
+  nlohmann::json j;
+  j["mesh"] = opt.mesh;
+  j["input"] = {{"vertices", r.input_vertices}, {"polygons", r.input_polygons}};
+  j["vertices"] = mesh.vertices.size();
+  j["faces"] = mesh.faces.size();
+  j["bbox"] = {{"min", {box.lo.x(), box.lo.y(), box.lo.z()}}, {"max", {box.hi.x(), box.hi.y(), box.hi.z()}}};
+  j["diagonal"] = diag;
+  j["closed"] = r.closed;
+  j["components"] = r.components;
+  j["genus"] = r.genus >= 0 ? nlohmann::json(r.genus) : nlohmann::json(nullptr);
+  j["volume"] = r.valid() ? nlohmann::json({r.volume_lo, r.volume_hi}) : nlohmann::json(nullptr);
+  j["self_intersections_checked"] = r.self_intersections_checked;
+  j["valid"] = r.valid();
+  j["errors"] = nlohmann::json::array();
+  for (const auto& e : r.errors) j["errors"].push_back({{"kind", e.kind}, {"count", e.count}, {"message", e.message}});
+  j["notices"] = r.notices;
+  if (f.run_mp) {
+    j["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
+                            {"fraction_of_diagonal", {mp.depth.lo / diag, mp.depth.hi / diag}},
+                            {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
+                            {"relative_tolerance", opt.tolerance},
+                            {"tolerance_reached", mp.tolerance_reached},
+                            {"cells", mp.cells},
+                            {"full_distance_queries", mp.full_queries},
+                            {"side_queries", mp.side_queries},
+                            {"levels", mp.levels}};
+  }
+  j["timings_s"] = {{"read", f.loaded.seconds_read},
+                    {"validate", f.loaded.seconds_validate},
+                    {"self_intersections", r.seconds_self_intersections},
+                    {"distance_tree", f.seconds_tree},
+                    {"max_penetration", mp.seconds}};
+  std::cout << std::setw(2) << j << "\n";
+}
+
+void print_text(const CheckOptions& opt, const CheckFindings& f) {
+  const MeshReport& r = f.loaded.validated.report;
+  const TriangleMesh& mesh = f.loaded.validated.mesh;
+  const Aabb box = mesh.bbox();
+  const double diag = box.diagonal();
+  const MaxPenetrationResult& mp = f.mp;
+  std::cout << "mesh:               " << opt.mesh << "\n";
+  std::cout << "input:              " << r.input_vertices << " vertices, " << r.input_polygons << " polygons\n";
+  std::cout << "mesh:               " << mesh.vertices.size() << " vertices, " << mesh.faces.size() << " triangles\n";
+  std::cout << "bbox:               " << vec(box.lo, 9) << " - " << vec(box.hi, 9) << ", diagonal " << number_text(diag, 9)
+            << "\n";
+  std::cout << "topology:           " << (r.closed ? "closed" : "open") << ", " << r.components
+            << (r.components == 1 ? " component" : " components");
+  if (r.genus >= 0) std::cout << ", genus " << r.genus;
+  std::cout << "\n";
+  if (r.valid())
+    std::cout << "volume:             " << number_text(0.5 * (r.volume_lo + r.volume_hi), 12) << " (certified in ["
+              << number_text(r.volume_lo) << ", " << number_text(r.volume_hi) << "])\n";
+  std::cout << "self-intersections: "
+            << (r.self_intersections_checked ? (r.has("self-intersection") ? "found (exact test)" : "none (exact test)")
+                                             : "not checked")
+            << "\n";
+  for (const auto& n : r.notices) std::cout << "notice:             " << n << "\n";
+  for (const auto& e : r.errors) std::cout << "error:              " << e.message << "\n";
+  std::cout << "verdict:            " << (r.valid() ? "valid closed solid" : "INVALID") << "\n";
+  if (f.run_mp) {
+    std::cout << "max penetration:    [" << number_text(mp.depth.lo) << ", " << number_text(mp.depth.hi) << "] = ["
+              << number_text(100 * mp.depth.lo / diag, 9) << "%, " << number_text(100 * mp.depth.hi / diag, 9)
+              << "%] of the diagonal, width " << number_text(mp.depth.width() / diag, 3) << " x diagonal"
+              << (mp.tolerance_reached ? "" : " (TOLERANCE NOT REACHED)") << "\n";
+    std::cout << "deepest point:      " << vec(mp.point) << "\n";
+    std::cout << "branch and bound:   " << mp.cells << " cells, " << mp.full_queries << " full distance queries, "
+              << mp.side_queries << " exact side tests, " << mp.levels << " levels\n";
+    if (!mp.tolerance_reached)
+      std::cout << "note:               the interval is certified, but wider than --tolerance "
+                << number_text(opt.tolerance, 3) << ": the search stopped at its memory bound (a plateau\n"
+                << "                    of deepest points can need many cells); --tolerance "
+                << number_text(2 * mp.depth.width() / diag, 1) << " needs far fewer\n";
+  }
+  std::cout << std::fixed << std::setprecision(3) << "timings (s):        read " << f.loaded.seconds_read
+            << ", validate " << f.loaded.seconds_validate << " (self-intersections " << r.seconds_self_intersections
+            << "), distance tree " << f.seconds_tree << ", max penetration " << mp.seconds << "\n";
+}
+
 int run_check(const CheckOptions& opt) {
   std::unique_ptr<tbb::global_control> threads;
   if (opt.threads > 0)
@@ -36,96 +129,21 @@ int run_check(const CheckOptions& opt) {
   ValidateOptions vo;
   vo.weld_tolerance = opt.weld_tolerance;
   const LoadedMesh loaded = load_mesh(opt.mesh, vo);
-  const MeshReport& r = loaded.validated.report;
-  const TriangleMesh& mesh = loaded.validated.mesh;
-  const Aabb box = mesh.bbox();
-  const double diag = box.diagonal();
-
-  MaxPenetrationResult mp;
-  double seconds_tree = 0.0;
-  const bool run_mp = !opt.skip_max_penetration && r.valid();
-  if (run_mp) {
+  CheckFindings f{loaded, false, {}, 0.0};
+  f.run_mp = !opt.skip_max_penetration && loaded.validated.report.valid();
+  if (f.run_mp) {
     Timer t_tree;
-    const SignedDistance sdf(mesh);
-    seconds_tree = t_tree.seconds();
+    const SignedDistance sdf(loaded.validated.mesh);
+    f.seconds_tree = t_tree.seconds();
     MaxPenetrationOptions mo;
     mo.relative_tolerance = opt.tolerance;
-    mp = certified_max_penetration(sdf, mo);
+    f.mp = certified_max_penetration(sdf, mo);
   }
-
-  if (opt.json) {
-    nlohmann::json j;
-    j["mesh"] = opt.mesh;
-    j["input"] = {{"vertices", r.input_vertices}, {"polygons", r.input_polygons}};
-    j["vertices"] = mesh.vertices.size();
-    j["faces"] = mesh.faces.size();
-    j["bbox"] = {{"min", {box.lo.x(), box.lo.y(), box.lo.z()}}, {"max", {box.hi.x(), box.hi.y(), box.hi.z()}}};
-    j["diagonal"] = diag;
-    j["closed"] = r.closed;
-    j["components"] = r.components;
-    j["genus"] = r.genus >= 0 ? nlohmann::json(r.genus) : nlohmann::json(nullptr);
-    j["volume"] = r.valid() ? nlohmann::json({r.volume_lo, r.volume_hi}) : nlohmann::json(nullptr);
-    j["self_intersections_checked"] = r.self_intersections_checked;
-    j["valid"] = r.valid();
-    j["errors"] = nlohmann::json::array();
-    for (const auto& e : r.errors) j["errors"].push_back({{"kind", e.kind}, {"count", e.count}, {"message", e.message}});
-    j["notices"] = r.notices;
-    if (run_mp) {
-      j["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
-                              {"fraction_of_diagonal", {mp.depth.lo / diag, mp.depth.hi / diag}},
-                              {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
-                              {"relative_tolerance", opt.tolerance},
-                              {"tolerance_reached", mp.tolerance_reached},
-                              {"cells", mp.cells},
-                              {"full_distance_queries", mp.full_queries},
-                              {"side_queries", mp.side_queries},
-                              {"levels", mp.levels}};
-    }
-    j["timings_s"] = {{"read", loaded.seconds_read},
-                      {"validate", loaded.seconds_validate},
-                      {"self_intersections", r.seconds_self_intersections},
-                      {"distance_tree", seconds_tree},
-                      {"max_penetration", mp.seconds}};
-    std::cout << std::setw(2) << j << "\n";
-  } else {
-    std::cout << "mesh:               " << opt.mesh << "\n";
-    std::cout << "input:              " << r.input_vertices << " vertices, " << r.input_polygons << " polygons\n";
-    std::cout << "mesh:               " << mesh.vertices.size() << " vertices, " << mesh.faces.size() << " triangles\n";
-    std::cout << "bbox:               " << vec(box.lo, 9) << " - " << vec(box.hi, 9) << ", diagonal " << number_text(diag, 9)
-              << "\n";
-    std::cout << "topology:           " << (r.closed ? "closed" : "open") << ", " << r.components
-              << (r.components == 1 ? " component" : " components");
-    if (r.genus >= 0) std::cout << ", genus " << r.genus;
-    std::cout << "\n";
-    if (r.valid())
-      std::cout << "volume:             " << number_text(0.5 * (r.volume_lo + r.volume_hi), 12) << " (certified in ["
-                << number_text(r.volume_lo) << ", " << number_text(r.volume_hi) << "])\n";
-    std::cout << "self-intersections: "
-              << (r.self_intersections_checked ? (r.has("self-intersection") ? "found (exact test)" : "none (exact test)")
-                                               : "not checked")
-              << "\n";
-    for (const auto& n : r.notices) std::cout << "notice:             " << n << "\n";
-    for (const auto& e : r.errors) std::cout << "error:              " << e.message << "\n";
-    std::cout << "verdict:            " << (r.valid() ? "valid closed solid" : "INVALID") << "\n";
-    if (run_mp) {
-      std::cout << "max penetration:    [" << number_text(mp.depth.lo) << ", " << number_text(mp.depth.hi) << "] = ["
-                << number_text(100 * mp.depth.lo / diag, 9) << "%, " << number_text(100 * mp.depth.hi / diag, 9)
-                << "%] of the diagonal, width " << number_text(mp.depth.width() / diag, 3) << " x diagonal"
-                << (mp.tolerance_reached ? "" : " (TOLERANCE NOT REACHED)") << "\n";
-      std::cout << "deepest point:      " << vec(mp.point) << "\n";
-      std::cout << "branch and bound:   " << mp.cells << " cells, " << mp.full_queries << " full distance queries, "
-                << mp.side_queries << " exact side tests, " << mp.levels << " levels\n";
-      if (!mp.tolerance_reached)
-        std::cout << "note:               the interval is certified, but wider than --tolerance "
-                  << number_text(opt.tolerance, 3) << ": the search stopped at its memory bound (thin walls\n"
-                  << "                    of tessellated tubes need many cells); --tolerance "
-                  << number_text(2 * mp.depth.width() / diag, 1) << " needs far fewer\n";
-    }
-    std::cout << std::fixed << std::setprecision(3) << "timings (s):        read " << loaded.seconds_read
-              << ", validate " << loaded.seconds_validate << " (self-intersections " << r.seconds_self_intersections
-              << "), distance tree " << seconds_tree << ", max penetration " << mp.seconds << "\n";
-  }
-  return r.valid() ? kExitOk : kExitInvalidMesh;
+  if (opt.json)
+    print_json(opt, f);
+  else
+    print_text(opt, f);
+  return loaded.validated.report.valid() ? kExitOk : kExitInvalidMesh;
 }
 
 }  // namespace
