@@ -35,19 +35,19 @@ struct CheckFindings {
   bool run_mp = false;
   MaxPenetrationResult mp;
   double seconds_tree = 0.0;
+  const MeshReport& report() const { return loaded.validated.report; }
+  const TriangleMesh& mesh() const { return loaded.validated.mesh; }
 };
 
 void print_json(const CheckOptions& opt, const CheckFindings& f) {
-  const MeshReport& r = f.loaded.validated.report;
-  const TriangleMesh& mesh = f.loaded.validated.mesh;
-  const Aabb box = mesh.bbox();
+  const MeshReport& r = f.report();
+  const Aabb box = f.mesh().bbox();
   const double diag = box.diagonal();
-  const MaxPenetrationResult& mp = f.mp;
   nlohmann::json j;
   j["mesh"] = opt.mesh;
   j["input"] = {{"vertices", r.input_vertices}, {"polygons", r.input_polygons}};
-  j["vertices"] = mesh.vertices.size();
-  j["faces"] = mesh.faces.size();
+  j["vertices"] = f.mesh().vertices.size();
+  j["faces"] = f.mesh().faces.size();
   j["bbox"] = {{"min", {box.lo.x(), box.lo.y(), box.lo.z()}}, {"max", {box.hi.x(), box.hi.y(), box.hi.z()}}};
   j["diagonal"] = diag;
   j["closed"] = r.closed;
@@ -60,27 +60,27 @@ void print_json(const CheckOptions& opt, const CheckFindings& f) {
   for (const auto& e : r.errors) j["errors"].push_back({{"kind", e.kind}, {"count", e.count}, {"message", e.message}});
   j["notices"] = r.notices;
   if (f.run_mp) {
-    j["max_penetration"] = {{"interval", {mp.depth.lo, mp.depth.hi}},
-                            {"fraction_of_diagonal", {mp.depth.lo / diag, mp.depth.hi / diag}},
-                            {"point", {mp.point.x(), mp.point.y(), mp.point.z()}},
+    j["max_penetration"] = {{"interval", {f.mp.depth.lo, f.mp.depth.hi}},
+                            {"fraction_of_diagonal", {f.mp.depth.lo / diag, f.mp.depth.hi / diag}},
+                            {"point", {f.mp.point.x(), f.mp.point.y(), f.mp.point.z()}},
                             {"relative_tolerance", opt.tolerance},
-                            {"tolerance_reached", mp.tolerance_reached},
-                            {"cells", mp.cells},
-                            {"full_distance_queries", mp.full_queries},
-                            {"side_queries", mp.side_queries},
-                            {"levels", mp.levels}};
+                            {"tolerance_reached", f.mp.tolerance_reached},
+                            {"cells", f.mp.cells},
+                            {"full_distance_queries", f.mp.full_queries},
+                            {"side_queries", f.mp.side_queries},
+                            {"levels", f.mp.levels}};
   }
   j["timings_s"] = {{"read", f.loaded.seconds_read},
                     {"validate", f.loaded.seconds_validate},
                     {"self_intersections", r.seconds_self_intersections},
                     {"distance_tree", f.seconds_tree},
-                    {"max_penetration", mp.seconds}};
+                    {"max_penetration", f.mp.seconds}};
   std::cout << std::setw(2) << j << "\n";
 }
 
 void print_text(const CheckOptions& opt, const CheckFindings& f) {
-  const MeshReport& r = f.loaded.validated.report;
-  const TriangleMesh& mesh = f.loaded.validated.mesh;
+  const MeshReport& r = f.report();
+  const TriangleMesh& mesh = f.mesh();
   const Aabb box = mesh.bbox();
   const double diag = box.diagonal();
   const MaxPenetrationResult& mp = f.mp;
