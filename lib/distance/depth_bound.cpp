@@ -145,9 +145,7 @@ double patched_depth_bound(const SignedDistance& sdf, const Vec3& c, const std::
         const Patch& p = patches[static_cast<std::size_t>(who[i])];
         d = patch_distance_bound(*p.plane, p.eta, v);
       } else {
-        const Face& f = m.faces[ids[static_cast<std::size_t>(-who[i] - 1)]];
-        d = round_up(std::sqrt(point_triangle_squared_distance(v, m.vertices[f[0]], m.vertices[f[1]],
-                                                               m.vertices[f[2]]).hi));
+        d = point_triangle_distance_upper(v, m, ids[static_cast<std::size_t>(-who[i] - 1)]);
       }
       sum += lambda[i] * d;
       weights += lambda[i];
@@ -229,16 +227,12 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
   const std::size_t M = std::min({ids.size(), max_members, std::size_t{16}});
   if (M == 0 || n_corners <= 0 || n_corners > 16) return kInf;
   const TriangleMesh& m = sdf.mesh();
-  // Certified upper ends of the corner-to-member distances (sqrt is correctly rounded: one ulp up).
+  // Certified upper ends of the corner-to-member distances.
   thread_local std::vector<double> D;
   thread_local std::vector<double> lambda;
   D.resize(static_cast<std::size_t>(n_corners) * M);
   for (int k = 0; k < n_corners; ++k)
-    for (std::size_t j = 0; j < M; ++j) {
-      const Face& f = m.faces[ids[j]];
-      D[k * M + j] = round_up(std::sqrt(
-          point_triangle_squared_distance(corners[k], m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]).hi));
-    }
+    for (std::size_t j = 0; j < M; ++j) D[k * M + j] = point_triangle_distance_upper(corners[k], m, ids[j]);
   if (!minimax_weights(D.data(), n_corners, static_cast<int>(M), lambda)) return kInf;
   double worst = 0.0;
   for (int k = 0; k < n_corners; ++k) {
@@ -320,8 +314,7 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
       if (lambda[j] <= 0.0) continue;
       const Face& f = m.faces[ids[j]];
       const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &cc = m.vertices[f[2]];
-      const Interval d2 = point_triangle_squared_distance(v, a, b, cc);
-      sum += lambda[j] * round_up(std::sqrt(d2.hi));  // sqrt is correctly rounded: one ulp up bounds it
+      sum += lambda[j] * point_triangle_distance_upper(v, a, b, cc);
       weights += lambda[j];
       if (with_moments) {
         const Vec3 w = v - point_of_triangle_near(v, a, b, cc);

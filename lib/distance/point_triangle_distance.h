@@ -13,6 +13,18 @@ namespace cdbench {
 // (a degenerate triangle is treated as the union of its edges).
 Interval point_triangle_squared_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
+// A certified upper bound of the distance from p to abc: the enclosure's upper end, its square root
+// (correctly rounded, or rounded up under the upward mode) one ulp up.
+inline double point_triangle_distance_upper(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return round_up(std::sqrt(point_triangle_squared_distance(p, a, b, c).hi));
+}
+
+// The same for triangle `face` of mesh m.
+inline double point_triangle_distance_upper(const Vec3& p, const TriangleMesh& m, std::uint32_t face) {
+  const Face& f = m.faces[face];
+  return point_triangle_distance_upper(p, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
+}
+
 // A rigorous lower bound of the distance from p to abc from any direction u != 0: the triangle lies
 // in the half-space {x : (x - p).u >= min_k (v_k - p).u} (a linear function on a triangle is least
 // at a vertex), so the distance is at least that minimum over |u| when it is positive (else 0).

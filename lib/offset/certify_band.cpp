@@ -22,12 +22,9 @@ double upper_bound(const SignedDistance& sdf, const Vec3& a, const Vec3& b, cons
                    std::size_t& pieces) {
   ++pieces;
   const TriangleMesh& m = sdf.mesh();
-  const Face& t = m.faces[sdf.nearest_face((a + b + c) / 3.0)];
+  const std::uint32_t t = sdf.nearest_face((a + b + c) / 3.0);
   double hi = 0.0;
-  for (const Vec3* v : {&a, &b, &c}) {
-    const Interval d2 = point_triangle_squared_distance(*v, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
-    hi = std::max(hi, round_up(std::sqrt(d2.hi)));
-  }
+  for (const Vec3* v : {&a, &b, &c}) hi = std::max(hi, point_triangle_distance_upper(*v, m, t));
   if (hi <= target || depth == 0) return hi;
   const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
   return std::max({upper_bound(sdf, a, ab, ca, target, depth - 1, pieces),

@@ -82,10 +82,14 @@ PoseStart planned_start(double target, bool polish, StartPolicy policy);
 // when there is no valid start without an offset).
 bool fallback_start(double target, bool polish, PoseStart* start);
 
+// Polishing steps per pose before it is reported as stalled; the pose-set request's default too.
+// Plateaus of saturated depth take hundreds of steps (doc/poses.md).
+constexpr int kDefaultMaxSteps = 10000;
+
 struct PoseOptions {
   double tolerance = 0.0;  // absolute: certificate width and polishing target band
   bool polish = true;
-  int max_steps = 10000;   // conservative-advancement steps before giving up (reported)
+  int max_steps = kDefaultMaxSteps;  // conservative-advancement steps before giving up (reported)
   std::uint64_t max_cells = 400000;
   PoseStart start = PoseStart::Offset;
   // Where c is flat (slope below 1/2), try steps of up to twice the gap proved from both ends

@@ -28,7 +28,7 @@ struct PoseSetRequest {
   // The least width of the max penetration (relative); percentage levels loosen it to what their
   // targets need (max_penetration_tolerance_for).
   double max_penetration_tolerance = 1e-6;
-  int max_steps = 10000;
+  int max_steps = kDefaultMaxSteps;
   std::string command_line;
 };
 
