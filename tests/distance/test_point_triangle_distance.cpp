@@ -1,7 +1,12 @@
+#include <CGAL/Interval_nt.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <iomanip>
 #include <random>
+#include <vector>
 
 #include "distance/point_triangle_distance.h"
 #include "exact_reference.h"
@@ -168,6 +173,56 @@ TEST(PointTriangleDistance, SqrtIsRoundedOutward) {
   EXPECT_LE(s.lo, std::sqrt(2.0));
   EXPECT_GE(s.hi, std::sqrt(2.0));
   EXPECT_LE(s.hi - s.lo, 4.5e-16);
+}
+
+
+// sqrt_interval's fast path (one sqrt and one fma per end, no change of rounding mode) gives the
+// same doubles as CGAL's interval square root, which it replaced: random magnitudes over the whole
+// range, perfect squares, squares of random doubles and their neighbours (the residual's sign
+// decides there), subnormals, zero; under the default rounding and under upward rounding (the
+// branch and bound's traversals call it inside CGAL::Protect_FPU_rounding).
+TEST(SqrtInterval, SameDoublesAsCgalIntervalSqrt) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> mant(1.0, 2.0);
+  std::uniform_int_distribution<int> expo(-1074, 1023);
+  std::vector<double> xs{0.0, 4.9e-324, 1e-310, 0x1p-600, 0x1p600, 1.0, 2.0, 4.0, 0.25, 1.7976931348623157e308};
+  for (int i = 0; i < 200000; ++i) {
+    xs.push_back(std::ldexp(mant(rng), expo(rng)));
+    const double r = std::ldexp(mant(rng), expo(rng) / 2);
+    const double sq = r * r;
+    xs.push_back(sq);
+    xs.push_back(std::nextafter(sq, 0.0));
+    xs.push_back(std::nextafter(sq, HUGE_VAL));
+    const double k = static_cast<double>(rng() % 100000000);
+    xs.push_back(k * k);
+  }
+  const auto reference = [](double lo, double hi) {
+    CGAL::Protect_FPU_rounding<true> guard;
+    const CGAL::Interval_nt<false> s = CGAL::sqrt(CGAL::Interval_nt<false>(lo, hi));
+    return Interval{s.inf(), s.sup()};
+  };
+  for (int mode = 0; mode < 2; ++mode) {
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i + 1 < xs.size(); ++i) {
+      const double lo = std::min(xs[i], xs[i + 1]), hi = std::max(xs[i], xs[i + 1]);
+      for (const Interval& x : {Interval{lo, hi}, Interval{lo, lo}, Interval{hi, hi}}) {
+        Interval got;
+        if (mode == 0) {
+          got = sqrt_interval(x);
+        } else {
+          CGAL::Protect_FPU_rounding<true> guard;
+          got = sqrt_interval(x);
+        }
+        const Interval want = reference(x.lo, x.hi);
+        if (got.lo != want.lo || got.hi != want.hi) {
+          if (++differ <= 5)
+            ADD_FAILURE() << std::setprecision(17) << "mode " << mode << " [" << x.lo << ", " << x.hi << "]: got ["
+                          << got.lo << ", " << got.hi << "], CGAL [" << want.lo << ", " << want.hi << "]";
+        }
+      }
+    }
+    EXPECT_EQ(differ, 0u) << "mode " << mode;
+  }
 }
 
 }  // namespace
