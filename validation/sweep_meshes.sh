@@ -10,7 +10,8 @@
 # Usage: validation/sweep_meshes.sh [MESH ...]
 # Environment: MAX_FACES (10000), LEVELS (-20%,0,5%), DIRECTIONS (20), ORIENTATIONS (2),
 #   CHECK_POSES (6: certificates sampled per mesh), TIME_LIMIT (300 s per command), OUT
-#   (build/sweep-meshes).
+#   (build/sweep-meshes), MOVER (a mesh moved against every one: the default is each mesh itself),
+#   TOLERANCE (cdbench poses --tolerance; its default when unset).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="$root/build/cdbench"
@@ -22,6 +23,9 @@ orientations=${ORIENTATIONS:-2}
 check_poses=${CHECK_POSES:-6}
 limit=${TIME_LIMIT:-300}
 out=${OUT:-$root/build/sweep-meshes}
+extra=()
+[ -n "${MOVER:-}" ] && extra+=(--mover "$MOVER")
+[ -n "${TOLERANCE:-}" ] && extra+=(--tolerance "$TOLERANCE")
 mkdir -p "$out"
 meshes=("$@")
 if [ ${#meshes[@]} -eq 0 ]; then
@@ -29,7 +33,8 @@ if [ ${#meshes[@]} -eq 0 ]; then
   meshes=("$root"/data/cgal/meshes/*)
 fi
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //');" \
-     "levels $levels; $directions directions x $orientations orientations; at most $max_faces faces"
+     "levels $levels; $directions directions x $orientations orientations; at most $max_faces faces;" \
+     "mover ${MOVER:-each mesh itself}; tolerance ${TOLERANCE:-default}"
 printf '%-28s %8s %8s %11s %8s %10s %9s %s\n' mesh faces seconds certified failed confirmed max-steps note
 tried=0 skipped=0 too_big=0 failed_levels=0 poses=0 certified=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
 for mesh in "${meshes[@]}"; do
@@ -50,7 +55,7 @@ for mesh in "${meshes[@]}"; do
   rm -rf "$dir"
   start=$(date +%s.%N)
   timeout "$limit" "$bin" poses "$mesh" --levels="$levels" --directions "$directions" \
-    --orientations "$orientations" -o "$dir" > "$out/$name.log" 2>&1
+    --orientations "$orientations" "${extra[@]}" -o "$dir" > "$out/$name.log" 2>&1
   rc=$?
   secs=$(python3 -c "print('%.1f' % ($(date +%s.%N) - $start))")
   note=""
