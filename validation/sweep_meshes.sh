@@ -11,7 +11,8 @@
 # Environment: MAX_FACES (10000), LEVELS (-20%,0,5%), DIRECTIONS (20), ORIENTATIONS (2),
 #   CHECK_POSES (6: certificates sampled per mesh), TIME_LIMIT (300 s per command), OUT
 #   (build/sweep-meshes), MOVER (a mesh moved against every one: the default is each mesh itself),
-#   TOLERANCE (cdbench poses --tolerance; its default when unset).
+#   TOLERANCE (cdbench poses --tolerance; its default when unset), POSES_ARGS (more options for
+#   cdbench poses, e.g. "--direction-sampling grid": axis-aligned approach directions).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="$root/build/cdbench"
@@ -26,6 +27,8 @@ out=${OUT:-$root/build/sweep-meshes}
 extra=()
 [ -n "${MOVER:-}" ] && extra+=(--mover "$MOVER")
 [ -n "${TOLERANCE:-}" ] && extra+=(--tolerance "$TOLERANCE")
+# shellcheck disable=SC2206  # POSES_ARGS is a list of words by design
+[ -n "${POSES_ARGS:-}" ] && extra+=(${POSES_ARGS})
 mkdir -p "$out"
 meshes=("$@")
 if [ ${#meshes[@]} -eq 0 ]; then
@@ -34,7 +37,7 @@ if [ ${#meshes[@]} -eq 0 ]; then
 fi
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //');" \
      "levels $levels; $directions directions x $orientations orientations; at most $max_faces faces;" \
-     "mover ${MOVER:-each mesh itself}; tolerance ${TOLERANCE:-default}"
+     "mover ${MOVER:-each mesh itself}; tolerance ${TOLERANCE:-default}; ${POSES_ARGS:-}"
 printf '%-28s %8s %8s %11s %8s %10s %9s %s\n' mesh faces seconds certified failed confirmed max-steps note
 tried=0 skipped=0 too_big=0 failed_levels=0 poses=0 certified=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
 for mesh in "${meshes[@]}"; do
