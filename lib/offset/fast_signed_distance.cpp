@@ -106,6 +106,21 @@ double FastSignedDistance::value_and_gradient(const Vec3& p, Vec3& gradient) con
   return sign * dist;
 }
 
+namespace {
+
+// Bisection of the segment from a (fast - d of the sign of fa) to b (the other sign) down to
+// adjacent doubles; the end on b's side.
+Vec3 bisect_to_level(const FastSignedDistance& fast, double d, Vec3 a, Vec3 b, double fa) {
+  for (int it = 0; it < 200; ++it) {
+    const Vec3 m = 0.5 * (a + b);
+    if (m == a || m == b) break;
+    ((fast(m) - d < 0) == (fa < 0) ? a : b) = m;
+  }
+  return b;
+}
+
+}  // namespace
+
 bool point_on_level_near(const FastSignedDistance& fast, double d, const Vec3& x, Vec3& on) {
   Vec3 g;
   const double fx = fast.value_and_gradient(x, g) - d;
@@ -113,16 +128,26 @@ bool point_on_level_near(const FastSignedDistance& fast, double d, const Vec3& x
     const Vec3 y = x - scale * fx * g;
     const double fy = fast(y) - d;
     if ((fx < 0) == (fy < 0)) continue;
-    Vec3 a = x, b = y;
-    for (int it = 0; it < 200; ++it) {
-      const Vec3 m = 0.5 * (a + b);
-      if (m == a || m == b) break;
-      ((fast(m) - d < 0) == (fx < 0) ? a : b) = m;
-    }
-    on = b;
+    on = bisect_to_level(fast, d, x, y, fx);
     return true;
   }
   return false;
+}
+
+void points_on_level_around(const FastSignedDistance& fast, double d, const Vec3& x, std::vector<Vec3>& out) {
+  const double fx = fast(x) - d;
+  if (!(fx != 0.0) || !std::isfinite(fx)) return;
+  for (int k = 0; k < 14; ++k) {
+    Vec3 u = Vec3::Zero();
+    if (k < 6) u[k / 2] = k % 2 ? -1.0 : 1.0;
+    else u = Vec3(k & 1 ? -1.0 : 1.0, k & 2 ? -1.0 : 1.0, k & 4 ? -1.0 : 1.0).normalized();
+    for (int j = 1; j <= 12; ++j) {
+      const Vec3 y = x + std::ldexp(std::abs(fx), j) * u;
+      if ((fast(y) - d < 0) == (fx < 0)) continue;
+      out.push_back(bisect_to_level(fast, d, x, y, fx));
+      break;
+    }
+  }
 }
 
 }  // namespace cdbench

@@ -202,7 +202,25 @@ TriangleMesh mesh_level_set(const std::function<double(const Vec3&)>& f, const V
   detail::ArenaScope arena;  // declared first: every CGAL object below is gone before it is unmapped
   Tr tr;
   C2t3 c2t3(tr);
-  for (const Vec3& s : seeds) tr.insert(Point(s.x(), s.y(), s.z()));
+  // Each seed once: Surface_mesher asserts that no initial point is inserted twice (a repeated
+  // point is the same vertex, already on the surface), and seeds from different missed regions
+  // may coincide.
+  // Seeds within 10^-3 of the distance bound of an earlier one are dropped too: nearly
+  // coincident vertices make refinement points that round onto a vertex (CGAL's constructions are
+  // inexact), which it also refuses with an assertion.
+  std::vector<Vec3> kept;
+  kept.reserve(seeds.size());
+  const double spacing = 1e-3 * options.distance_bound;
+  for (const Vec3& s : seeds) {
+    bool near = false;
+    for (const Vec3& k : kept)
+      if ((k - s).norm() <= spacing) {
+        near = true;
+        break;
+      }
+    if (!near) kept.push_back(s);
+  }
+  for (const Vec3& s : kept) tr.insert(Point(s.x(), s.y(), s.z()));
   Evaluator evaluator(f, options.lipschitz, 1e-9 * radius);
   CGAL::Implicit_surface_3<GT, Function> surface(Function{&evaluator}, GT::Sphere_3(Point(center.x(), center.y(), center.z()),
                                                                              radius * radius),

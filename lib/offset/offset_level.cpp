@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "offset/certify_band.h"
 #include "offset/certify_completeness.h"
@@ -19,6 +21,12 @@ std::string num(double x) {
   os.precision(6);
   os << x;
   return os.str();
+}
+
+// The first line of a message (CGAL's failures span several), for one-line attempt messages.
+std::string first_line(const std::string& s) {
+  const std::size_t end = s.find_first_of("\r\n");
+  return end == std::string::npos ? s : s.substr(0, end);
 }
 
 // Local repair of a candidate whose band misses the tolerance on few faces (refine_offset.h):
@@ -138,7 +146,19 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
     Timer t_mesh;
     TriangleMesh mesh;
     LevelSetMeshStats stats;
-    if (seeds.size() >= 4) mesh = mesh_level_set(f, center, radius, seeds, mo, &stats);
+    if (seeds.size() >= 4) {
+      try {
+        mesh = mesh_level_set(f, center, radius, seeds, mo, &stats);
+      } catch (const std::exception& e) {
+        // CGAL's mesher refuses some configurations with an assertion (e.g. a refinement point
+        // rounded onto a vertex): a failed attempt, not a failed run; the next one meshes finer.
+        level.seconds_mesh += t_mesh.seconds();
+        level.message = "attempt " + std::to_string(attempt) + ": the mesher failed: " + first_line(e.what());
+        if (options.log) options.log("level " + num(d) + ", " + level.message);
+        mo.distance_bound *= 0.7;
+        continue;
+      }
+    }
     ValidatedMesh v = validate_mesh(mesh);
     level.seconds_mesh += t_mesh.seconds();
     auto log = [&](const std::string& what) {
@@ -196,6 +216,11 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
           seeds.push_back(s);
           ++added;
         }
+        // A ring of seeds too: a small closed component (a pocket between an offset's folds, an
+        // island of a deep level) needs several for the mesher to find facets on it.
+        const std::size_t before = seeds.size();
+        points_on_level_around(fast, d, x, seeds);
+        added += seeds.size() - before;
       }
       std::ostringstream os;
       os.precision(9);

@@ -5,6 +5,7 @@
 #include "mesh/alpha_wrap.h"
 #include "mesh/shapes.h"
 #include "mesh/validate_mesh.h"
+#include "offset/fast_signed_distance.h"
 #include "offset/offset_level.h"
 
 namespace cdbench {
@@ -88,6 +89,36 @@ TEST(OffsetLevel, TwoComponentInputKeepsBoth) {
   ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
   EXPECT_EQ(l.report.components, 2u);
   expect_band_holds(s, l);
+}
+
+// A component of the level set far smaller than the mesher's facets, away from the deepest point
+// (the inner offset of a small second ball): the first candidate misses it, the completeness
+// search finds it, and the retry must mesh it. One seed on it gave Surface_mesher nothing to
+// refine (CGAL's homer at +5 %, dino at -20 %: four attempts, then failed); a ring of seeds all
+// around it does.
+TEST(OffsetLevel, SmallComponentMissedFirstIsSeededAllAround) {
+  const Solid s(merge_meshes(make_icosphere(1.0, 2), make_icosphere(0.08, 2, Vec3(1.6, 0.3, 0.2))));
+  const OffsetLevel l = compute_offset_level(s.sdf, s.mp, -0.04, coarse());
+  ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
+  EXPECT_GT(l.attempts, 1) << "the first candidate was expected to miss the small component";
+  EXPECT_EQ(l.report.components, 2u);
+  EXPECT_TRUE(l.complete);
+  expect_band_holds(s, l);
+}
+
+// points_on_level_around: a ring of points on the level set, one per direction.
+TEST(PointsOnLevelAround, OnePointPerDirectionOnTheLevel) {
+  const SignedDistance sdf(make_icosphere(1.0, 4));
+  const FastSignedDistance fast(sdf);
+  const double d = -0.9;  // a small sphere of radius about 0.1 about the centre
+  const Vec3 x(0.01, -0.02, 0.005);
+  std::vector<Vec3> ring;
+  points_on_level_around(fast, d, x, ring);
+  ASSERT_EQ(ring.size(), 14u);
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    EXPECT_NEAR(fast(ring[i]), d, 1e-9);
+    for (std::size_t j = 0; j < i; ++j) EXPECT_GT((ring[i] - ring[j]).norm(), 0.02);
+  }
 }
 
 TEST(OffsetLevel, DumbbellSplitsInwards) {
