@@ -122,10 +122,14 @@ namespace {
 // the sign of the exact residual s^2 - x (one fma, whose rounding keeps a nonzero value's sign as
 // long as it does not underflow) says on which side of the root s lies; the neighbour of s is on
 // the other side. For x in [2^-600, 2^600] a nonzero residual is at least 2^-704 in magnitude (a
-// multiple of ulp(s)^2), far from underflow; other x take CGAL's interval square root.
+// multiple of ulp(s)^2), far from underflow; 0 is exact; other x take CGAL's interval square root.
 // The same doubles as CGAL::sqrt on Interval_nt (which switches the rounding mode four times):
 // test_distance's SqrtInterval.* compare the two.
 bool directed_sqrt(double x, bool up, double* out) {
+  if (x == 0.0) {
+    *out = 0.0;
+    return true;
+  }
   if (!(x >= 0x1p-600 && x <= 0x1p600)) return false;
   const double s = std::sqrt(x);
   const double r = std::fma(s, s, -x);
@@ -138,9 +142,7 @@ bool directed_sqrt(double x, bool up, double* out) {
 Interval sqrt_interval(const Interval& squared) {
   const double lo = std::max(0.0, squared.lo), hi = std::max(0.0, squared.hi);
   Interval out;
-  const bool fast_lo = lo == 0.0 ? (out.lo = 0.0, true) : directed_sqrt(lo, false, &out.lo);
-  const bool fast_hi = hi == 0.0 ? (out.hi = 0.0, true) : directed_sqrt(hi, true, &out.hi);
-  if (fast_lo && fast_hi) return out;
+  if (directed_sqrt(lo, false, &out.lo) && directed_sqrt(hi, true, &out.hi)) return out;
   CGAL::Protect_FPU_rounding<true> guard;
   const I s = CGAL::sqrt(I(lo, hi));
   return {s.inf(), s.sup()};

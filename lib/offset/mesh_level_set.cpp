@@ -202,12 +202,10 @@ TriangleMesh mesh_level_set(const std::function<double(const Vec3&)>& f, const V
   detail::ArenaScope arena;  // declared first: every CGAL object below is gone before it is unmapped
   Tr tr;
   C2t3 c2t3(tr);
-  // Each seed once: Surface_mesher asserts that no initial point is inserted twice (a repeated
-  // point is the same vertex, already on the surface), and seeds from different missed regions
-  // may coincide.
-  // Seeds within 10^-3 of the distance bound of an earlier one are dropped too: nearly
-  // coincident vertices make refinement points that round onto a vertex (CGAL's constructions are
-  // inexact), which it also refuses with an assertion.
+  // A seed within 10^-3 of the distance bound of an earlier one (the same point, or nearly) is
+  // dropped: seeds from neighbouring missed regions may coincide, and nearly coincident vertices
+  // let a refinement point round onto a vertex (CGAL's constructions are inexact), which
+  // Surface_mesher refuses with an assertion ("already inserted on surface", seen on dino -20 %).
   std::vector<Vec3> kept;
   kept.reserve(seeds.size());
   const double spacing = 1e-3 * options.distance_bound;

@@ -143,27 +143,30 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
   for (int attempt = 1; attempt <= options.max_attempts; ++attempt) {
     level.attempts = attempt;
     level.distance_bound = mo.distance_bound;
+    auto log = [&](const std::string& what) {
+      if (options.log) options.log("level " + num(d) + ", attempt " + std::to_string(attempt) + ": " + what);
+    };
     Timer t_mesh;
     TriangleMesh mesh;
     LevelSetMeshStats stats;
+    std::string mesher_failure;
     if (seeds.size() >= 4) {
       try {
         mesh = mesh_level_set(f, center, radius, seeds, mo, &stats);
       } catch (const std::exception& e) {
         // CGAL's mesher refuses some configurations with an assertion (e.g. a refinement point
         // rounded onto a vertex): a failed attempt, not a failed run; the next one meshes finer.
-        level.seconds_mesh += t_mesh.seconds();
-        level.message = "attempt " + std::to_string(attempt) + ": the mesher failed: " + first_line(e.what());
-        if (options.log) options.log("level " + num(d) + ", " + level.message);
-        mo.distance_bound *= 0.7;
-        continue;
+        mesher_failure = first_line(e.what());
       }
     }
     ValidatedMesh v = validate_mesh(mesh);
     level.seconds_mesh += t_mesh.seconds();
-    auto log = [&](const std::string& what) {
-      if (options.log) options.log("level " + num(d) + ", attempt " + std::to_string(attempt) + ": " + what);
-    };
+    if (!mesher_failure.empty()) {
+      level.message = "attempt " + std::to_string(attempt) + ": the mesher failed: " + mesher_failure;
+      log("the mesher failed: " + mesher_failure);
+      mo.distance_bound *= 0.7;
+      continue;
+    }
     log("meshed " + std::to_string(mesh.faces.size()) + " faces (distance bound " + num(mo.distance_bound) + ", " +
         std::to_string(seeds.size()) + " seeds) in " + num(t_mesh.seconds()) + " s: " + std::to_string(stats.evaluations) +
         " distance evaluations for " + std::to_string(stats.calls) + " signs (" + std::to_string(stats.lipschitz) +

@@ -175,7 +175,6 @@ TEST(PointTriangleDistance, SqrtIsRoundedOutward) {
   EXPECT_LE(s.hi - s.lo, 4.5e-16);
 }
 
-
 // sqrt_interval's fast path (one sqrt and one fma per end, no change of rounding mode) gives the
 // same doubles as CGAL's interval square root, which it replaced: random magnitudes over the whole
 // range, perfect squares, squares of random doubles and their neighbours (the residual's sign
