@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "distance/point_triangle_distance.h"
+#include "mesh/components.h"
 #include "util/timer.h"
 
 namespace cdbench {
@@ -27,13 +28,74 @@ struct Cell : Aabb {
 
 enum class Verdict : unsigned char { Discard, Split, Missed, Unresolved };
 
-// Whether s has no critical point (local extremum) in the cell: every point x of the cell has its
-// nearest surface points on the triangles `ids` (all triangles within radius = dist(c) + 2r of c),
-// within radius of c, and some direction w satisfies w.(x - p) > 0 for all x in the cell and such
-// p (w.(x - c) is least at a corner; max_towards bounds w.(p - c)), so dist strictly increases
-// along w at every x.
-bool no_critical_point(const SignedDistance& sdf, const Cell& cell, const Vec3& c, double radius,
-                       std::vector<std::uint32_t>& ids) {
+// The nearest points on triangle `id` of the cell's points, when the disc bound of max_towards
+// fails, by where such a point p lies (doc/offsets.md, rule (3)). In T's interior, x - p is a
+// positive multiple of sign * n_T (outward n_T): checked here. In an edge's interior, a nonnegative
+// combination of sign * n_T and sign * n_T' (T' across the edge), or no such p exists (an edge
+// reflex on x's side): T' is within rho too, so its own check covers p. At a vertex v within rho,
+// w.(x - v) is bounded from the corners. `sign`: +1 for a cell outside F, -1 inside; `floor`: a
+// lower bound of min over the cell of w.(x - c).
+bool sharp_bound_holds(const TriangleMesh& m, std::uint32_t id, const Vec3& w, const Vec3& c, double rho, double sign,
+                       double floor) {
+  const Face& f = m.faces[id];
+  const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &q = m.vertices[f[2]];
+  const Vec3 e1 = b - a, e2 = q - a;
+  // w.N > 0 for the exact N = (b - a) x (q - a): the computed differences, cross and dot products
+  // carry far less than 1e-13 |b - a| |q - a| of rounding (|w| <= 1 + 1e-15).
+  if (!(sign * w.dot(e1.cross(e2)) > 1e-13 * e1.norm() * e2.norm())) return false;
+  const double reach2 = rho * rho * (1.0 + 1e-9);  // beyond rho no point can be nearest
+  for (const Vec3* v : {&a, &b, &q}) {
+    const Vec3 cv = *v - c;
+    if (cv.squaredNorm() > reach2 + 1e-12 * cv.squaredNorm()) continue;
+    if (!(w.dot(cv) + 1e-14 * (cv.cwiseAbs().sum() + v->cwiseAbs().sum()) < floor)) return false;
+  }
+  return true;
+}
+
+// For each connected component G of F, a point q strictly on the `side` of F (-1 inside, +1
+// outside) whose nearest points all lie on G: the segment from q to a nearest point stays off F,
+// so q lies in the component of the solid's interior (exterior) that meets G's inner (outer) side.
+// Tried just off a few faces of G, at a few distances; false when some component got no point.
+bool side_points(const SignedDistance& sdf, int side, std::vector<Vec3>& points) {
+  const TriangleMesh& m = sdf.mesh();
+  std::size_t count = 0;
+  const std::vector<std::uint32_t> comp = face_components(m, &count);
+  std::vector<char> done(count, 0);
+  std::vector<int> tries(count, 0);
+  points.assign(count, Vec3::Zero());
+  std::vector<std::uint32_t> ids;
+  std::size_t found = 0;
+  for (std::uint32_t i = 0; i < m.faces.size() && found < count; ++i) {
+    const std::uint32_t g = comp[i];
+    if (done[g] || tries[g]++ >= 16) continue;
+    const Face& f = m.faces[i];
+    const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &q = m.vertices[f[2]];
+    const Vec3 n = (b - a).cross(q - a);
+    const double longest = std::max({(b - a).norm(), (q - b).norm(), (a - q).norm()});
+    if (!(n.norm() > 0.0) || !(longest > 0.0)) continue;
+    const double height = n.norm() / longest;  // the least altitude
+    const Vec3 centroid = (a + b + q) / 3.0;
+    for (double delta = 0.1 * height; delta > 1e-3 * height && !done[g]; delta *= 0.125) {
+      const Vec3 x = centroid + (side * delta / n.norm()) * n;
+      const Interval du = sdf.unsigned_distance(x);
+      if (!(du.lo > 0.0) || sdf.side(x, du) != side) continue;
+      if (!sdf.triangles_within(x, du.hi, 256, ids)) continue;
+      if (std::all_of(ids.begin(), ids.end(), [&](std::uint32_t id) { return comp[id] == g; })) {
+        points[g] = x;
+        done[g] = 1;
+        ++found;
+      }
+    }
+  }
+  return found == count;
+}
+
+}  // namespace
+
+// Every nearest point p of a point x of the cell lies on the triangles `ids` (all within radius of
+// c); w is a heuristic, the proof is increases_along's.
+bool no_critical_point(const SignedDistance& sdf, const Aabb& cell, const Vec3& c, double radius, double sign,
+                       std::vector<std::uint32_t>& ids, Vec3* direction) {
   // Far from F the possibly-nearest set is a thin shell holding many triangles: allow a few hundred.
   if (!sdf.triangles_within(c, radius, 256, ids) || ids.empty()) return false;
   const TriangleMesh& m = sdf.mesh();
@@ -49,6 +111,15 @@ bool no_critical_point(const SignedDistance& sdf, const Cell& cell, const Vec3& 
   const Vec3 x = min_norm_combination(g, lambda, 60);
   if (!(x.norm() > 1e-6)) return false;
   const Vec3 w = x.normalized();
+  if (!increases_along(sdf, cell, c, radius, sign, w, ids)) return false;
+  if (direction) *direction = w;
+  return true;
+}
+
+// w.(x - c) is least at a corner; for each triangle, the disc bound first, then sharp_bound_holds.
+bool increases_along(const SignedDistance& sdf, const Aabb& cell, const Vec3& c, double radius, double sign,
+                     const Vec3& w, const std::vector<std::uint32_t>& ids) {
+  const TriangleMesh& m = sdf.mesh();
   double nearest_corner = kInf, corner_size = 0.0;
   for (int corner = 0; corner < 8; ++corner) {
     const Vec3 v = cell.corner(corner);
@@ -61,12 +132,11 @@ bool no_critical_point(const SignedDistance& sdf, const Cell& cell, const Vec3& 
     // Margin far above the rounding of the 3-term dot products and differences of these magnitudes.
     const double margin =
         1e-12 * (corner_size + c.cwiseAbs().sum() + a.cwiseAbs().sum() + b.cwiseAbs().sum() + q.cwiseAbs().sum());
-    if (!(nearest_corner - max_towards(w, c, radius, a, b, q) > margin)) return false;
+    if (nearest_corner - max_towards(w, c, radius, a, b, q) > margin) continue;
+    if (!sharp_bound_holds(m, id, w, c, radius, sign, nearest_corner - margin)) return false;
   }
   return true;
 }
-
-}  // namespace
 
 // The vertex bound: a linear function on a triangle peaks at a vertex. The disc bound: with n* the
 // exact unit normal and h* = (c - a).n*, every such p has p - c = u - h* n*, u orthogonal to n*,
@@ -114,6 +184,30 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
   domain.hi += Vec3::Constant(grow);
   const double min_size = options.min_cell_relative * domain.diagonal();
 
+  // Which extrema the search must exclude (doc/offsets.md, "Completeness"). Above the band
+  // (d - eps > 0) a bad component of A has its minimum inside the solid, in a component of the
+  // solid's interior, and those are checked through one point each; below it (d + eps < 0) B's
+  // maxima lie outside the solid, and the exterior's components are checked likewise. The
+  // search then needs only the other side, and cells across F are set aside by s alone.
+  bool need_min = true, need_max = true;  // minima in A, maxima in B
+  if (d - eps > 0.0 || d + eps < 0.0) {
+    const int side = d > 0.0 ? -1 : 1;
+    std::vector<Vec3> points;
+    if (side_points(sdf, side, points)) {
+      for (const Vec3& x : points) {
+        // Off S_d: S_d lies within eps of the level, x on the other side of F.
+        const int sx = !surface ? 1 : surface->side(x, surface->unsigned_distance(x));
+        if (sx != side && result.missed.size() < 64) result.missed.push_back(x);  // wholly on the wrong side
+      }
+      if (!result.missed.empty()) {
+        result.cells = 0;
+        result.seconds = timer.seconds();
+        return result;
+      }
+      (d > 0.0 ? need_min : need_max) = false;
+    }
+  }
+
   std::vector<Cell> frontier;
   {
     const int n = 8;
@@ -146,8 +240,8 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
         side_f[i] = static_cast<std::int8_t>(sf);
         const Interval s = with_side(du, sf);
         const double s_min = s.lo - r, s_max = s.hi + r;  // s over the cell (1-Lipschitz)
-        // (1) the cell holds no point of A = {s < d - eps} nor of B = {s > d + eps}.
-        if (s_min >= d - eps && s_max <= d + eps) {
+        // (1) the cell holds no point of A = {s < d - eps} nor of B = {s > d + eps} (of those searched).
+        if ((!need_min || s_min >= d - eps) && (!need_max || s_max <= d + eps)) {
           verdict[i] = Verdict::Discard;
           continue;
         }
@@ -159,7 +253,7 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
         side_s[i] = static_cast<std::int8_t>(ss);
         if (to_surface.lo > r) {  // c is off S_d: the cell lies on the side of its centre
           const bool inside = ss < 0;
-          if (inside ? s_max <= d + eps : s_min >= d - eps) {
+          if (inside ? (!need_max || s_max <= d + eps) : (!need_min || s_min >= d - eps)) {
             verdict[i] = Verdict::Discard;
             continue;
           }
@@ -170,7 +264,8 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
         }
         // (3) no extremum of s in the cell (it avoids the surface, where s is not smooth).
         if (std::abs(s.lo) > r && std::abs(s.hi) > r && std::signbit(s.lo) == std::signbit(s.hi) &&
-            no_critical_point(sdf, cell, c, round_up(std::max(std::abs(s.lo), std::abs(s.hi)) + 2 * r), ids)) {
+            no_critical_point(sdf, cell, c, round_up(std::max(std::abs(s.lo), std::abs(s.hi)) + 2 * r),
+                              s.lo > 0.0 ? 1.0 : -1.0, ids)) {
           verdict[i] = Verdict::Discard;
           continue;
         }

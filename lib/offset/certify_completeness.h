@@ -30,6 +30,21 @@ struct CompletenessResult {
 // its nearest points.
 double max_towards(const Vec3& w, const Vec3& c, double rho, const Vec3& a, const Vec3& b, const Vec3& q);
 
+// Whether s has no local extremum in `cell` (rule (3) of the search): the cell avoids F and lies on
+// its side `sign` (+1 outside, -1 inside), c is the cell's centre and `radius` >= |s(c)| + 2r, r the
+// cell's covering radius about c (so every nearest point of a point of the cell lies within
+// radius of c). True when a direction w is proven along which the distance to F strictly increases
+// at every point of the cell (`*direction`, if given, receives it). `ids` is scratch space.
+bool no_critical_point(const SignedDistance& sdf, const Aabb& cell, const Vec3& c, double radius, double sign,
+                       std::vector<std::uint32_t>& ids, Vec3* direction = nullptr);
+
+// The proof behind no_critical_point for a given unit direction w: `ids` must list every triangle
+// within radius of c. True when w.(x - p) > 0 is proven for every point x of the cell and every
+// point p of those triangles that can be nearest to x from the side `sign` (doc/offsets.md,
+// rule (3): the disc bound, or the faces' normals and the vertices).
+bool increases_along(const SignedDistance& sdf, const Aabb& cell, const Vec3& c, double radius, double sign,
+                     const Vec3& w, const std::vector<std::uint32_t>& ids);
+
 // `offset` must be a validated closed surface (it may be empty: then every point is outside it).
 CompletenessResult certify_completeness(const SignedDistance& sdf, const TriangleMesh& offset, double d, double eps,
                                         const CompletenessOptions& options = {});

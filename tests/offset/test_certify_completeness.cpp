@@ -4,6 +4,7 @@
 #include <random>
 
 #include "mesh/shapes.h"
+#include "mesh/validate_mesh.h"
 #include "offset/certify_band.h"
 #include "offset/certify_completeness.h"
 #include "offset/fast_signed_distance.h"
@@ -46,6 +47,141 @@ TEST(CertifyCompleteness, DroppedComponentIsFound) {
   TriangleMesh both = merge_meshes(first, offset_near(sdf, Vec3(4, 0, 0), 1.0, d));
   const double eps2 = certify_band(sdf, both, d, BandOptions{}).epsilon;
   EXPECT_TRUE(certify_completeness(sdf, both, d, eps2).complete);
+}
+
+// Above the band (d - eps > 0) a missing component is found through one point inside each
+// component of the solid, before any cell is searched; with it meshed the level is complete.
+TEST(CertifyCompleteness, OutwardLevelMissingComponentIsFoundFromTheSolid) {
+  const TriangleMesh two = merge_meshes(make_icosphere(1.0, 2), make_icosphere(0.6, 2, Vec3(4, 0, 0)));
+  const SignedDistance sdf(two);
+  const double d = 0.15;
+  const TriangleMesh first = offset_near(sdf, Vec3::Zero(), 1.5, d);
+  const double eps = certify_band(sdf, first, d, BandOptions{}).epsilon;
+  ASSERT_LT(eps, d);
+  const CompletenessResult r = certify_completeness(sdf, first, d, eps);
+  EXPECT_FALSE(r.complete);
+  ASSERT_FALSE(r.missed.empty());
+  EXPECT_EQ(r.cells, 0u);
+  EXPECT_NEAR(r.missed[0].x(), 4.0, 0.6);
+  const TriangleMesh both = merge_meshes(first, offset_near(sdf, Vec3(4, 0, 0), 1.0, d));
+  const double eps2 = certify_band(sdf, both, d, BandOptions{}).epsilon;
+  const CompletenessResult r2 = certify_completeness(sdf, both, d, eps2);
+  EXPECT_TRUE(r2.complete) << "missed " << r2.missed.size() << ", unresolved " << r2.unresolved.size();
+}
+
+// Below the band (d + eps < 0) the exterior's components are checked the same way: a hollow ball's
+// cavity is a bounded component of the exterior, and an inner offset without the surface around
+// it leaves the cavity (where s > 0 > d + eps) inside S_d.
+TEST(CertifyCompleteness, InwardLevelMissingCavityIsFoundFromTheExterior) {
+  TriangleMesh cavity = make_icosphere(0.5, 3);
+  for (Face& f : cavity.faces) std::swap(f[1], f[2]);
+  const ValidatedMesh hollow = validate_mesh(merge_meshes(make_icosphere(1.0, 3), cavity));
+  ASSERT_TRUE(hollow.report.valid());
+  const SignedDistance sdf(hollow.mesh);
+  const double d = -0.1;
+  const TriangleMesh outer = make_icosphere(0.9, 3);  // the level set is near |x| = 0.9 and |x| = 0.6
+  const double eps = certify_band(sdf, outer, d, BandOptions{}).epsilon;
+  ASSERT_LT(eps, 0.05);
+  const CompletenessResult r = certify_completeness(sdf, outer, d, eps);
+  EXPECT_FALSE(r.complete);
+  ASSERT_FALSE(r.missed.empty());
+  EXPECT_EQ(r.cells, 0u);
+  EXPECT_LT(r.missed[0].norm(), 0.5);
+  TriangleMesh inner = make_icosphere(0.6, 3);
+  for (Face& f : inner.faces) std::swap(f[1], f[2]);
+  const TriangleMesh both = merge_meshes(outer, inner);
+  const double eps2 = certify_band(sdf, both, d, BandOptions{}).epsilon;
+  ASSERT_LT(eps2, 0.05);
+  const CompletenessResult r2 = certify_completeness(sdf, both, d, eps2);
+  EXPECT_TRUE(r2.complete) << "missed " << r2.missed.size() << ", unresolved " << r2.unresolved.size();
+}
+
+// An L-shaped prism: its reflex edge along z at (1, 1) is where the disc bound fails (both walls'
+// parts in the ball reach past the cell). Every cell the test accepts must have, at sampled points,
+// w.(x - p) > 0 for the nearest points p, for the heuristic w and for random directions; and the
+// cells near the reflex edge (outside) and near the convex edges (inside) must be accepted, which
+// the disc bound alone does not do.
+TriangleMesh l_prism() {
+  const double xy[6][2] = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  TriangleMesh m;
+  for (int z = 0; z < 2; ++z)
+    for (const auto& p : xy) m.vertices.push_back(Vec3(p[0], p[1], z));
+  const std::uint32_t n = 6;
+  for (std::uint32_t k = 0; k < n; ++k) {  // walls, counter-clockwise polygon: outward
+    const std::uint32_t a = k, b = (k + 1) % n;
+    m.faces.push_back(Face{a, b, b + n});
+    m.faces.push_back(Face{a, b + n, a + n});
+  }
+  // Caps: a fan from the reflex vertex 3.
+  for (std::uint32_t k : {4u, 5u, 0u, 1u}) {
+    const std::uint32_t next = (k + 1) % n;
+    m.faces.push_back(Face{3 + n, k + n, next + n});  // top, normal +z
+    m.faces.push_back(Face{3, next, k});                // bottom, normal -z
+  }
+  return m;
+}
+
+TEST(NoCriticalPoint, DirectionIsProvenAtReflexAndConvexEdges) {
+  const ValidatedMesh v = validate_mesh(l_prism());
+  ASSERT_TRUE(v.report.valid());
+  ASSERT_TRUE(v.report.notices.empty()) << v.report.notices[0];  // outward as built
+  const SignedDistance sdf(v.mesh);
+  const TriangleMesh& m = sdf.mesh();
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<std::uint32_t> ids;
+  int accepted_reflex = 0, accepted_convex = 0, checked = 0;
+  std::size_t random_accepted = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const bool outside = k % 2 == 0;
+    // Outside: around the reflex edge, x, y > 1. Inside: near the convex edge x = 0, y = 0.
+    const Vec3 c = outside ? Vec3(1.0 + 0.6 * u(rng), 1.0 + 0.6 * u(rng), 0.2 + 0.6 * u(rng))
+                           : Vec3(0.5 * u(rng), 0.5 * u(rng), 0.3 + 0.4 * u(rng));
+    const double h = 0.01 + 0.1 * u(rng);
+    Aabb cell;
+    cell.lo = c - Vec3::Constant(h);
+    cell.hi = c + Vec3::Constant(h);
+    const double r = std::sqrt(3.0) * h * (1 + 1e-12);
+    const Interval s = sdf.signed_distance(c);
+    if (!(std::abs(s.lo) > r && std::abs(s.hi) > r && std::signbit(s.lo) == std::signbit(s.hi))) continue;
+    if ((s.lo > 0) != outside) continue;
+    const double radius = std::max(std::abs(s.lo), std::abs(s.hi)) + 2 * r;
+    Vec3 w;
+    const bool proven = no_critical_point(sdf, cell, c, radius * (1 + 1e-12), outside ? 1.0 : -1.0, ids, &w);
+    // Where both walls of the edge are within reach of the cell's points.
+    const bool near_edge = outside ? (c.x() - 1 < radius && c.y() - 1 < radius) : (c.x() < radius && c.y() < radius);
+    if (proven && near_edge) ++(outside ? accepted_reflex : accepted_convex);
+    // The heuristic direction and random ones: whichever the proof accepts must hold at samples.
+    std::vector<Vec3> directions;
+    if (proven) directions.push_back(w);
+    sdf.triangles_within(c, radius * (1 + 1e-12), 100000, ids);
+    for (int j = 0; j < 8; ++j) {
+      const Vec3 r3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+      if (r3.norm() > 0.1 && increases_along(sdf, cell, c, radius * (1 + 1e-12), outside ? 1.0 : -1.0,
+                                             r3.normalized(), ids))
+        directions.push_back(r3.normalized());
+    }
+    random_accepted += directions.size() - (proven ? 1 : 0);
+    for (const Vec3& dir : directions)
+      for (int j = 0; j < 50; ++j) {
+        const Vec3 x = cell.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(cell.hi - cell.lo);
+        const Interval dx = sdf.unsigned_distance(x);
+        for (std::uint32_t id = 0; id < m.faces.size(); ++id) {
+          const Face& f = m.faces[id];
+          const Vec3 p = closest_point_on_triangle(x, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
+          if ((x - p).norm() > dx.hi + 1e-12) continue;  // not a nearest point
+          ++checked;
+          ASSERT_GT(dir.dot(x - p), 0.0) << std::setprecision(17) << "cell centre (" << c.x() << ", " << c.y() << ", "
+                                         << c.z() << "), half size " << h << ", x (" << x.x() << ", " << x.y()
+                                         << ", " << x.z() << "), face " << id << ", w (" << dir.x() << ", " << dir.y()
+                                         << ", " << dir.z() << ")";
+        }
+      }
+  }
+  EXPECT_GT(checked, 10000);
+  EXPECT_GT(accepted_reflex, 100);
+  EXPECT_GT(accepted_convex, 100);
+  EXPECT_GT(random_accepted, 1000u);
 }
 
 TEST(CertifyCompleteness, EmptyLevels) {
