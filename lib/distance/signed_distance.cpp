@@ -304,12 +304,6 @@ Interval SignedDistance::face_squared_distance(const Vec3& p, std::uint32_t f) c
   return point_triangle_squared_distance(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
 }
 
-std::uint32_t SignedDistance::nearest_face(const Vec3& p) const {
-  NearestPolicy q{mesh_, p};
-  traverse_nearest_first(tree_, q);
-  return q.best_face();
-}
-
 bool SignedDistance::distance_at_most(const Vec3& p, double bound, Interval* full, std::uint32_t* nearest,
                                       std::int64_t hint) const {
   const bool hinted = hint >= 0 && static_cast<std::size_t>(hint) < mesh_.faces.size();

@@ -69,10 +69,6 @@ class SignedDistance {
   double triangle_squared_distance_lower(const std::array<Vec3, 3>& v, double stop_sq = -1.0,
                                          double enough_sq = std::numeric_limits<double>::infinity()) const;
 
-  // Index of a triangle at the certified upper end of unsigned_distance(p) (a nearest triangle
-  // up to rounding).
-  std::uint32_t nearest_face(const Vec3& p) const;
-
   // Ids of all triangles whose distance to p may be <= radius (certified superset: every triangle
   // within radius is listed). Returns false, leaving `out` partial, once more than `max_count` qualify.
   bool triangles_within(const Vec3& p, double radius, std::size_t max_count, std::vector<std::uint32_t>& out) const;

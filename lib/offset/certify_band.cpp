@@ -16,21 +16,25 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Upper bound of dist(x, F) over triangle abc: each d_j is convex, so max over the triangle of
-// d_j is at a vertex; j = the triangle nearest to the centroid. Where that is not tight enough
-// the triangle is split into 4 (midpoints in doubles; the caller adds the slack for rounding).
+// d_j is at a vertex; j = the triangle nearest to the centroid (any j gives a valid bound; the
+// nearest gives the tightest). `hint`: a triangle near the last piece's, which prunes the search
+// from its start. Where that is not tight enough the triangle is split into 4 (midpoints in
+// doubles; the caller adds the slack for rounding).
 double upper_bound(const SignedDistance& sdf, const Vec3& a, const Vec3& b, const Vec3& c, double target, int depth,
-                   std::size_t& pieces) {
+                   std::size_t& pieces, std::int64_t& hint) {
   ++pieces;
   const TriangleMesh& m = sdf.mesh();
-  const std::uint32_t t = sdf.nearest_face((a + b + c) / 3.0);
+  std::uint32_t t = 0;
+  sdf.unsigned_distance((a + b + c) / 3.0, &t, hint);
+  hint = t;
   double hi = 0.0;
   for (const Vec3* v : {&a, &b, &c}) hi = std::max(hi, point_triangle_distance_upper(*v, m, t));
   if (hi <= target || depth == 0) return hi;
   const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
-  return std::max({upper_bound(sdf, a, ab, ca, target, depth - 1, pieces),
-                   upper_bound(sdf, ab, b, bc, target, depth - 1, pieces),
-                   upper_bound(sdf, ca, bc, c, target, depth - 1, pieces),
-                   upper_bound(sdf, ab, bc, ca, target, depth - 1, pieces)});
+  return std::max({upper_bound(sdf, a, ab, ca, target, depth - 1, pieces, hint),
+                   upper_bound(sdf, ab, b, bc, target, depth - 1, pieces, hint),
+                   upper_bound(sdf, ca, bc, c, target, depth - 1, pieces, hint),
+                   upper_bound(sdf, ab, bc, ca, target, depth - 1, pieces, hint)});
 }
 
 }  // namespace
@@ -52,6 +56,7 @@ BandResult certify_band(const SignedDistance& sdf, const TriangleMesh& offset, d
     return round_up(std::max(s_hi - d, d - s_lo));
   };
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& range) {
+    std::int64_t hint = -1;  // consecutive faces are mostly neighbours
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const Face& f = offset.faces[i];
       const Vec3 &a = offset.vertices[f[0]], &b = offset.vertices[f[1]], &c = offset.vertices[f[2]];
@@ -61,7 +66,8 @@ BandResult certify_band(const SignedDistance& sdf, const TriangleMesh& offset, d
       // 1-Lipschitz, so the slack widens the upper bound.
       const double scale = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});
       slack[i] = 8.0 * std::numeric_limits<double>::epsilon() * scale;
-      hi[i] = round_up(upper_bound(sdf, a, b, c, ad + options.target, options.max_split_depth, pieces[i]) + slack[i]);
+      hi[i] = round_up(upper_bound(sdf, a, b, c, ad + options.target, options.max_split_depth, pieces[i], hint) +
+                       slack[i]);
       if (lo[i] > 0.0) side[i] = sdf.side(a, Interval{lo[i], kInf});  // a is off F: no on-surface test
       else touching[i] = 1;
       result.face_epsilon[i] = epsilon_of(i);
@@ -77,9 +83,10 @@ BandResult certify_band(const SignedDistance& sdf, const TriangleMesh& offset, d
       tbb::parallel_for(std::size_t{0}, wide.size(), [&](std::size_t k) {
         const std::size_t i = wide[k];
         const Face& f = offset.faces[i];
+        std::int64_t hint = -1;
         const double deeper = round_up(upper_bound(sdf, offset.vertices[f[0]], offset.vertices[f[1]],
                                                    offset.vertices[f[2]], ad + 0.5 * options.target,
-                                                   options.max_split_depth + 2, pieces[i]) + slack[i]);
+                                                   options.max_split_depth + 2, pieces[i], hint) + slack[i]);
         hi[i] = std::min(hi[i], deeper);  // both are valid upper bounds
         result.face_epsilon[i] = epsilon_of(i);
       });
