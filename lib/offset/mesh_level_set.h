@@ -40,4 +40,12 @@ TriangleMesh mesh_level_set(const std::function<double(const Vec3&)>& f, const V
                             const std::vector<Vec3>& seeds, const LevelSetMeshOptions& options,
                             LevelSetMeshStats* stats = nullptr);
 
+// The same surface with CGAL's Mesh_3 in parallel mode (TBB, all threads of the calling arena):
+// the boundary facets of the restricted Delaunay triangulation of {f < 0}, refined to the same
+// facet criteria, manifold, seeded with `seeds` only. NOT reproducible: the output depends on the
+// threads' timing (a candidate; certification does not care how it was made).
+TriangleMesh mesh_level_set_parallel(const std::function<double(const Vec3&)>& f, const Vec3& center, double radius,
+                                     const std::vector<Vec3>& seeds, const LevelSetMeshOptions& options,
+                                     LevelSetMeshStats* stats = nullptr);
+
 }  // namespace cdbench

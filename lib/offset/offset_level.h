@@ -24,6 +24,8 @@ struct OffsetOptions {
   // (refine_offset.h) before a whole re-mesh with a finer distance bound.
   bool local_repair = true;
   int seeds = 64;
+  // The candidate mesher: Surface_mesher (one thread, reproducible) or Mesh_3 in parallel mode.
+  bool parallel_mesher = false;
   // Called with a line per attempt and phase (what was done, how long, the outcome); may be empty.
   std::function<void(const std::string&)> log;
 };

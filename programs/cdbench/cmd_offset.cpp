@@ -134,6 +134,9 @@ void register_offset(CLI::App& app, int& exit_code) {
                   "width of the max-penetration interval relative to the diagonal")
       ->capture_default_str()
       ->check(CLI::Range(1e-12, 1e-2));
+  cmd->add_flag("--parallel-mesher", opt->offset.parallel_mesher,
+                "mesh each candidate with CGAL's Mesh_3 on all threads instead of Surface_mesher on one; the offsets "
+                "are certified all the same but not reproducible bit for bit");
   cmd->add_flag("--verbose", opt->verbose, "report every attempt and phase of every level on stderr");
   cmd->add_option("--threads", opt->threads, "worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 1024));
   cmd->callback([opt, &exit_code]() { exit_code = run_offset(*opt); });

@@ -27,6 +27,12 @@ for f in manifest.json $(cd "$work/a" && ls *.off); do
 done
 "$cdbench" "${args[@]}" -o "$work/a" > "$work/c.txt"
 [ "$(grep -c '(reused)' "$work/c.txt")" -eq 4 ] || { echo "expected 4 reused levels"; cat "$work/c.txt"; exit 1; }
+# Mesh_3 on all threads: a different candidate, so nothing is reused from the Surface_mesher run;
+# certified all the same, and the mesher is recorded.
+"$cdbench" "${args[@]}" --parallel-mesher -o "$work/a" > "$work/p.txt"
+[ "$(grep -c "(reused)" "$work/p.txt")" -eq 0 ] || { echo "--parallel-mesher: nothing may be reused"; cat "$work/p.txt"; exit 1; }
+grep -q '"mesher": "mesh3-parallel"' "$work/a/manifest.json" || { echo "--parallel-mesher: mesher not recorded"; exit 1; }
+grep -q '"status": "certified"' "$work/a/manifest.json"
 set +e
 "$cdbench" offset "$mesh" --levels=-50%,abc -o "$work/d" > /dev/null 2> "$work/err.txt"
 rc=$?

@@ -72,20 +72,31 @@ TEST(OffsetLevel, EmptyOriginalAndDeepLevels) {
   EXPECT_EQ(compute_offset_level(s.sdf, s.mp, 0.0, coarse()).status, OffsetStatus::Original);
 }
 
-TEST(OffsetLevel, TorusLosesItsHoleOutwards) {
+// Each of these runs with both candidate meshers: Surface_mesher and Mesh_3 in parallel mode.
+class BothMeshers : public ::testing::TestWithParam<bool> {
+ protected:
+  OffsetOptions options() const {
+    OffsetOptions o = coarse();
+    o.parallel_mesher = GetParam();
+    return o;
+  }
+};
+
+TEST_P(BothMeshers, TorusLosesItsHoleOutwards) {
   const Solid s(make_torus(2.0, 0.5, 32, 16));  // hole radius 1.5
-  const OffsetLevel near = compute_offset_level(s.sdf, s.mp, 0.3, coarse());
+  const OffsetLevel near = compute_offset_level(s.sdf, s.mp, 0.3, options());
   ASSERT_EQ(near.status, OffsetStatus::Certified) << near.message;
   EXPECT_EQ(near.report.genus, 1);
-  const OffsetLevel far = compute_offset_level(s.sdf, s.mp, 1.7, coarse());
+  expect_band_holds(s, near);
+  const OffsetLevel far = compute_offset_level(s.sdf, s.mp, 1.7, options());
   ASSERT_EQ(far.status, OffsetStatus::Certified) << far.message;
   EXPECT_EQ(far.report.genus, 0);
   EXPECT_EQ(far.report.components, 1u);
 }
 
-TEST(OffsetLevel, TwoComponentInputKeepsBoth) {
+TEST_P(BothMeshers, TwoComponentInputKeepsBoth) {
   const Solid s(merge_meshes(make_icosphere(1.0, 2), make_icosphere(0.7, 2, Vec3(4, 0, 0))));
-  const OffsetLevel l = compute_offset_level(s.sdf, s.mp, -0.3, coarse());
+  const OffsetLevel l = compute_offset_level(s.sdf, s.mp, -0.3, options());
   ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
   EXPECT_EQ(l.report.components, 2u);
   expect_band_holds(s, l);
@@ -96,15 +107,18 @@ TEST(OffsetLevel, TwoComponentInputKeepsBoth) {
 // search finds it, and the retry must mesh it. One seed on it gave Surface_mesher nothing to
 // refine (CGAL's homer at +5 %, dino at -20 %: four attempts, then failed); a ring of seeds all
 // around it does.
-TEST(OffsetLevel, SmallComponentMissedFirstIsSeededAllAround) {
+TEST_P(BothMeshers, SmallComponentMissedFirstIsSeededAllAround) {
   const Solid s(merge_meshes(make_icosphere(1.0, 2), make_icosphere(0.08, 2, Vec3(1.6, 0.3, 0.2))));
-  const OffsetLevel l = compute_offset_level(s.sdf, s.mp, -0.04, coarse());
+  const OffsetLevel l = compute_offset_level(s.sdf, s.mp, -0.04, options());
   ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
   EXPECT_GT(l.attempts, 1) << "the first candidate was expected to miss the small component";
   EXPECT_EQ(l.report.components, 2u);
   EXPECT_TRUE(l.complete);
   expect_band_holds(s, l);
 }
+
+INSTANTIATE_TEST_SUITE_P(Meshers, BothMeshers, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool>& i) { return i.param ? "Mesh3Parallel" : "SurfaceMesher"; });
 
 // points_on_level_around: a ring of points on the level set, one per direction.
 TEST(PointsOnLevelAround, OnePointPerDirectionOnTheLevel) {

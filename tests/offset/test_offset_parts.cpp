@@ -204,6 +204,40 @@ TEST(MeshLevelSet, LipschitzSignsGiveTheSameMeshWithFewerEvaluations) {
   }
 }
 
+// Mesh_3 in parallel mode as the candidate mesher: valid closed surfaces of the right topology,
+// vertices on the level, about as many faces as Surface_mesher's for the same criteria, and only
+// the components that hold a seed (no random initial points: Mesh_3's own loop without bound on
+// an empty level and miss small components).
+TEST(MeshLevelSet, ParallelMesherMeshesTheSeededComponents) {
+  const TriangleMesh two = merge_meshes(make_torus(1.0, 0.35, 48, 24), make_icosphere(0.5, 2, Vec3(4.0, 0.0, 0.0)));
+  const SignedDistance sdf(two);
+  const FastSignedDistance fast(sdf);
+  for (double d : {-0.1, 0.2}) {
+    const std::function<double(const Vec3&)> f = [&](const Vec3& p) { return fast(p) - d; };
+    std::vector<Vec3> torus_seeds = level_set_seeds(f, Vec3(1.0, 0.0, 0.0), 1.5, 32);
+    std::vector<Vec3> all = torus_seeds;
+    for (const Vec3& p : level_set_seeds(f, Vec3(4.0, 0.0, 0.0), 1.0, 16)) all.push_back(p);
+    LevelSetMeshOptions o;
+    o.radius_bound = 0.15;
+    o.distance_bound = 0.01;
+    o.bisection_relative_error = 1e-6;
+    o.lipschitz = 1.0;
+    const TriangleMesh serial = mesh_level_set(f, Vec3(2.0, 0.0, 0.0), 4.0, all, o);
+    const TriangleMesh both = mesh_level_set_parallel(f, Vec3(2.0, 0.0, 0.0), 4.0, all, o);
+    const TriangleMesh one = mesh_level_set_parallel(f, Vec3(2.0, 0.0, 0.0), 4.0, torus_seeds, o);
+    const ValidatedMesh vb = validate_mesh(both), vo = validate_mesh(one);
+    ASSERT_TRUE(vb.report.valid()) << vb.report.errors[0].message;
+    ASSERT_TRUE(vo.report.valid()) << vo.report.errors[0].message;
+    EXPECT_EQ(vb.report.components, 2u) << "d = " << d;
+    EXPECT_EQ(vb.report.genus, 1) << "d = " << d;  // the torus's hole, plus a sphere
+    EXPECT_EQ(vo.report.components, 1u) << "d = " << d;
+    EXPECT_EQ(vo.report.genus, 1) << "d = " << d;
+    EXPECT_GT(both.faces.size(), serial.faces.size() * 7 / 10);
+    EXPECT_LT(both.faces.size(), serial.faces.size() * 13 / 10);
+    for (const Vec3& p : both.vertices) EXPECT_NEAR(fast(p), d, 1e-5);
+  }
+}
+
 // Red-green refinement: the split mesh is conforming (a T-junction would leave boundary edges, which
 // validation reports), oriented like the input (volume unchanged for flat midpoints), and keeps
 // the unmarked faces that have no split edge exactly.
