@@ -14,8 +14,8 @@
 namespace cdbench::detail {
 
 // CGAL's oracle evaluates many points more than once (about 40 % of the calls on armadillo
-// offsets: shared segment endpoints), so values are cached by exact coordinates. One mesher run is
-// single-threaded; each run has its own cache.
+// offsets: shared segment endpoints), so values are cached by exact coordinates, in each Evaluator
+// (one per mesher call, and per thread for Mesh_3 in parallel mode).
 struct PointHash {
   std::size_t operator()(const std::array<double, 3>& p) const {
     std::size_t h = 1469598103934665603ull;
