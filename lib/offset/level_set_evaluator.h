@@ -87,11 +87,13 @@ struct Evaluator {
   }
 };
 
-// The seeds without any within `spacing` of an earlier one. Seeds from neighbouring missed regions
-// may coincide, and nearly coincident vertices let a refinement point round onto a vertex (CGAL's
-// constructions are inexact), which both meshers refuse with an assertion ("already inserted on
-// surface": Surface_mesher on dino -20 %, Mesh_3 on two balls).
-inline std::vector<Vec3> distinct_seeds(const std::vector<Vec3>& seeds, double spacing) {
+// The seeds without any within 10^-3 x the mesher's distance bound of an earlier one. Seeds from
+// neighbouring missed regions may coincide, and nearly coincident vertices let a refinement point
+// round onto a vertex (CGAL's constructions are inexact), which both meshers refuse with an
+// assertion ("already inserted on surface": Surface_mesher on dino -20 %, Mesh_3 on two balls);
+// seeds that close add nothing the refinement would not add.
+inline std::vector<Vec3> distinct_seeds(const std::vector<Vec3>& seeds, double distance_bound) {
+  const double spacing = 1e-3 * distance_bound;
   std::vector<Vec3> kept;
   kept.reserve(seeds.size());
   for (const Vec3& s : seeds)

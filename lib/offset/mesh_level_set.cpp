@@ -129,7 +129,7 @@ TriangleMesh mesh_level_set(const std::function<double(const Vec3&)>& f, const V
   detail::ArenaScope arena;  // declared first: every CGAL object below is gone before it is unmapped
   Tr tr;
   C2t3 c2t3(tr);
-  const std::vector<Vec3> kept = detail::distinct_seeds(seeds, 1e-3 * options.distance_bound);
+  const std::vector<Vec3> kept = detail::distinct_seeds(seeds, options.distance_bound);
   for (const Vec3& s : kept) tr.insert(Point(s.x(), s.y(), s.z()));
   Evaluator evaluator(f, options.lipschitz, 1e-9 * radius);
   CGAL::Implicit_surface_3<GT, Function> surface(Function{&evaluator}, GT::Sphere_3(Point(center.x(), center.y(), center.z()),

@@ -77,7 +77,8 @@ TriangleMesh mesh_level_set_parallel(const std::function<double(const Vec3&)>& f
     return evaluators.local()(Vec3(p.x(), p.y(), p.z()));
   };
   std::vector<Point> points;
-  for (const Vec3& s : detail::distinct_seeds(seeds, 1e-3 * options.distance_bound)) points.emplace_back(s.x(), s.y(), s.z());
+  for (const Vec3& s : detail::distinct_seeds(seeds, options.distance_bound))
+    points.emplace_back(s.x(), s.y(), s.z());
   namespace params = CGAL::parameters;
   SeededDomain domain(BaseDomain::create_implicit_mesh_domain(
                           function, K::Sphere_3(Point(center.x(), center.y(), center.z()), radius * radius),

@@ -46,6 +46,12 @@ struct OffsetLevel {
   double seconds_mesh = 0.0, seconds_band = 0.0, seconds_completeness = 0.0;
 };
 
+// The candidate mesher's name, as offset manifests and pose sets record it: "surface-mesher" or
+// "mesh3-parallel".
+inline const char* mesher_name(const OffsetOptions& options) {
+  return options.parallel_mesher ? "mesh3-parallel" : "surface-mesher";
+}
+
 // The band certificate's options for a level of tolerance `tol` (absolute): faces are split only
 // as far as acceptance needs, with a margin, and a few loose faces get a second, deeper pass.
 BandOptions offset_band_options(double tol);

@@ -80,7 +80,7 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
   option_key << CDBENCH_VERSION << "|" << number_text(oo.tolerance_relative) << "|" << number_text(oo.radius_relative) << "|"
              << number_text(oo.distance_over_tolerance) << "|" << oo.max_attempts << "|" << oo.seeds << "|"
              << number_text(r.max_penetration_tolerance) << (oo.local_repair ? "|repair" : "")
-             << (oo.parallel_mesher ? "|mesh3" : "");
+             << (oo.parallel_mesher ? std::string("|") + mesher_name(oo) : std::string());  // the default's key as before
 
   // Reuse: levels of an earlier run with the same input, level and options, whose file is intact.
   const std::string manifest_path = r.out_dir + "/manifest.json";
@@ -107,7 +107,7 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
                      {"max_attempts", oo.max_attempts},
                      {"local_repair", oo.local_repair},
                      {"seeds", oo.seeds},
-                     {"mesher", oo.parallel_mesher ? "mesh3-parallel" : "surface-mesher"}};
+                     {"mesher", mesher_name(oo)}};
   // The manifest is rewritten after each computed level (levels done so far, "finished": false), so
   // that an interrupted run's levels are reused by the next one; the last write has them all.
   std::mutex manifest_mutex;

@@ -81,6 +81,8 @@ CheckedOptions check_options(const PoseSetRequest& opt) {
   c.shard = parse_shard(opt.shard);
   check_sampling_names(opt.direction_sampling, opt.orientation_sampling);
   check_distinct_levels(c.specs);
+  if (opt.parallel_mesher && opt.start != StartPolicy::Offsets && !opt.no_polish)
+    throw InputError("--parallel-mesher: offsets are meshed only with --start offset (or --no-polish)");
   return c;
 }
 
@@ -140,6 +142,11 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
                             {"max_steps", opt.max_steps},
                             {"shard", opt.shard},
                             {"generator", std::string("cdbench ") + CDBENCH_VERSION}};
+  OffsetOptions offset_options;
+  offset_options.tolerance_relative = opt.band_tolerance;
+  offset_options.parallel_mesher = opt.parallel_mesher;
+  // Absent for the default mesher, so that earlier runs still resume.
+  if (opt.parallel_mesher) run_key["offset_mesher"] = mesher_name(offset_options);
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 
@@ -153,7 +160,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     req.names.push_back(polish ? specs[l].text + "+2band" : specs[l].text);
     req.distances.push_back(swept[l]);
   }
-  req.options.tolerance_relative = opt.band_tolerance;
+  req.options = offset_options;
   req.log_prefix = "cdbench poses: ";
   std::cerr << "cdbench poses: max penetration [" << number_text(mp.depth.lo) << ", " << number_text(mp.depth.hi)
             << "]; " << (req.distances.empty() ? std::string("no offset meshes needed (--start ") + to_string(opt.start) + ")"

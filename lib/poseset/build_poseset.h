@@ -25,6 +25,9 @@ struct PoseSetRequest {
   StartPolicy start = StartPolicy::NoOffsets;  // --start auto | offset
   double tolerance = 1e-6;       // certification tolerance, relative to the fixed mesh's diagonal
   double band_tolerance = 1e-3;  // offsets' band tolerance, relative
+  // Offsets' candidates by Mesh_3 on all threads (OffsetOptions::parallel_mesher): certified all the
+  // same, but the offsets, and so the poses that start from them, are not reproducible bit for bit.
+  bool parallel_mesher = false;
   // The least width of the max penetration (relative); percentage levels loosen it to what their
   // targets need (max_penetration_tolerance_for).
   double max_penetration_tolerance = 1e-6;

@@ -42,8 +42,10 @@ int run_float_poses(const PosesCliOptions& opt) {
   rq.voxel = opt.voxel;
   rq.keep_offsets = opt.keep_offsets;
   rq.command_line = opt.request.command_line;
-  if (opt.request.resume || opt.request.no_polish || opt.request.shard != "0/1" || opt.request.start != StartPolicy::NoOffsets)
-    throw InputError("--pipeline float: --resume, --shard, --start and --no-polish belong to the certified pipeline");
+  if (opt.request.resume || opt.request.no_polish || opt.request.shard != "0/1" || opt.request.start != StartPolicy::NoOffsets ||
+      opt.request.parallel_mesher)
+    throw InputError("--pipeline float: --resume, --shard, --start, --parallel-mesher and --no-polish belong to the certified "
+                     "pipeline");
   check_float_poseset_request(rq);
   LoadedMesh fixed, mover;
   if (!load_solids(opt.mesh, opt.mover, &fixed, &mover)) return kExitInvalidMesh;
@@ -140,6 +142,10 @@ void register_poses(CLI::App& app, int& exit_code, const std::string& command_li
       ->each([opt](const std::string& s) {
         opt->request.start = s == "offset" ? StartPolicy::Offsets : StartPolicy::NoOffsets;
       });
+  cmd->add_flag("--parallel-mesher", opt->request.parallel_mesher,
+                "with --start offset: mesh each offset candidate with CGAL's Mesh_3 on all threads instead of "
+                "Surface_mesher on one; certified all the same, but the offsets and the poses that start from them "
+                "are not reproducible bit for bit (cdbench offset --parallel-mesher)");
   cmd->add_flag("--no-polish", opt->request.no_polish, "keep the raw placement (first contact with the level's own offset)");
   cmd->add_option("--max-steps", opt->request.max_steps, "polishing steps per pose before it is reported as stalled")
       ->capture_default_str()

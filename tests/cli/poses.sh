@@ -26,6 +26,15 @@ grep -q '"start": "surface"' "$dir/a/poseset.json" && grep -q '"start": "far"' "
 [ "$(ls "$dir/o/offsets" | grep -c '\.off$')" -eq 2 ] || fail "--start offset: expected 2 offset meshes"
 awk -F, 'NR > 1 && $21 != "certified" { bad++ } END { exit bad > 0 }' "$dir/o/poses.csv" || fail "--start offset: uncertified poses"
 grep -q '"start": "offset"' "$dir/o/poseset.json" || fail "--start offset: level starts"
+# Offsets meshed by Mesh_3 on all threads: certified all the same, the mesher recorded in the
+# offsets' manifest and in the run's key (a resume must not mix meshers); refused without offsets.
+"$bin" poses "$mesh" "${args[@]}" --start offset --parallel-mesher -o "$dir/p" > "$dir/p.log" 2>&1 ||
+  { cat "$dir/p.log"; fail "--parallel-mesher"; }
+awk -F, 'NR > 1 && $21 != "certified" { bad++ } END { exit bad > 0 }' "$dir/p/poses.csv" || fail "--parallel-mesher: uncertified poses"
+grep -q '"mesher": "mesh3-parallel"' "$dir/p/offsets/manifest.json" || fail "--parallel-mesher: offsets' mesher not recorded"
+grep -q '"offset_mesher": "mesh3-parallel"' "$dir/p/poseset.json" || fail "--parallel-mesher: not in the run key"
+"$bin" poses "$mesh" "${args[@]}" --parallel-mesher -o "$dir/x" > "$dir/x.log" 2>&1
+[ $? -eq 2 ] && grep -q "only with --start offset" "$dir/x.log" || fail "--parallel-mesher without offsets must be refused"
 
 "$bin" poses "$mesh" "${args[@]}" --threads 1 -o "$dir/b" > /dev/null 2>&1 || fail "one-thread run"
 cmp -s "$dir/a/poses.csv" "$dir/b/poses.csv" || fail "poses.csv depends on the thread count"
