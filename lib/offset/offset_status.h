@@ -6,7 +6,8 @@
 namespace cdbench {
 
 // Certified: a mesh with its three certificates; Empty: no point of that signed distance exists;
-// Original: d = 0, the input itself; Failed: no candidate could be certified.
+// Original: the input itself, for d = 0 (band 0) or 0 < |d| <= tolerance (band |d|); Failed: no
+// candidate could be certified.
 enum class OffsetStatus { Certified, Empty, Original, Failed };
 
 const char* to_string(OffsetStatus status);

@@ -179,6 +179,11 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
       // Its mesh from the file (a reused level exists only there).
       const TriangleMesh m = read_triangle_mesh(req.out_dir + "/" + level.file);
       level_mesh[l] = std::make_unique<SweepMesh>(make_sweep_mesh(m.vertices, m.faces));
+    } else if (level.status == OffsetStatus::Original) {
+      // d' within one band of the surface: F itself is that offset (band |d'|), so its first contact
+      // is the surface start (valid for targets <= 0, and the raw pose without polishing).
+      start[l] = targets[l] <= 0.0 || !polish ? PoseStart::Surface : PoseStart::Far;
+      level_note[l] = "offset within one band of the surface: the surface itself";
     } else if (level.status == OffsetStatus::Failed) {
       // The level's poses must not depend on an offset that could not be certified.
       if (fallback_start(targets[l], polish, &start[l])) {

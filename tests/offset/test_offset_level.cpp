@@ -72,6 +72,32 @@ TEST(OffsetLevel, EmptyOriginalAndDeepLevels) {
   EXPECT_EQ(compute_offset_level(s.sdf, s.mp, 0.0, coarse()).status, OffsetStatus::Original);
 }
 
+// Within the tolerance of the surface the input is the offset, with band |d| (it is on the level 0,
+// |d| away); one tolerance and a half out a mesh is made and certified as usual.
+TEST(OffsetLevel, WithinTheToleranceOfTheSurfaceTheInputIsTheOffset) {
+  const TriangleMesh ball = make_icosphere(1.0, 2);
+  const Solid s(ball);
+  const double tol = coarse().tolerance_relative * s.sdf.bbox().diagonal();
+  for (double d : {-0.5 * tol, 0.9 * tol, tol}) {
+    const OffsetLevel l = compute_offset_level(s.sdf, s.mp, d, coarse());
+    ASSERT_EQ(l.status, OffsetStatus::Original) << d;
+    EXPECT_TRUE(l.complete);
+    EXPECT_EQ(l.epsilon, std::abs(d));
+    EXPECT_EQ(l.mesh.faces, ball.faces);
+    EXPECT_EQ(l.mesh.vertices.size(), ball.vertices.size());
+    // The input's vertices are on the level 0: certified s within [d - eps, d + eps] for each.
+    for (const Vec3& v : l.mesh.vertices) {
+      const Interval sd = s.sdf.signed_distance(v);
+      EXPECT_GE(sd.lo, l.d - l.epsilon);
+      EXPECT_LE(sd.hi, l.d + l.epsilon);
+    }
+  }
+  const OffsetLevel out = compute_offset_level(s.sdf, s.mp, 1.5 * tol, coarse());
+  ASSERT_EQ(out.status, OffsetStatus::Certified) << out.message;
+  EXPECT_LE(out.epsilon, tol);
+  expect_band_holds(s, out);
+}
+
 // Each of these runs with both candidate meshers: Surface_mesher and Mesh_3 in parallel mode.
 class BothMeshers : public ::testing::TestWithParam<bool> {
  protected:

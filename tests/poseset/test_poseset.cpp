@@ -6,8 +6,10 @@
 #include <Eigen/LU>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
+#include "distance/signed_distance.h"
 #include "mesh/shapes.h"
 #include "mesh/write_mesh.h"
 #include "poseset/build_poseset.h"
@@ -291,6 +293,39 @@ TEST(MergeShards, EqualsTheUnshardedRunAndNamesBadShards) {
   const std::string first_row = s0.substr(s0.find('\n') + 1, s0.find('\n', s0.find('\n') + 1) - s0.find('\n'));
   std::ofstream(dir + "/s1dup/poses.csv", std::ios::app) << first_row;
   EXPECT_NE(refused({dir + "/s0", dir + "/s1dup", dir + "/s2"}).find("appears in two shards"), std::string::npos);
+}
+
+// --start offset where a level's swept offset (target + 2 bands) lies within one band of the
+// surface (or on it): that offset is the surface itself, so the level starts at the exact first
+// contact with the surface and no offset is meshed; every pose certified all the same.
+TEST(BuildPoseset, SweptOffsetWithinOneBandOfTheSurfaceStartsAtTheSurface) {
+  const std::string dir = testing::TempDir() + "/near_band_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const TriangleMesh torus = make_torus(1.0, 0.35, 24, 12);
+  write_off(torus, dir + "/torus.off");
+  const double diag = SignedDistance(torus).bbox().diagonal(), band = 1e-3 * diag;
+  std::ostringstream levels;  // swept at band / 2, and at 0 exactly (the builder's 2.0 * 1e-3 * diag)
+  levels << std::setprecision(17) << -1.5 * band << "," << -(2.0 * 1e-3 * diag);
+  PoseSetRequest rq;
+  rq.fixed = {dir + "/torus.off", &torus};
+  rq.levels = levels.str();
+  rq.out = dir + "/out";
+  rq.directions = 3;
+  rq.orientations = 1;
+  rq.band_tolerance = 1e-3;
+  rq.start = StartPolicy::Offsets;
+  const PoseSetResult r = build_poseset(rq);
+  ASSERT_EQ(r.poseset["levels"].size(), 2u);
+  for (const auto& level : r.poseset["levels"]) {
+    EXPECT_EQ(level["start"], "surface") << level.dump();
+    EXPECT_EQ(level["swept_offset"]["status"], "original") << level.dump();
+    EXPECT_LE(level["swept_offset"]["epsilon"].get<double>(), band);
+    EXPECT_EQ(level["certified"], level["poses"]) << level.dump();
+    EXPECT_EQ(level["poses"], 3);
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(dir + "/out/offsets"))
+    EXPECT_NE(entry.path().extension(), ".off") << entry.path();
 }
 
 }  // namespace
