@@ -240,15 +240,24 @@ std::string read_text(const std::string& path) {
   return s.str();
 }
 
+// A fresh directory under the test's temporary directory, holding the torus the pose sets below use.
+struct TorusDir {
+  explicit TorusDir(const std::string& name) : dir(testing::TempDir() + "/" + name) {
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    write_off(torus, dir + "/torus.off");
+  }
+  std::string dir;
+  TriangleMesh torus = make_torus(1.0, 0.35, 24, 12);
+};
+
 // Shards of a small pose set (a torus against itself, two levels), merged: the same poses.csv as
 // the unsharded run, byte for byte, and the counts of all rows; then every bad set of shards is
 // refused with its reason, and nothing is written for it.
 TEST(MergeShards, EqualsTheUnshardedRunAndNamesBadShards) {
-  const std::string dir = testing::TempDir() + "/merge_test";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  const TriangleMesh torus = make_torus(1.0, 0.35, 24, 12);
-  write_off(torus, dir + "/torus.off");
+  const TorusDir t("merge_test");
+  const std::string& dir = t.dir;
+  const TriangleMesh& torus = t.torus;
   const auto run = [&](const std::string& out, const std::string& shard, std::size_t directions) {
     PoseSetRequest rq;
     rq.fixed = {dir + "/torus.off", &torus};
@@ -299,11 +308,9 @@ TEST(MergeShards, EqualsTheUnshardedRunAndNamesBadShards) {
 // surface (or on it): that offset is the surface itself, so the level starts at the exact first
 // contact with the surface and no offset is meshed; every pose certified all the same.
 TEST(BuildPoseset, SweptOffsetWithinOneBandOfTheSurfaceStartsAtTheSurface) {
-  const std::string dir = testing::TempDir() + "/near_band_test";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  const TriangleMesh torus = make_torus(1.0, 0.35, 24, 12);
-  write_off(torus, dir + "/torus.off");
+  const TorusDir t("near_band_test");
+  const std::string& dir = t.dir;
+  const TriangleMesh& torus = t.torus;
   const double diag = SignedDistance(torus).bbox().diagonal(), band = 1e-3 * diag;
   std::ostringstream levels;  // swept at band / 2, and at 0 exactly (the builder's 2.0 * 1e-3 * diag)
   levels << std::setprecision(17) << -1.5 * band << "," << -(2.0 * 1e-3 * diag);
