@@ -122,28 +122,22 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
   const Aabb box = sdf.bbox();
   const double diag = box.diagonal();
   const double tol = options.tolerance_relative * diag;
-  if (d == 0.0) {
-    level.status = OffsetStatus::Original;
-    level.mesh = sdf.mesh();
-    level.complete = true;
-    return level;
-  }
   if (d < -mp.depth.hi) {  // no interior point is that deep: the level set is empty (certified)
     level.status = OffsetStatus::Empty;
     level.complete = true;
     level.message = "deeper than the certified maximum penetration " + num(mp.depth.hi);
     return level;
   }
-  // Within the tolerance of the surface, F itself is a certified offset (doc/offsets.md, step 1):
-  // s = 0 on F, so its band is exactly |d| <= tol, and F separates {s < 0} from {s > 0}, which hold
-  // A = {s < d - |d|} and B = {s > d + |d|}. A mesh of {s = d} there runs within one band of F,
-  // where faces cannot be proven off F: armadillo at +-tol/2 failed four attempts in 100 s.
+  // d = 0, or within the tolerance of the surface: F itself is a certified offset (doc/offsets.md,
+  // step 1): s = 0 on F, so its band is exactly |d| <= tol, and F separates {s < 0} from {s > 0},
+  // which hold A = {s < d - |d|} and B = {s > d + |d|}. A mesh of {s = d} there runs within one
+  // band of F, where faces cannot be proven off F: armadillo at +-tol/2 failed four attempts in 100 s.
   if (std::abs(d) <= tol) {
     level.status = OffsetStatus::Original;
     level.mesh = sdf.mesh();
     level.epsilon = std::abs(d);
     level.complete = true;
-    level.message = "within the tolerance " + num(tol) + " of the surface: the input itself, band |d|";
+    if (d != 0.0) level.message = "within the tolerance " + num(tol) + " of the surface: the input itself, band |d|";
     return level;
   }
   const FastSignedDistance fast(sdf);
