@@ -156,9 +156,10 @@ const char* to_string(PoseStart s) {
 
 const char* to_string(StartPolicy p) { return p == StartPolicy::Offsets ? "offset" : "auto"; }
 
-PoseStart planned_start(double target, bool polish, StartPolicy policy) {
+PoseStart planned_start(double target, bool polish, StartPolicy policy, double band) {
   if (target == 0.0) return PoseStart::Surface;
-  if (!polish || policy == StartPolicy::Offsets) return PoseStart::Offset;
+  if (!polish) return PoseStart::Offset;
+  if (policy == StartPolicy::Offsets && !(target < 0.0 && target > -kNearSurfaceBands * band)) return PoseStart::Offset;
   return target < 0.0 ? PoseStart::Surface : PoseStart::Far;
 }
 

@@ -77,7 +77,12 @@ enum class StartPolicy { NoOffsets, Offsets };
 const char* to_string(StartPolicy p);
 // The start of a level's poses. Target 0 always starts at the surface (its exact first contact is
 // the pose); without polishing the raw first contact with the level's own offset is the pose.
-PoseStart planned_start(double target, bool polish, StartPolicy policy);
+// band: the swept offsets' band (absolute). With Offsets and polishing, a target in
+// (-kNearSurfaceBands * band, 0) starts at the surface too: its swept offset would lie within two
+// bands of F, where an offset costs a mesh as fine as F's details (armadillo +-1.1 band: 35-62 s,
+// doc/offsets.md) and would save the polishing of at most two bands.
+constexpr double kNearSurfaceBands = 4.0;
+PoseStart planned_start(double target, bool polish, StartPolicy policy, double band = 0.0);
 // When a level's offset could not be certified: the NoOffsets start (polishing only; returns false
 // when there is no valid start without an offset).
 bool fallback_start(double target, bool polish, PoseStart* start);

@@ -120,10 +120,17 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   const std::size_t L = specs.size();
   std::vector<double> targets(L), swept(L);
   std::vector<PoseStart> start(L);
+  std::vector<std::string> level_note(L);
+  const double band = opt.band_tolerance * diag;
   for (std::size_t l = 0; l < L; ++l) {
     targets[l] = level_distance(specs[l], mp.depth.lo);
-    start[l] = planned_start(targets[l], polish, opt.start);
-    swept[l] = start[l] == PoseStart::Offset && polish ? targets[l] + 2.0 * opt.band_tolerance * diag : targets[l];
+    start[l] = planned_start(targets[l], polish, opt.start, band);
+    swept[l] = start[l] == PoseStart::Offset && polish ? targets[l] + 2.0 * band : targets[l];
+    if (opt.start == StartPolicy::Offsets && polish && targets[l] < 0.0 && start[l] == PoseStart::Surface) {
+      level_note[l] = "target within " + number_text(kNearSurfaceBands) +
+                      " bands of the surface: polished from the first contact with the surface, no offset";
+      std::cerr << "cdbench poses: note: level " << specs[l].text << ": " << level_note[l] << std::endl;
+    }
   }
 
   // Run identity: a resumed run must be the same run.
@@ -171,7 +178,6 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   const OffsetSetResult offsets = write_offset_set(req);
   const double seconds_offsets = t_offsets.seconds();
   std::vector<std::unique_ptr<SweepMesh>> level_mesh(L);
-  std::vector<std::string> level_note(L);
   for (std::size_t l = 0; l < L; ++l) {
     if (offset_of[l] < 0) continue;
     const OffsetSetLevel& level = offsets.levels[static_cast<std::size_t>(offset_of[l])];
@@ -181,7 +187,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
       level_mesh[l] = std::make_unique<SweepMesh>(make_sweep_mesh(m.vertices, m.faces));
     } else if (level.status == OffsetStatus::Original) {
       // d' within one band of the surface: F itself is that offset (band |d'|), so its first contact
-      // is the surface start (valid for targets <= 0, and the raw pose without polishing).
+      // is the surface start (valid for targets <= 0, and the raw pose without polishing). With
+      // polishing, swept offsets this close are not asked for (planned_start).
       start[l] = targets[l] <= 0.0 || !polish ? PoseStart::Surface : PoseStart::Far;
       level_note[l] = "offset within one band of the surface: the surface itself";
     } else if (level.status == OffsetStatus::Failed) {

@@ -330,6 +330,26 @@ TEST(Clearance, RunsLeaveNothingBehindInTheirStorage) {
   EXPECT_EQ(before.depth.size(), after.depth.size());
 }
 
+TEST(PlacePose, PlannedStarts) {
+  const double band = 0.25;
+  const auto S = PoseStart::Surface, F = PoseStart::Far, O = PoseStart::Offset;
+  // Default policy: the surface at or below 0, far above; the band plays no part.
+  EXPECT_EQ(planned_start(-3.0, true, StartPolicy::NoOffsets, band), S);
+  EXPECT_EQ(planned_start(0.0, true, StartPolicy::NoOffsets, band), S);
+  EXPECT_EQ(planned_start(0.1, true, StartPolicy::NoOffsets, band), F);
+  // Offsets: every target but 0, except penetrating ones within kNearSurfaceBands bands.
+  EXPECT_EQ(planned_start(0.0, true, StartPolicy::Offsets, band), S);
+  EXPECT_EQ(planned_start(0.01, true, StartPolicy::Offsets, band), O);
+  EXPECT_EQ(planned_start(-0.01, true, StartPolicy::Offsets, band), S);
+  EXPECT_EQ(planned_start(-0.99 * kNearSurfaceBands * band, true, StartPolicy::Offsets, band), S);
+  EXPECT_EQ(planned_start(-kNearSurfaceBands * band, true, StartPolicy::Offsets, band), O);
+  EXPECT_EQ(planned_start(-3.0, true, StartPolicy::Offsets, band), O);
+  // Without polishing the level's own offset is the pose, however near the surface.
+  EXPECT_EQ(planned_start(-0.01, false, StartPolicy::Offsets, band), O);
+  EXPECT_EQ(planned_start(-0.01, false, StartPolicy::NoOffsets, band), O);
+  EXPECT_EQ(planned_start(0.0, false, StartPolicy::Offsets, band), S);
+}
+
 TEST(PlacePose, PolishedPosesHitTheTarget) {
   const TriangleMesh sphere = make_icosphere(1.0, 2);
   const SignedDistance fixed(sphere);
