@@ -90,14 +90,64 @@ bool side_points(const SignedDistance& sdf, int side, std::vector<Vec3>& points)
   return found == count;
 }
 
+// The least of w.(x - c) over the cell's corners (a linear function's minimum over a box), and the
+// magnitude that the rounding margins of increases_along scale with.
+void cell_floor(const Aabb& cell, const Vec3& c, const Vec3& w, double* floor, double* scale) {
+  double nearest_corner = kInf, corner_size = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 v = cell.corner(corner);
+    nearest_corner = std::min(nearest_corner, w.dot(v - c));
+    corner_size = std::max(corner_size, v.cwiseAbs().sum());
+  }
+  *floor = nearest_corner;
+  *scale = corner_size + c.cwiseAbs().sum();
+}
+
+// Triangles of F's tree whose box may come within the radius of c and is not wholly behind the cell
+// along w: a subtree is skipped when every point x of its box has w.(x - c) below `floor` (the
+// cell's least corner value) by more than increases_along's margin for any triangle in it. A
+// triangle in such a box passes increases_along's first test for certain (its points are points of
+// the box, a linear function peaks at a box corner, and the margin here, with 3 * the box's largest
+// coordinate sums, is at least the triangle's), so leaving it out changes no verdict. Thousands of
+// triangles within the radius of a cell on a finely tessellated surface cost a few boxes.
+struct AheadPolicy {
+  Vec3 c, w;
+  double radius_sq, floor, scale;
+  std::size_t max_count;
+  std::vector<std::uint32_t>& out;
+  bool overflow = false;
+  double bound(const Aabb& box) const {
+    const double d2 = squared_distance_lower_bound(box, c);
+    return d2 > radius_sq || behind(box) ? kInf : d2;
+  }
+  double prune_bound() const { return radius_sq; }
+  bool done() const { return overflow; }
+  void leaf(std::uint32_t f) {
+    out.push_back(f);
+    overflow = out.size() > max_count;
+  }
+  bool behind(const Aabb& box) const {
+    double top = -kInf, size = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 v = box.corner(corner);
+      top = std::max(top, w.dot(v - c) + 1e-14 * ((v - c).cwiseAbs().sum() + v.cwiseAbs().sum()));
+    }
+    for (int a = 0; a < 3; ++a) size += std::max(std::abs(box.lo[a]), std::abs(box.hi[a]));
+    return floor - top > 1e-12 * (scale + 3.0 * size);
+  }
+};
+
 }  // namespace
 
-// Every nearest point p of a point x of the cell lies on the triangles `ids` (all within radius of
-// c); w is a heuristic, the proof is increases_along's.
+// Every nearest point p of a point x of the cell lies on the triangles within radius of c; w is a
+// heuristic (from the nearest few hundred of them), the proof is increases_along's over all of them
+// but those in subtrees wholly behind the cell (AheadPolicy).
 bool no_critical_point(const SignedDistance& sdf, const Aabb& cell, const Vec3& c, double radius, double sign,
                        std::vector<std::uint32_t>& ids, Vec3* direction) {
-  // Far from F the possibly-nearest set is a thin shell holding many triangles: allow a few hundred.
-  if (!sdf.triangles_within(c, radius, 256, ids) || ids.empty()) return false;
+  // Far from F, or on a finely tessellated F, the possibly-nearest set holds many triangles: the
+  // direction comes from the first few hundred found (nearest first).
+  const bool all = sdf.triangles_within(c, radius, 256, ids);
+  if (ids.empty()) return false;
   const TriangleMesh& m = sdf.mesh();
   // Heuristic direction: min-norm point of the hull of the nearest-point directions (Frank-Wolfe).
   std::vector<Vec3> g(ids.size());
@@ -111,6 +161,15 @@ bool no_critical_point(const SignedDistance& sdf, const Aabb& cell, const Vec3& 
   const Vec3 x = min_norm_combination(g, lambda, 60);
   if (!(x.norm() > 1e-6)) return false;
   const Vec3 w = x.normalized();
+  if (!all) {
+    double floor = 0.0, scale = 0.0;
+    cell_floor(cell, c, w, &floor, &scale);
+    std::vector<std::uint32_t> boxed;
+    AheadPolicy q{c, w, round_up(radius * radius) * (1.0 + 1e-12), floor, scale, std::size_t{1} << 16, boxed};
+    traverse_nearest_first(sdf.tree(), q);
+    if (q.overflow) return false;
+    sdf.triangles_within_among(c, radius, boxed, ids);  // the exact within test on those
+  }
   if (!increases_along(sdf, cell, c, radius, sign, w, ids)) return false;
   if (direction) *direction = w;
   return true;
@@ -120,18 +179,13 @@ bool no_critical_point(const SignedDistance& sdf, const Aabb& cell, const Vec3& 
 bool increases_along(const SignedDistance& sdf, const Aabb& cell, const Vec3& c, double radius, double sign,
                      const Vec3& w, const std::vector<std::uint32_t>& ids) {
   const TriangleMesh& m = sdf.mesh();
-  double nearest_corner = kInf, corner_size = 0.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 v = cell.corner(corner);
-    nearest_corner = std::min(nearest_corner, w.dot(v - c));
-    corner_size = std::max(corner_size, v.cwiseAbs().sum());
-  }
+  double nearest_corner = 0.0, scale = 0.0;
+  cell_floor(cell, c, w, &nearest_corner, &scale);
   for (std::uint32_t id : ids) {
     const Face& f = m.faces[id];
     const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &q = m.vertices[f[2]];
     // Margin far above the rounding of the 3-term dot products and differences of these magnitudes.
-    const double margin =
-        1e-12 * (corner_size + c.cwiseAbs().sum() + a.cwiseAbs().sum() + b.cwiseAbs().sum() + q.cwiseAbs().sum());
+    const double margin = 1e-12 * (scale + a.cwiseAbs().sum() + b.cwiseAbs().sum() + q.cwiseAbs().sum());
     if (nearest_corner - max_towards(w, c, radius, a, b, q) > margin) continue;
     if (!sharp_bound_holds(m, id, w, c, radius, sign, nearest_corner - margin)) return false;
   }

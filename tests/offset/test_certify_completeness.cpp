@@ -121,6 +121,16 @@ TriangleMesh l_prism() {
   return m;
 }
 
+// A cube cell of half size h about c, its covering radius r about c and s(c); true when the cell
+// avoids F (|s| > r on one side), as the search's rule (3) requires.
+bool cube_cell_off_surface(const SignedDistance& sdf, const Vec3& c, double h, Aabb* cell, double* r, Interval* s) {
+  cell->lo = c - Vec3::Constant(h);
+  cell->hi = c + Vec3::Constant(h);
+  *r = std::sqrt(3.0) * h * (1 + 1e-12);
+  *s = sdf.signed_distance(c);
+  return std::abs(s->lo) > *r && std::abs(s->hi) > *r && std::signbit(s->lo) == std::signbit(s->hi);
+}
+
 TEST(NoCriticalPoint, DirectionIsProvenAtReflexAndConvexEdges) {
   const ValidatedMesh v = validate_mesh(l_prism());
   ASSERT_TRUE(v.report.valid());
@@ -139,11 +149,9 @@ TEST(NoCriticalPoint, DirectionIsProvenAtReflexAndConvexEdges) {
                            : Vec3(0.5 * u(rng), 0.5 * u(rng), 0.3 + 0.4 * u(rng));
     const double h = 0.01 + 0.1 * u(rng);
     Aabb cell;
-    cell.lo = c - Vec3::Constant(h);
-    cell.hi = c + Vec3::Constant(h);
-    const double r = std::sqrt(3.0) * h * (1 + 1e-12);
-    const Interval s = sdf.signed_distance(c);
-    if (!(std::abs(s.lo) > r && std::abs(s.hi) > r && std::signbit(s.lo) == std::signbit(s.hi))) continue;
+    double r = 0.0;
+    Interval s;
+    if (!cube_cell_off_surface(sdf, c, h, &cell, &r, &s)) continue;
     if ((s.lo > 0) != outside) continue;
     const double radius = std::max(std::abs(s.lo), std::abs(s.hi)) + 2 * r;
     Vec3 w;
@@ -182,6 +190,57 @@ TEST(NoCriticalPoint, DirectionIsProvenAtReflexAndConvexEdges) {
   EXPECT_GT(accepted_reflex, 100);
   EXPECT_GT(accepted_convex, 100);
   EXPECT_GT(random_accepted, 1000u);
+}
+
+// On a finely tessellated surface a cell's possibly-nearest set exceeds the 256 triangles from which
+// the direction is chosen; the proof then runs over the tree with subtrees wholly behind the cell
+// left out. Whatever it proves must hold with every triangle within the radius (increases_along on
+// the full list) and at sampled points of the cell (every nearest point behind along w).
+TEST(NoCriticalPoint, BeyondTheFirstTrianglesTheProofCoversThemAll) {
+  const SignedDistance sdf(make_torus(1.0, 0.4, 200, 80));  // 32,000 faces
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<std::uint32_t> ids, full, near;
+  int capped = 0, capped_proven = 0, checked = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const bool outside = k % 2 == 0;
+    const double theta = 2 * M_PI * u(rng), phi = 2 * M_PI * u(rng);
+    const double rho = outside ? 0.45 + 0.4 * u(rng) : 0.08 + 0.25 * u(rng);  // from the core circle
+    const Vec3 radial(std::cos(theta), std::sin(theta), 0.0);
+    const Vec3 c = (1.0 + rho * std::cos(phi)) * radial + Vec3(0, 0, rho * std::sin(phi));
+    const double h = 0.005 + 0.04 * u(rng);
+    Aabb cell;
+    double r = 0.0;
+    Interval s;
+    if (!cube_cell_off_surface(sdf, c, h, &cell, &r, &s)) continue;
+    const double radius = (std::max(std::abs(s.lo), std::abs(s.hi)) + 2 * r) * (1 + 1e-12);
+    const double sign = s.lo > 0 ? 1.0 : -1.0;
+    const bool is_capped = !sdf.triangles_within(c, radius, 256, ids);
+    Vec3 w;
+    const bool proven = no_critical_point(sdf, cell, c, radius, sign, ids, &w);
+    if (is_capped) ++capped;
+    if (!proven) continue;
+    if (is_capped) ++capped_proven;
+    ASSERT_TRUE(sdf.triangles_within(c, radius, 1u << 20, full));
+    ASSERT_TRUE(increases_along(sdf, cell, c, radius, sign, w, full))
+        << std::setprecision(17) << "cell centre (" << c.transpose() << "), half size " << h;
+    for (int j = 0; j < 10; ++j) {
+      const Vec3 x = cell.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(cell.hi - cell.lo);
+      const Interval dx = sdf.unsigned_distance(x);
+      sdf.triangles_within(x, dx.hi + 1e-12, 1u << 20, near);
+      for (std::uint32_t id : near) {
+        const Face& f = sdf.mesh().faces[id];
+        const Vec3 p = closest_point_on_triangle(x, sdf.mesh().vertices[f[0]], sdf.mesh().vertices[f[1]],
+                                                 sdf.mesh().vertices[f[2]]);
+        if ((x - p).norm() > dx.hi + 1e-12) continue;  // not a nearest point
+        ++checked;
+        ASSERT_GT(w.dot(x - p), 0.0) << std::setprecision(17) << "x (" << x.transpose() << "), face " << id;
+      }
+    }
+  }
+  EXPECT_GT(capped, 300);
+  EXPECT_GT(capped_proven, 100);  // before the tree proof: none (a capped cell was not proven)
+  EXPECT_GT(checked, 1000);
 }
 
 TEST(CertifyCompleteness, EmptyLevels) {
