@@ -8,7 +8,10 @@
 #   subdivided once (x4, 208K faces) and twice (x16, 832K faces), made by `cdbench subdivide`.
 # Environment: LEVELS (default -25%,-10%,0,10%,25%), DIRECTIONS (40), ORIENTATIONS (2),
 #   APPROACHES for bench_poses (40), OUT (build/bench-pipeline), SKIP_ONE_THREAD=1 to skip the
-#   one-thread run (no speedup figure).
+#   one-thread run (no speedup figure), SKIP_OFFSETS=1 to skip the offsets.
+# The offsets: `cdbench offset MESH --levels=LEVELS` on all cores, the certified offset surfaces of
+# the same levels (pose sets do not need them with the default --start auto; a user who wants the
+# offset surfaces, or poses started from them, pays this): seconds and faces per level.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="$root/build/cdbench"
@@ -50,16 +53,46 @@ for mesh in "${meshes[@]}"; do
     cmp -s "$d1/poses.csv" "$dn/poses.csv" || { echo "$name: poses.csv differs between 1 and $cores threads"; exit 1; }
     speedup=$(python3 -c "print('%.2f' % ($(seconds "$d1/poseset.json" poses) / $(seconds "$dn/poseset.json" poses)))")
   fi
+  offsets_s="-"
   echo
   echo "== $name"
+  if [ "${SKIP_OFFSETS:-0}" != 1 ]; then
+    do_="$out/$name-offsets"
+    rm -rf "$do_"
+    "$bin" offset "$mesh" --levels="$levels" --threads "$cores" -o "$do_" > "$out/$name-offsets.log" 2>&1 ||
+      echo "$name: cdbench offset failed (exit $?), see $out/$name-offsets.log"
+    offsets_s=$(python3 - "$do_" <<'PY'
+import json, sys
+d = sys.argv[1]
+try:
+    m = json.load(open(d + "/manifest.json"))
+    t = json.load(open(d + "/timings.json"))
+except (OSError, ValueError) as e:
+    print("-"); print("offsets: no manifest (%s)" % e, file=sys.stderr); sys.exit(0)
+secs = {l["level"]: l for l in t["levels"]}
+print("%.1f" % t["total"])
+print("offsets (cdbench offset, all cores; total %.1f s, of which max penetration %.1f s):"
+      % (t["total"], t.get("max_penetration", 0.0)), file=sys.stderr)
+print("  %-10s %-9s %9s %10s %8s %8s %8s %8s" % ("level", "status", "faces", "eps/diag", "s",
+      "mesh s", "band s", "compl s"), file=sys.stderr)
+for l in m["levels"]:
+    s = secs.get(l["level"], {})
+    det = s.get("detail", {})
+    print("  %-10s %-9s %9d %10.2e %8.1f %8.1f %8.1f %8.1f" % (l["level"], l["status"], l["faces"],
+          l["epsilon_over_diagonal"], s.get("seconds", float("nan")), det.get("mesh", float("nan")),
+          det.get("band", float("nan")), det.get("completeness", float("nan"))), file=sys.stderr)
+PY
+    )
+  fi
   grep -E "^(fixed|level|time)|^-?[0-9.]+%|^0 " "$out/$name-all.log" || true
   "$root/build/validation/bench_poses" "$dn" --approaches "$approaches" | tee "$out/$name-bench.txt"
   faces=$(python3 -c "import json; print(json.load(open('$dn/poseset.json'))['fixed']['faces'])")
   certified=$(awk -F, 'NR > 1 { n++; if ($21 == "certified") c++ } END { printf "%d/%d", c, n }' "$dn/poses.csv")
   ratio=$(awk '$1 == "all" { print $NF }' "$out/$name-bench.txt")
-  summary+=("$(printf '%-20s %9s %10.1f %12s %9s %16s' "$name" "$faces" "$tn" "$certified" "$speedup" "$ratio")")
+  summary+=("$(printf '%-20s %9s %10.1f %12s %9s %16s %10s' "$name" "$faces" "$tn" "$certified" "$speedup" "$ratio" "$offsets_s")")
 done
 echo
-printf '%-20s %9s %10s %12s %9s %16s\n' mesh faces "total s" certified "speedup" "pose / FCL CA"
+printf '%-20s %9s %10s %12s %9s %16s %10s\n' mesh faces "total s" certified "speedup" "pose / FCL CA" "offsets s"
 printf '%s\n' "${summary[@]}"
-echo "(total s: the whole 'cdbench poses' on $cores threads, offsets included when any; speedup: poses stage, 1 vs $cores threads)"
+echo "(total s: the whole 'cdbench poses' on $cores threads, offsets included when any; speedup: poses stage, 1 vs $cores threads;"
+echo " offsets s: the whole 'cdbench offset' for the same levels on $cores threads, per level above)"
