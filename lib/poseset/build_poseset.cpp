@@ -122,11 +122,13 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   std::vector<PoseStart> start(L);
   std::vector<std::string> level_note(L);
   const double band = opt.band_tolerance * diag;
+  bool near_surface_starts = false;
   for (std::size_t l = 0; l < L; ++l) {
     targets[l] = level_distance(specs[l], mp.depth.lo);
     start[l] = planned_start(targets[l], polish, opt.start, band);
     swept[l] = start[l] == PoseStart::Offset && polish ? targets[l] + 2.0 * band : targets[l];
     if (opt.start == StartPolicy::Offsets && polish && targets[l] < 0.0 && start[l] == PoseStart::Surface) {
+      near_surface_starts = true;
       level_note[l] = "target within " + number_text(kNearSurfaceBands) +
                       " bands of the surface: polished from the first contact with the surface, no offset";
       std::cerr << "cdbench poses: note: level " << specs[l].text << ": " << level_note[l] << std::endl;
@@ -154,6 +156,10 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   offset_options.parallel_mesher = opt.parallel_mesher;
   // Absent for the default mesher, so that earlier runs still resume.
   if (opt.parallel_mesher) run_key["offset_mesher"] = mesher_name(offset_options);
+  // Levels that --start offset starts at the surface (planned_start; earlier binaries swept an
+  // offset for them): recorded, so that such a journal is never resumed or merged with the other
+  // start. Absent otherwise, so that other runs still resume.
+  if (near_surface_starts) run_key["near_surface_start_bands"] = kNearSurfaceBands;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 

@@ -327,6 +327,7 @@ TEST(BuildPoseset, TargetsNearTheSurfaceStartAtTheSurfaceWithoutAnOffset) {
   rq.start = StartPolicy::Offsets;
   const PoseSetResult r = build_poseset(rq);
   ASSERT_EQ(r.poseset["levels"].size(), 4u);
+  EXPECT_EQ(r.poseset["run_key"]["near_surface_start_bands"], kNearSurfaceBands);  // never resumed with the old start
   for (const auto& level : r.poseset["levels"]) {
     EXPECT_EQ(level["start"], "surface") << level.dump();
     EXPECT_TRUE(level["swept_offset"].is_null()) << level.dump();
