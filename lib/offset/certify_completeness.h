@@ -40,8 +40,9 @@ bool no_critical_point(const SignedDistance& sdf, const Aabb& cell, const Vec3& 
 
 // The proof behind no_critical_point for a given unit direction w: `ids` must list every triangle
 // within radius of c (no_critical_point leaves out, on large meshes, triangles whose tree box lies
-// wholly behind the cell along w by more than this test's margin: they pass its first test anyway). True when w.(x - p) > 0 is proven for every point x of the cell and every
-// point p of those triangles that can be nearest to x from the side `sign` (doc/offsets.md,
+// wholly behind the cell along w by more than this test's margin: they pass its first test
+// anyway). True when w.(x - p) > 0 is proven for every point x of the cell and every point p of
+// those triangles that can be nearest to x from the side `sign` (doc/offsets.md,
 // rule (3): the disc bound, or the faces' normals and the vertices).
 bool increases_along(const SignedDistance& sdf, const Aabb& cell, const Vec3& c, double radius, double sign,
                      const Vec3& w, const std::vector<std::uint32_t>& ids);
