@@ -42,6 +42,20 @@ inline Epeck::FT exact_squared_distance(const Vec3& p, const TriangleMesh& m) {
   return result;
 }
 
+// Whether the exact distance from p to triangle abc is at most r. Decided in doubles where their
+// squared distance is far from r^2 (a margin of 1e-6 relative plus 1e-12 (1 + |p|^2 + |a|^2),
+// far above their rounding), exactly otherwise: exhaustive loops over a mesh stay fast (the
+// sanitizer build runs them too).
+inline bool exact_within(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double r) {
+  const auto P = [](const Vec3& v) { return Epick::Point_3(v.x(), v.y(), v.z()); };
+  const double approx = CGAL::squared_distance(P(p), Epick::Triangle_3(P(a), P(b), P(c)));
+  const double r2 = r * r;
+  const double margin = 1e-6 * (approx + r2) + 1e-12 * (1.0 + p.squaredNorm() + a.squaredNorm());
+  if (approx < r2 - margin) return true;
+  if (approx > r2 + margin) return false;
+  return exact_squared_distance(p, a, b, c) <= Epeck::FT(r) * Epeck::FT(r);
+}
+
 // Whether the interval of a distance contains sqrt(exact_sq), decided exactly:
 // lo <= sqrt(e) <= hi  <=>  (lo <= 0 or lo^2 <= e) and hi >= 0 and e <= hi^2.
 inline bool contains_sqrt(const Interval& i, const Epeck::FT& exact_sq) {

@@ -148,16 +148,15 @@ TEST(SignedDistance, TrianglesWithinListEveryTriangleWithinTheRadius) {
     std::vector<bool> in(mesh.faces.size(), false);
     for (std::uint32_t f : ids) in[f] = true;
     listed += static_cast<int>(ids.size());
-    const Epeck::FT r2 = Epeck::FT(radius) * Epeck::FT(radius);
     const double loose = 2 * radius + 1e-12 * diag;
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
       const Face& t = mesh.faces[f];
-      const Epeck::FT d2 = testing::exact_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
-      if (d2 <= r2) {
+      const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+      if (testing::exact_within(p, a, b, c, radius)) {
         ASSERT_TRUE(in[f]) << "face " << f << " within the radius but not listed";
       }
       if (in[f]) {
-        EXPECT_TRUE(d2 <= Epeck::FT(loose) * Epeck::FT(loose)) << "face " << f << " listed far beyond the radius";
+        EXPECT_TRUE(testing::exact_within(p, a, b, c, loose)) << "face " << f << " listed far beyond the radius";
       }
     }
   }
@@ -195,8 +194,7 @@ TEST(SignedDistance, DistanceAmongCandidatesEnclosesTheExactDistance) {
       for (std::uint32_t f : within) in[f] = true;
       for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
         const Face& t = mesh.faces[f];
-        if (testing::exact_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]) <=
-            Epeck::FT(r2) * Epeck::FT(r2)) {
+        if (testing::exact_within(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], r2)) {
           ASSERT_TRUE(in[f]) << "face " << f << " within " << r2 << " but not kept";
         }
       }
@@ -205,8 +203,7 @@ TEST(SignedDistance, DistanceAmongCandidatesEnclosesTheExactDistance) {
       std::vector<std::uint32_t> short_list;
       for (std::uint32_t f : ids) {
         const Face& t = mesh.faces[f];
-        if (!(testing::exact_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]) <=
-              Epeck::FT(d.hi) * Epeck::FT(d.hi)))
+        if (!testing::exact_within(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], d.hi))
           short_list.push_back(f);
       }
       if (!short_list.empty() && !contains_sqrt(sdf.unsigned_distance_among(p, short_list), exact)) ++wrong_without_nearest;
