@@ -40,13 +40,16 @@ inline double weighted_mean_up(double sum, double weights) {
   return sum * (1.0 + 1e-12) / (weights * (1.0 - 1e-12));
 }
 
+// The weights' Frank-Wolfe stop (DepthWeights).
+inline double weights_gap(DepthWeights w) { return w == DepthWeights::sparse ? 0.5 : 1e-15; }
+
 // The convexity bound with near-coplanar triangles merged into planar patches where they provably
 // cover the cell (distance/planar_patch.h): each patch alone, and every member weighted at the
 // min-norm point of the gradients at c, a patch's gradient being its plane's normal. +inf when no
 // patch of two or more triangles covers the cell. ids and nearest: the candidates nearest first.
 double patched_depth_bound(const SignedDistance& sdf, const Vec3& c, const std::vector<std::uint32_t>& ids,
                            const std::vector<Vec3>& nearest, const Vec3* corners, int n_corners,
-                           const Vec3* plane_normal, double slack, int* worst_corner) {
+                           const Vec3* plane_normal, double slack, int* worst_corner, DepthWeights weights) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const TriangleMesh& m = sdf.mesh();
   const std::size_t n = ids.size();
@@ -132,7 +135,7 @@ double patched_depth_bound(const SignedDistance& sdf, const Vec3& c, const std::
   }
   if (plane_normal)
     for (Vec3& x : g) x -= x.dot(*plane_normal) * *plane_normal;
-  min_norm_combination(g, lambda, 100);
+  min_norm_combination(g, lambda, 100, weights_gap(weights));
   double worst = 0.0;
   int wc = 0;
   for (int k = 0; k < n_corners; ++k) {
@@ -251,15 +254,16 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
 
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
                          std::vector<std::uint32_t>& ids, Vec3* candidate, const Vec3* plane_normal, int* worst_corner,
-                         TranslatedDepthBound* moments, double coplanar_slack) {
+                         TranslatedDepthBound* moments, double coplanar_slack, DepthWeights weights) {
   sdf.triangles_within(c, radius, kMaxTriangles - 1, ids);  // stops after kMaxTriangles
   return depth_upper_bound_among(sdf, c, ids, corners, n_corners, candidate, plane_normal, worst_corner, moments,
-                                 coplanar_slack);
+                                 coplanar_slack, weights);
 }
 
 double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids,
                                const Vec3* corners, int n_corners, Vec3* candidate, const Vec3* plane_normal,
-                               int* worst_corner, TranslatedDepthBound* moments, double coplanar_slack) {
+                               int* worst_corner, TranslatedDepthBound* moments, double coplanar_slack,
+                               DepthWeights weights) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   if (moments) moments->n = 0;
   if (ids.empty()) return kInf;
@@ -298,7 +302,7 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
   thread_local std::vector<double> lambda;
   if (plane_normal)
     for (Vec3& x : g) x -= x.dot(*plane_normal) * *plane_normal;
-  min_norm_combination(g, lambda, 100);
+  min_norm_combination(g, lambda, 100, weights_gap(weights));
   if (candidate) {
     *candidate = Vec3::Zero();
     for (std::size_t j = 0; j < n; ++j) *candidate += lambda[j] * nearest[j];
@@ -339,7 +343,7 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
   if (coplanar_slack > 0.0 && (n_corners <= 3 || n_corners == 8) && n >= 2) {
     int corner = 0;
     const double patched = patched_depth_bound(sdf, c, ids, nearest, corners, n_corners, plane_normal, coplanar_slack,
-                                               &corner);
+                                               &corner, weights);
     if (patched < worst) {
       if (worst_corner) *worst_corner = corner;
       return patched;

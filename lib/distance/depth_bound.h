@@ -35,6 +35,14 @@ struct TranslatedDepthBound {
 // real translation differs adds the difference: the bound is 1-Lipschitz in D). +inf when n = 0.
 double translated_depth(const TranslatedDepthBound& b, const Vec3& D);
 
+// How far the weights are optimised (only the bound's tightness and cost depend on it).
+// `converged`: Frank-Wolfe to the min-norm point (up to 100 steps): the tightest on plateaus and
+// seams, for the maximum penetration's cubes. `sparse`: stopped once the duality gap is at most
+// 1/2, after one or two steps that cancel opposing gradients: a few weighted triangles, so the
+// corners' certified distances are few; the pose certificates' cells, which the branch and bound
+// splits anyway (doc/poses.md, "The depth bound's weights").
+enum class DepthWeights { converged, sparse };
+
 // c: a point of the cell (its centre); radius: the triangles considered are those within radius
 // of c (any subset gives a valid bound; it must reach the nearest ones to be tight). Returns +inf
 // when no triangle qualifies. `candidate` (optional) receives the lambda-weighted mean of the
@@ -45,14 +53,16 @@ double translated_depth(const TranslatedDepthBound& b, const Vec3& D);
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
                          std::vector<std::uint32_t>& scratch, Vec3* candidate = nullptr,
                          const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
-                         TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0);
+                         TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0,
+                         DepthWeights weights = DepthWeights::converged);
 // The same bound from the triangles `ids` (any set; it should hold the nearest ones of the cell's
 // points to be tight), of which the nearest kMaxTriangles (49) to c are kept: `ids` is reordered
 // nearest first and cut to those used. depth_upper_bound is triangles_within then this.
 double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids,
                                const Vec3* corners, int n_corners, Vec3* candidate = nullptr,
                                const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
-                               TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0);
+                               TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0,
+                               DepthWeights weights = DepthWeights::converged);
 // The same bound with the weights that minimise its largest corner value (a linear program over
 // the first max_members triangles of `ids`, e.g. the nearest ones as depth_upper_bound_among leaves
 // them): tighter than the min-norm weights where the nearest feature changes across the cell, as

@@ -218,7 +218,7 @@ double closest_point_error(const Vec3& a, const Vec3& b, const Vec3& c) {
   return 1e-13 * m + 1e-300;
 }
 
-Vec3 min_norm_combination(const std::vector<Vec3>& g, std::vector<double>& lambda, int iterations) {
+Vec3 min_norm_combination(const std::vector<Vec3>& g, std::vector<double>& lambda, int iterations, double gap) {
   lambda.assign(g.size(), 0.0);
   if (g.empty()) return Vec3::Zero();
   lambda[0] = 1.0;
@@ -229,7 +229,7 @@ Vec3 min_norm_combination(const std::vector<Vec3>& g, std::vector<double>& lambd
       if (g[j].dot(x) < g[k].dot(x)) k = j;
     const Vec3 d = x - g[k];
     const double dd = d.squaredNorm();
-    if (!(x.dot(d) > 1e-15) || !(dd > 0.0)) break;
+    if (!(x.dot(d) > gap) || !(dd > 0.0)) break;
     const double step = std::min(1.0, x.dot(d) / dd);
     x -= step * d;
     for (double& l : lambda) l *= 1.0 - step;

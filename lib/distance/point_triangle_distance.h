@@ -129,8 +129,11 @@ Vec3 point_of_triangle_near(const Vec3& p, const Vec3& a, const Vec3& b, const V
 double closest_point_error(const Vec3& a, const Vec3& b, const Vec3& c);
 
 // Weights lambda (>= 0, summing to 1) whose combination of the unit vectors g is near the
-// min-norm point of their convex hull (Frank-Wolfe with exact line search, starting at g[0]).
-// Heuristic: callers only use the weights in bounds that are valid for any weights.
-Vec3 min_norm_combination(const std::vector<Vec3>& g, std::vector<double>& lambda, int iterations);
+// min-norm point of their convex hull (Frank-Wolfe with exact line search, starting at g[0]),
+// stopping after `iterations` steps or once the duality gap x.(x - g_k) (an upper bound of
+// |x|^2/2 minus its least value) is at most `gap`. Heuristic: callers only use the weights in
+// bounds that are valid for any weights.
+Vec3 min_norm_combination(const std::vector<Vec3>& g, std::vector<double>& lambda, int iterations,
+                          double gap = 1e-15);
 
 }  // namespace cdbench

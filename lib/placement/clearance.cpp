@@ -396,7 +396,7 @@ class BranchAndBound {
       const std::array<Vec3, 8> corners = box.corners();
       TranslatedDepthBound moments;
       const double depth = depth_upper_bound(fixed_, centre, up(ud.hi + 2 * r), corners.data(), 8, ids_, nullptr,
-                                             nullptr, nullptr, &moments);
+                                             nullptr, nullptr, &moments, 0.0, DepthWeights::sparse);
       lower = std::max(lower, -depth);
       c.depth = keep_depth(moments, 0.0);
     }
@@ -572,9 +572,9 @@ class BranchAndBound {
         TranslatedDepthBound moments;
         const double depth =
             listed ? depth_upper_bound_among(fixed_, m, ids_, v.data(), 3, nullptr, len > 0.0 ? &normal : nullptr,
-                                             &corner, &moments, coplanar_slack())
+                                             &corner, &moments, coplanar_slack(), DepthWeights::sparse)
                    : depth_upper_bound(fixed_, m, reach, v.data(), 3, ids_, nullptr, len > 0.0 ? &normal : nullptr,
-                                       &corner, &moments, coplanar_slack());
+                                       &corner, &moments, coplanar_slack(), DepthWeights::sparse);
         c.depth = keep_depth(moments, eta);
         // The deepest point of a cell is often a corner (a mover vertex or edge): certify it, so
         // that the upper end meets the convexity bound without subdividing towards that corner.

@@ -40,7 +40,8 @@ struct Checked {
 // Random small triangles (cells) around a mesh, each with its bound from depth_upper_bound, then
 // translated by random D; every sampled point of the translated cell must be within the bound of
 // the surface. `flip` evaluates the bound at -D instead (a wrong bound, which must be caught).
-Checked check_mesh(const TriangleMesh& m, std::uint64_t seed, int cells, bool flip) {
+Checked check_mesh(const TriangleMesh& m, std::uint64_t seed, int cells, bool flip,
+                   DepthWeights weights = DepthWeights::converged) {
   const SignedDistance sdf(m);
   const Aabb box = m.bbox();
   const double diag = box.diagonal();
@@ -59,7 +60,7 @@ Checked check_mesh(const TriangleMesh& m, std::uint64_t seed, int cells, bool fl
     const Interval ud = sdf.unsigned_distance(centre);
     TranslatedDepthBound b;
     const double depth = depth_upper_bound(sdf, centre, ud.hi + 2 * radius, v.data(), 3, scratch, nullptr, nullptr,
-                                           nullptr, &b);
+                                           nullptr, &b, 0.0, weights);
     if (!(depth < HUGE_VAL) || b.n != 3) continue;
     ++r.cells;
     // At D = 0 the moments bound is never below the bound it extends (Jensen).
@@ -89,9 +90,11 @@ TEST(TranslatedDepth, BoundsEveryPointOfTheTranslatedCellExactly) {
            {"sphere", make_icosphere(1.0, 2)},
            {"box", make_box(Vec3(0, 0, 0), Vec3(2, 1, 0.5))}}) {
     SCOPED_TRACE(name);
-    const Checked r = check_mesh(m, 5, 200, false);
-    EXPECT_EQ(r.cells, 200);
-    EXPECT_EQ(r.violations, 0) << "of " << r.points;
+    for (const DepthWeights w : {DepthWeights::converged, DepthWeights::sparse}) {
+      const Checked r = check_mesh(m, 5, 200, false, w);
+      EXPECT_EQ(r.cells, 200);
+      EXPECT_EQ(r.violations, 0) << "of " << r.points;
+    }
   }
 }
 
@@ -197,6 +200,35 @@ std::vector<std::array<int, 3>> l_slab() {
   return cells;
 }
 
+// The pose certificates' sparse weights (a Frank-Wolfe stopped at duality gap 1/2) still cancel
+// the two opposite nearest faces of a thin wall: the bound on a cell deep inside it is its
+// half-width, as with converged weights (either face alone gives its deepest corner). At a box corner (three
+// nearest faces, no two opposite) the sparse bound stays valid and within the cell's size of the
+// converged one.
+TEST(DepthWeights, SparseWeightsKeepAThinWallsPlateauExact) {
+  const TriangleMesh m = make_box(Vec3(0, 0, 0), Vec3(4, 4, 0.2));
+  const SignedDistance sdf(m);
+  std::vector<std::uint32_t> scratch;
+  // Tilted across the mid-plane: one face alone would bound it by 0.125 (its deepest corner).
+  const std::array<Vec3, 3> v{Vec3(1.7, 1.2, 0.075), Vec3(2.2, 1.3, 0.1), Vec3(1.9, 1.8, 0.125)};
+  const Vec3 centre = (v[0] + v[1] + v[2]) / 3.0;
+  for (const DepthWeights w : {DepthWeights::converged, DepthWeights::sparse}) {
+    const double depth = depth_upper_bound(sdf, centre, 1.0, v.data(), 3, scratch, nullptr, nullptr, nullptr, nullptr,
+                                           0.0, w);
+    EXPECT_NEAR(depth, 0.1, 1e-12);
+  }
+  const std::array<Vec3, 3> corner{Vec3(0.05, 0.06, 0.04), Vec3(0.07, 0.05, 0.05), Vec3(0.06, 0.07, 0.06)};
+  const Vec3 cc = (corner[0] + corner[1] + corner[2]) / 3.0;
+  const double converged = depth_upper_bound(sdf, cc, 0.3, corner.data(), 3, scratch);
+  const double sparse = depth_upper_bound(sdf, cc, 0.3, corner.data(), 3, scratch, nullptr, nullptr, nullptr, nullptr,
+                                          0.0, DepthWeights::sparse);
+  for (const Vec3& x : samples(corner)) {
+    EXPECT_TRUE(within(exact_squared_distance(x, m), sparse));
+    EXPECT_TRUE(within(exact_squared_distance(x, m), converged));
+  }
+  EXPECT_LT(sparse, converged + 0.03);
+}
+
 Eigen::Matrix3d some_rotation() {
   return (Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()) * Eigen::AngleAxisd(0.3, Vec3(0, 1, 0))).toRotationMatrix();
 }
@@ -204,7 +236,8 @@ Eigen::Matrix3d some_rotation() {
 // Random cells near the surface (often straddling the shared edges of coplanar triangles): the
 // bound with planar patches must hold at every sampled point (exact rationals). Returns how often
 // patches made the bound tighter than without.
-int check_patch_bounds(const TriangleMesh& m, std::uint64_t seed, int cells, double slack) {
+int check_patch_bounds(const TriangleMesh& m, std::uint64_t seed, int cells, double slack,
+                       DepthWeights weights = DepthWeights::converged) {
   const SignedDistance sdf(m);
   const double diag = m.bbox().diagonal();
   std::mt19937_64 rng(seed);
@@ -233,9 +266,10 @@ int check_patch_bounds(const TriangleMesh& m, std::uint64_t seed, int cells, dou
     for (const Vec3& x : v) radius = std::max(radius, (x - centre).norm());
     const Interval ud = sdf.unsigned_distance(centre);
     Vec3 normal = (v[1] - v[0]).cross(v[2] - v[0]).normalized();
-    const double plain = depth_upper_bound(sdf, centre, ud.hi + 2 * radius, v.data(), 3, scratch, nullptr, &normal);
+    const double plain = depth_upper_bound(sdf, centre, ud.hi + 2 * radius, v.data(), 3, scratch, nullptr, &normal,
+                                           nullptr, nullptr, 0.0, weights);
     const double bound = depth_upper_bound(sdf, centre, ud.hi + 2 * radius, v.data(), 3, scratch, nullptr, &normal,
-                                           nullptr, nullptr, slack);
+                                           nullptr, nullptr, slack, weights);
     if (!(bound < HUGE_VAL)) continue;
     ++done;
     EXPECT_LE(bound, plain);
@@ -265,6 +299,7 @@ TEST(PlanarPatch, BoundsEveryPointOfTheCellExactly) {
     SCOPED_TRACE(name);
     const int tighter = check_patch_bounds(m, 3, 400, 1e-9 * 3 * m.bbox().diagonal());
     EXPECT_GT(tighter, 30) << "of 400";  // the patches matter on many of these cells (45-58)
+    check_patch_bounds(m, 3, 400, 1e-9 * 3 * m.bbox().diagonal(), DepthWeights::sparse);
   }
 }
 
