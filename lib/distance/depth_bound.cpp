@@ -30,6 +30,10 @@ namespace {
 // The most triangles a bound combines: a partial set is still valid, and the nearest ones make it
 // tight (the first found by the tree's nearest-first order, or the nearest of a candidate list).
 constexpr std::size_t kMaxTriangles = 49;
+// With sparse weights (a few weighted triangles) the 16 nearest suffice, and gathering and sorting
+// fewer is cheaper (doc/performance.md, "Sparse weights for the pose certificates": 8, 12 and 16
+// measured alike, 5-10 % faster than 49).
+constexpr std::size_t kMaxSparseTriangles = 16;
 // Planes tried for patches: those of the nearest triangles (the cell's nearest face is among them).
 constexpr std::size_t kPatchPlanes = 4;
 
@@ -42,6 +46,9 @@ inline double weighted_mean_up(double sum, double weights) {
 
 // The weights' Frank-Wolfe stop (DepthWeights).
 inline double weights_gap(DepthWeights w) { return w == DepthWeights::sparse ? 0.5 : 1e-15; }
+inline std::size_t max_triangles(DepthWeights w) {
+  return w == DepthWeights::sparse ? kMaxSparseTriangles : kMaxTriangles;
+}
 
 // The convexity bound with near-coplanar triangles merged into planar patches where they provably
 // cover the cell (distance/planar_patch.h): each patch alone, and every member weighted at the
@@ -255,7 +262,7 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
                          std::vector<std::uint32_t>& ids, Vec3* candidate, const Vec3* plane_normal, int* worst_corner,
                          TranslatedDepthBound* moments, double coplanar_slack, DepthWeights weights) {
-  sdf.triangles_within(c, radius, kMaxTriangles - 1, ids);  // stops after kMaxTriangles
+  sdf.triangles_within(c, radius, max_triangles(weights) - 1, ids);  // stops after max_triangles
   return depth_upper_bound_among(sdf, c, ids, corners, n_corners, candidate, plane_normal, worst_corner, moments,
                                  coplanar_slack, weights);
 }
@@ -286,7 +293,7 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
   std::sort(order.begin(), order.end(), [&](const auto& x, const auto& y) {
     return x.first < y.first || (x.first == y.first && ids[x.second] < ids[y.second]);
   });
-  n = std::min(n, kMaxTriangles);
+  n = std::min(n, max_triangles(weights));
   g.resize(n);
   for (std::size_t j = 0; j < n; ++j) nearest[j] = points[order[j].second];
   for (std::size_t j = 0; j < n; ++j) order[j].second = ids[order[j].second];

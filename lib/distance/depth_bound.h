@@ -56,8 +56,8 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
                          TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0,
                          DepthWeights weights = DepthWeights::converged);
 // The same bound from the triangles `ids` (any set; it should hold the nearest ones of the cell's
-// points to be tight), of which the nearest kMaxTriangles (49) to c are kept: `ids` is reordered
-// nearest first and cut to those used. depth_upper_bound is triangles_within then this.
+// points to be tight), of which the nearest 49 to c are kept (16 with sparse weights): `ids` is
+// reordered nearest first and cut to those used. depth_upper_bound is triangles_within then this.
 double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids,
                                const Vec3* corners, int n_corners, Vec3* candidate = nullptr,
                                const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
