@@ -19,6 +19,12 @@ inline Epeck::FT exact_squared_distance(const Vec3& p, const Vec3& a, const Vec3
   return CGAL::squared_distance(exact_point(p), Epeck::Triangle_3(exact_point(a), exact_point(b), exact_point(c)));
 }
 
+// The squared distance from p to triangle abc in doubles (CGAL's Epick): the filters below.
+inline double approx_squared_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const auto P = [](const Vec3& v) { return Epick::Point_3(v.x(), v.y(), v.z()); };
+  return CGAL::squared_distance(P(p), Epick::Triangle_3(P(a), P(b), P(c)));
+}
+
 // Exact squared distance from p to the mesh: candidates filtered in doubles with a wide margin
 // (1e-6 relative), the minimum taken exactly among them.
 inline Epeck::FT exact_squared_distance(const Vec3& p, const TriangleMesh& m) {
@@ -26,8 +32,7 @@ inline Epeck::FT exact_squared_distance(const Vec3& p, const TriangleMesh& m) {
   double best = HUGE_VAL;
   for (std::size_t i = 0; i < m.faces.size(); ++i) {
     const auto& f = m.faces[i];
-    const auto P = [&](std::uint32_t v) { return Epick::Point_3(m.vertices[v].x(), m.vertices[v].y(), m.vertices[v].z()); };
-    approx[i] = CGAL::squared_distance(Epick::Point_3(p.x(), p.y(), p.z()), Epick::Triangle_3(P(f[0]), P(f[1]), P(f[2])));
+    approx[i] = approx_squared_distance(p, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
     best = std::min(best, approx[i]);
   }
   bool first = true;
@@ -47,8 +52,7 @@ inline Epeck::FT exact_squared_distance(const Vec3& p, const TriangleMesh& m) {
 // far above their rounding), exactly otherwise: exhaustive loops over a mesh stay fast (the
 // sanitizer build runs them too).
 inline bool exact_within(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double r) {
-  const auto P = [](const Vec3& v) { return Epick::Point_3(v.x(), v.y(), v.z()); };
-  const double approx = CGAL::squared_distance(P(p), Epick::Triangle_3(P(a), P(b), P(c)));
+  const double approx = approx_squared_distance(p, a, b, c);
   const double r2 = r * r;
   const double margin = 1e-6 * (approx + r2) + 1e-12 * (1.0 + p.squaredNorm() + a.squaredNorm());
   if (approx < r2 - margin) return true;

@@ -202,9 +202,9 @@ std::vector<std::array<int, 3>> l_slab() {
 
 // The pose certificates' sparse weights (a Frank-Wolfe stopped at duality gap 1/2) still cancel
 // the two opposite nearest faces of a thin wall: the bound on a cell deep inside it is its
-// half-width, as with converged weights (either face alone gives its deepest corner). At a box corner (three
-// nearest faces, no two opposite) the sparse bound stays valid and within the cell's size of the
-// converged one.
+// half-width, as with converged weights (either face alone gives its deepest corner). At a box
+// corner (three nearest faces, no two opposite) the sparse bound stays valid and within the
+// cell's size of the converged one.
 TEST(DepthWeights, SparseWeightsKeepAThinWallsPlateauExact) {
   const TriangleMesh m = make_box(Vec3(0, 0, 0), Vec3(4, 4, 0.2));
   const SignedDistance sdf(m);
