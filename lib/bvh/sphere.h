@@ -14,12 +14,11 @@ struct Sphere {
   double radius = -1.0;  // negative: empty
 };
 
-// A sphere containing the points p[0..n) (centre: their box centre, which is at most sqrt(3)/2 of
-// the box diagonal from any point, so the radius is within a factor ~1.7 of optimal).
+// A sphere containing the points p[0..n) centred at the centre of `box`, their bounding box (which
+// is at most sqrt(3)/2 of the box diagonal from any point, so the radius is within a factor ~1.7 of
+// optimal). Callers that also need the box pass it here instead of computing it twice.
 template <class PointAt>
-Sphere bounding_sphere(int n, const PointAt& point_at) {
-  Aabb box;
-  for (int i = 0; i < n; ++i) box.extend(point_at(i));
+Sphere bounding_sphere_in_box(const Aabb& box, int n, const PointAt& point_at) {
   Sphere s;
   if (box.empty()) return s;
   s.center = box.center();
@@ -29,6 +28,11 @@ Sphere bounding_sphere(int n, const PointAt& point_at) {
   // term cover both (and subnormal underflow).
   s.radius = std::sqrt(r2) * (1.0 + kRoundingSlack) + 1e-300;
   return s;
+}
+
+template <class PointAt>
+Sphere bounding_sphere(int n, const PointAt& point_at) {
+  return bounding_sphere_in_box(bounding_box(n, point_at), n, point_at);
 }
 
 }  // namespace cdbench

@@ -311,7 +311,8 @@ SweepMesh make_sweep_mesh(std::vector<Vec3> vertices, std::vector<Face> faces, c
   m.tree = build_triangle_bvh<SweepVolume>(
       m.vertices, m.faces,
       [oriented](int n, const auto& p) {
-        return SweepVolume{bounding_sphere(n, p), bounding_box(n, p), oriented ? fit_obb(n, p) : Obb{}};
+        const Aabb box = bounding_box(n, p);
+        return SweepVolume{bounding_sphere_in_box(box, n, p), box, oriented ? fit_obb(n, p) : Obb{}};
       },
       options);
   return m;

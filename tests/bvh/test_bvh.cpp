@@ -185,6 +185,44 @@ TEST(Bvh, ParallelBuildEqualsASerialBuildWithAnOrderDependentFit) {
   }
 }
 
+// build_triangle_bvh fits a node of 64 triangles or more from a gathered copy of its corners: the
+// fit must see the same points in the same order as from the mesh itself (corner k % 3 of
+// triangle ids[k / 3]). An order-dependent hash of the coordinates, through build_triangle_bvh and
+// through build_bvh reading the mesh directly: equal on every node. Fails if a corner were dropped,
+// repeated or permuted in the copy.
+TEST(Bvh, TriangleFitsSeeTheCornersOfTheirTrianglesInOrder) {
+  const RandomBoxes rb(20000, 5);
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<std::uint32_t> pick(0, 2 * 20000 - 1);
+  for (const Aabb& b : rb.boxes) {
+    vertices.push_back(b.lo);
+    vertices.push_back(b.hi);
+  }
+  for (std::size_t i = 0; i < rb.boxes.size(); ++i) triangles.push_back({pick(rng), pick(rng), pick(rng)});
+  const auto hash_points = [](int n, const auto& point_at) {
+    OrderHash v{1469598103934665603ull};
+    for (int k = 0; k < n; ++k)
+      for (int c = 0; c < 3; ++c) v.h = (v.h ^ std::hash<double>{}(point_at(k)[c])) * 1099511628211ull;
+    return v;
+  };
+  const Bvh<OrderHash> gathered = build_triangle_bvh<OrderHash>(vertices, triangles, hash_points);
+  std::vector<Eigen::Vector3d> centroids;
+  for (const auto& t : triangles) centroids.push_back((vertices[t[0]] + vertices[t[1]] + vertices[t[2]]) / 3.0);
+  const Bvh<OrderHash> direct = build_bvh<OrderHash>(centroids, [&](const std::uint32_t* ids, std::size_t n) {
+    return hash_points(static_cast<int>(3 * n),
+                       [&](int k) -> const Eigen::Vector3d& { return vertices[triangles[ids[k / 3]][k % 3]]; });
+  });
+  ASSERT_EQ(gathered.nodes.size(), direct.nodes.size());
+  std::size_t large = 0;
+  for (std::size_t k = 0; k < direct.nodes.size(); ++k) {
+    ASSERT_EQ(gathered.nodes[k].bv.h, direct.nodes[k].bv.h) << k;
+    if (direct.nodes[k].count == 0) ++large;
+  }
+  EXPECT_GT(large, 300u);  // internal nodes, many of them at or above the gathering size
+}
+
 // A nearest-box query through the shared traversal must agree with brute force.
 struct NearestBox {
   const std::vector<Aabb>& boxes;
