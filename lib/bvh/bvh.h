@@ -20,6 +20,7 @@
 // First contact along a line (sphere trees), minimum distance and overlap (boxes) are policies.
 #include <Eigen/Core>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -55,53 +56,52 @@ struct BuildTask {
   std::uint32_t node, begin, end;
 };
 
-// Builds the subtree of `task` (its node already allocated in `nodes`): median split of the
-// centroids along the longest axis of their box, children allocated in pairs as they are split.
-// Subtrees with at most `defer` primitives (and more than a leaf's) are left unbuilt and listed in
-// `deferred`, in the order met.
-// A node whose volume is fitted later: its primitives in the order the fit would have met them.
+// A top node whose volume is fitted later: its primitives in the order the fit would have met
+// them.
 struct DeferredFit {
   std::uint32_t node;
   std::vector<std::uint32_t> ids;
 };
 
-// alloc_pair() returns the index of a new pair of nodes (left, left + 1) in `nodes`.
+// Reorders order[begin, end) so that its first half (count / 2) holds the primitives whose
+// centroids come first along the longest axis of their box (ties by index); returns the middle.
+inline std::uint32_t median_split(std::vector<std::uint32_t>& order, const std::vector<Eigen::Vector3d>& centroids,
+                                  std::uint32_t begin, std::uint32_t end) {
+  Eigen::Vector3d lo = centroids[order[begin]], hi = lo;
+  for (std::uint32_t i = begin; i < end; ++i) {
+    lo = lo.cwiseMin(centroids[order[i]]);
+    hi = hi.cwiseMax(centroids[order[i]]);
+  }
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  const std::uint32_t mid = begin + (end - begin) / 2;
+  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                   [&](std::uint32_t a, std::uint32_t b) {
+                     const double ca = centroids[a][axis], cb = centroids[b][axis];
+                     return ca < cb || (ca == cb && a < b);
+                   });
+  return mid;
+}
+
+// Builds the subtree of `task` (its node already allocated in `nodes`): median split of the
+// centroids, each node fitted before its split, children allocated in pairs as they are split
+// (alloc_pair() returns the index of a new pair (left, left + 1) in `nodes`), left subtree first.
 template <class BV, class Fit, class AllocPair>
 void build_subtree(typename Bvh<BV>::NodeArray& nodes, std::vector<std::uint32_t>& order,
                    const std::vector<Eigen::Vector3d>& centroids, const Fit& fit, std::uint32_t leaf_size,
-                   BuildTask root, std::uint32_t defer, std::vector<BuildTask>* deferred,
-                   std::vector<DeferredFit>* fits, AllocPair&& alloc_pair) {
+                   BuildTask root, AllocPair&& alloc_pair) {
   std::vector<BuildTask> stack{root};
   while (!stack.empty()) {
     const BuildTask task = stack.back();
     stack.pop_back();
     const std::uint32_t count = task.end - task.begin;
-    if (deferred && count <= defer && count > leaf_size) {
-      deferred->push_back(task);
-      continue;
-    }
-    if (fits && count > leaf_size)
-      fits->push_back({task.node, std::vector<std::uint32_t>(order.begin() + task.begin, order.begin() + task.end)});
-    else
-      nodes[task.node].bv = fit(order.data() + task.begin, count);
+    nodes[task.node].bv = fit(order.data() + task.begin, count);
     if (count <= leaf_size) {
       nodes[task.node].first = task.begin;
       nodes[task.node].count = count;
       continue;
     }
-    Eigen::Vector3d lo = centroids[order[task.begin]], hi = lo;
-    for (std::uint32_t i = task.begin; i < task.end; ++i) {
-      lo = lo.cwiseMin(centroids[order[i]]);
-      hi = hi.cwiseMax(centroids[order[i]]);
-    }
-    int axis = 0;
-    (hi - lo).maxCoeff(&axis);
-    const std::uint32_t mid = task.begin + count / 2;
-    std::nth_element(order.begin() + task.begin, order.begin() + mid, order.begin() + task.end,
-                     [&](std::uint32_t a, std::uint32_t b) {
-                       const double ca = centroids[a][axis], cb = centroids[b][axis];
-                       return ca < cb || (ca == cb && a < b);
-                     });
+    const std::uint32_t mid = median_split(order, centroids, task.begin, task.end);
     const std::uint32_t left = alloc_pair();
     nodes[task.node].first = left;
     nodes[task.node].count = 0;
@@ -117,11 +117,67 @@ inline std::uint32_t subtree_nodes(std::uint32_t count, std::uint32_t leaf_size)
   return 1 + subtree_nodes(count / 2, leaf_size) + subtree_nodes(count - count / 2, leaf_size);
 }
 
+// The number of nodes the top of a deferred build has for `count` primitives: the node itself,
+// and below it unless it is deferred (at most `defer` primitives) or a leaf.
+inline std::uint32_t top_nodes(std::uint32_t count, std::uint32_t defer, std::uint32_t leaf_size) {
+  if (count <= defer || count <= leaf_size) return 1;
+  return 1 + top_nodes(count / 2, defer, leaf_size) + top_nodes(count - count / 2, defer, leaf_size);
+}
+
+struct TopWork {
+  std::vector<BuildTask> deferred;
+  std::vector<DeferredFit> fits;
+  void append(TopWork&& o) {
+    deferred.insert(deferred.end(), o.deferred.begin(), o.deferred.end());
+    for (DeferredFit& f : o.fits) fits.push_back(std::move(f));
+  }
+};
+
+// The top of a large build: nodes of more than `defer` primitives are split (their volumes fitted
+// later from the listed copies), the others listed as deferred subtrees; two halves are split in
+// parallel while large. Every node gets the number the serial pre-order walk would give it, which depends on the
+// counts only: a node's children are the pair at `first_free`, then come the left child's
+// top_nodes - 1 descendants, then the right child's. Deferred subtrees are listed left to right.
+template <class BV, class Fit>
+void split_top(typename Bvh<BV>::NodeArray& nodes, std::vector<std::uint32_t>& order,
+               const std::vector<Eigen::Vector3d>& centroids, const Fit& fit, std::uint32_t leaf_size,
+               std::uint32_t defer, BuildTask task, std::uint32_t first_free, TopWork& out) {
+  constexpr std::uint32_t kParallelSplit = 65536;
+  const std::uint32_t count = task.end - task.begin;
+  if (count <= leaf_size) {
+    nodes[task.node].bv = fit(order.data() + task.begin, count);
+    nodes[task.node].first = task.begin;
+    nodes[task.node].count = count;
+    return;
+  }
+  if (count <= defer) {
+    out.deferred.push_back(task);
+    return;
+  }
+  out.fits.push_back({task.node, std::vector<std::uint32_t>(order.begin() + task.begin, order.begin() + task.end)});
+  const std::uint32_t mid = median_split(order, centroids, task.begin, task.end);
+  nodes[task.node].first = first_free;
+  nodes[task.node].count = 0;
+  const BuildTask left{first_free, task.begin, mid}, right{first_free + 1, mid, task.end};
+  const std::uint32_t left_free = first_free + 2;
+  const std::uint32_t right_free = left_free + top_nodes(mid - task.begin, defer, leaf_size) - 1;
+  if (count <= kParallelSplit) {
+    split_top<BV>(nodes, order, centroids, fit, leaf_size, defer, left, left_free, out);
+    split_top<BV>(nodes, order, centroids, fit, leaf_size, defer, right, right_free, out);
+    return;
+  }
+  TopWork right_work;
+  tbb::parallel_invoke(
+      [&] { split_top<BV>(nodes, order, centroids, fit, leaf_size, defer, left, left_free, out); },
+      [&] { split_top<BV>(nodes, order, centroids, fit, leaf_size, defer, right, right_free, right_work); });
+  out.append(std::move(right_work));
+}
+
 }  // namespace detail
 
 // fit(ids, n) returns the bounding volume of the n primitives ids[0..n).
-// Large hierarchies are built in parallel (TBB): the top is split first, then the top's volumes
-// and the subtrees of at most 8,192 primitives are built on all threads, the subtrees in place and
+// Large hierarchies are built in parallel (TBB): the top is split first (its large halves in
+// parallel, split_top), then the top's volumes and the subtrees of at most 8,192 primitives are built on all threads, the subtrees in place and
 // numbered in a fixed order, so the tree (its shape, its node numbering and every volume) depends only on the
 // input, never on the thread count. A top node's volume is fitted from a copy of its primitives in
 // the order they had before its split, the order a serial build fits them in. (Fitted serially,
@@ -145,14 +201,14 @@ Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit,
   };
   constexpr std::uint32_t kDefer = 8192;
   if (n <= kDefer) {
-    detail::build_subtree<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, {0, 0, n}, 0, nullptr, nullptr,
-                              append_pair);
+    detail::build_subtree<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, {0, 0, n}, append_pair);
     return bvh;
   }
-  std::vector<detail::BuildTask> deferred;
-  std::vector<detail::DeferredFit> fits;
-  detail::build_subtree<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, {0, 0, n}, kDefer, &deferred, &fits,
-                            append_pair);
+  bvh.nodes.resize(detail::top_nodes(n, kDefer, leaf_size));
+  detail::TopWork top;
+  detail::split_top<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, kDefer, {0, 0, n}, 1, top);
+  const std::vector<detail::BuildTask>& deferred = top.deferred;
+  const std::vector<detail::DeferredFit>& fits = top.fits;
   // The deferred subtrees are built in place, in parallel, numbered as if appended one after the
   // other: subtree i's root is its reserved node, its other nodes base_i .. base_i + size_i - 2.
   std::vector<std::uint32_t> base(deferred.size());
@@ -170,8 +226,7 @@ Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit,
     }
     const std::size_t k = i - fits.size();
     std::uint32_t next = base[k];
-    detail::build_subtree<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, deferred[k], 0, nullptr, nullptr,
-                              [&next] {
+    detail::build_subtree<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, deferred[k], [&next] {
                                 const std::uint32_t left = next;
                                 next += 2;
                                 return left;

@@ -87,12 +87,13 @@ TEST(Bvh, EveryPrimitiveInOneLeafAndBoxesNest) {
   }
 }
 
-// Above 8,192 primitives the subtrees are built in parallel, numbered in a fixed order: every
-// node reachable once from the root, boxes nested, every primitive in one leaf, and the same node
-// arrays (numbering included) in a one-thread arena as on all threads.
+// Above 8,192 primitives the subtrees are built in parallel, numbered in a fixed order, and above
+// 65,536 the top's halves are split in parallel: every node reachable once from the root, boxes
+// nested, every primitive in one leaf, and the same node arrays (numbering included) in a
+// one-thread arena as on all threads.
 TEST(Bvh, ParallelBuildIsValidAndIndependentOfTheThreadCount) {
   for (std::uint32_t leaf_size : {1u, 4u}) {
-    const int n = 30000;
+    const int n = 300000;
     const RandomBoxes rb(n, 13);
     const Bvh<Aabb> bvh = rb.build(leaf_size);
     Bvh<Aabb> serial;
@@ -123,7 +124,7 @@ TEST(Bvh, ParallelBuildEqualsASerialBuildWithAnOrderDependentFit) {
     return v;
   };
   for (std::uint32_t leaf_size : {1u, 5u}) {
-    const RandomBoxes rb(40000, 21);
+    const RandomBoxes rb(300000, 21);  // the top's halves are split in parallel above 65,536
     const Bvh<OrderHash> bvh = build_bvh<OrderHash>(rb.centroids, fit, BvhBuildOptions{leaf_size});
     struct Node {
       OrderHash bv;
