@@ -13,6 +13,7 @@
 #include "mesh/shapes.h"
 #include "mesh/write_mesh.h"
 #include "poseset/pose_csv.h"
+#include "test_scale.h"
 
 namespace cdbench {
 namespace {
@@ -92,7 +93,7 @@ TEST(GridOffsets, NarrowInteriorBandKeepsTheLevels) {
 
 TEST(FloatPlacement, SphereOnSphereOffsets) {
   const TriangleMesh fixed = make_icosphere(1.0, 4), mover = make_icosphere(0.5, 4);
-  const GridSdf grid(fixed, {voxel_for_grid(fixed, 128), 0.3});
+  const GridSdf grid(fixed, {voxel_for_grid(fixed, test_scale::pick(128, 64)), 0.3});  // tolerances in voxels
   const SweepMesh swept = make_sweep_mesh(mover.vertices, mover.faces);  // centres together: t0 = 0
   for (double d : {-0.3, 0.0, 0.25}) {
     const TriangleMesh iso = grid.isosurface(d);
@@ -111,7 +112,7 @@ TEST(FloatPlacement, SphereThroughATorus) {
   // level-d offset (a tube of radius 0.3 + d) where sqrt(1 + z^2) = 0.5 + d, or passes through
   // the hole when 0.5 + d < 1.
   const TriangleMesh torus = make_torus(1.0, 0.3, 96, 48), ball = make_icosphere(0.2, 4);
-  const GridSdf grid(torus, {voxel_for_grid(torus, 160), 0.7});
+  const GridSdf grid(torus, {voxel_for_grid(torus, test_scale::pick(160, 80)), 0.7});  // tolerances in voxels
   const SweepMesh swept = make_sweep_mesh(ball.vertices, ball.faces);
   const Vec3 dir(0, 0, 1);
   for (double d : {0.1, 0.45}) {

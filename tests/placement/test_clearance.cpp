@@ -12,6 +12,7 @@
 #include "placement/advance.h"
 #include "placement/clearance.h"
 #include "placement/place_pose.h"
+#include "test_scale.h"
 
 namespace cdbench {
 namespace {
@@ -229,7 +230,8 @@ TEST(Clearance, NeedleCellsAgreeWithDenseSampling) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Case c(make_torus(1.0, 0.4, 24, 12), make_torus(0.6, 0.03, 6, 12));
   int penetrating = 0;
-  for (int k = 0; k < 16; ++k) {
+  const int poses = test_scale::cases(16);
+  for (int k = 0; k < poses; ++k) {
     const Eigen::Matrix3d R = random_rotation(rng);
     const Vec3 t = Vec3(1.0, 0.0, 0.0) + 0.45 * Vec3(u(rng), u(rng), u(rng));
     const double tol = 1e-6;
@@ -251,7 +253,7 @@ TEST(Clearance, NeedleCellsAgreeWithDenseSampling) {
     }
     penetrating += !r.separated;
   }
-  EXPECT_GT(penetrating, 6);
+  EXPECT_GT(penetrating, 6 * poses / 16);
 }
 
 // A branch and bound warm-started from the previous pose's frontier (shifted bounds, and the cells'
@@ -451,7 +453,8 @@ TEST(PlacePose, LongStepsNeverPassAnEarlierCrossing) {
   opt.start = PoseStart::Far;
   std::mt19937_64 rng(23);
   int tries = 0, placed = 0;
-  for (int k = 0; k < 12; ++k) {
+  const int lines = test_scale::cases(12);
+  for (int k = 0; k < lines; ++k) {
     const Eigen::Matrix3d R = random_rotation(rng);
     const OrientationFrame frame = make_orientation_frame(setup, R);
     // Mostly grazing lines: along the torus' plane, offset from the centre.
@@ -473,8 +476,8 @@ TEST(PlacePose, LongStepsNeverPassAnEarlierCrossing) {
       }
     }
   }
-  EXPECT_GT(placed, 20);
-  EXPECT_GT(tries, 10);
+  EXPECT_GT(placed, 20 * lines / 12) << placed;
+  EXPECT_GT(tries, 10 * lines / 12) << tries;
 }
 
 // The separated advance's step (placement/advance.h): from separated poses around a torus, every
