@@ -1,6 +1,8 @@
 #include "sweep/mesh_sweep.h"
 
 #include <CGAL/Interval_nt.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -360,40 +362,47 @@ SweepMesh placed_sweep_mesh(const SweepMesh& own, const Eigen::Matrix3d& R, cons
   const Eigen::Matrix3d absR = R.cwiseAbs();
   const double nR = spectral_norm_upper(R);
   const auto outward = [](double x) { return x * (1.0 + 1e-14) + 1e-300; };
-  for (std::size_t k = 0; k < own.tree.nodes.size(); ++k) {
-    const auto& a = own.tree.nodes[k];
-    auto& b = r.tree.nodes[k];
-    b.first = a.first;
-    b.count = a.count;
-    const SweepVolume& u = a.bv;
-    SweepVolume& w = b.bv;
-    // A point x of the volume lands at y = R x + t + e (|e| <= err); the volume's centre c at
-    // c' = fl(fl(R c) + t), within place_error of R c + t.
-    if (u.sphere.radius >= 0.0) {  // |y - c'| <= |R| |x - c| + err + |c' - (R c + t)|
-      w.sphere.center = carry(R, t, u.sphere.center);
-      w.sphere.radius = outward(nR * u.sphere.radius + err + place_error(absR, u.sphere.center, t));
+  // Every node on its own (on all threads: an orientation's frame holds up the threads that wait
+  // for it), leaves' boxes included; then the internal boxes, which need their children's.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, own.tree.nodes.size(), 4096), [&](const auto& range) {
+    for (std::size_t k = range.begin(); k != range.end(); ++k) {
+      const auto& a = own.tree.nodes[k];
+      auto& b = r.tree.nodes[k];
+      b.first = a.first;
+      b.count = a.count;
+      const SweepVolume& u = a.bv;
+      SweepVolume& w = b.bv;
+      // A point x of the volume lands at y = R x + t + e (|e| <= err); the volume's centre c at
+      // c' = fl(fl(R c) + t), within place_error of R c + t.
+      if (u.sphere.radius >= 0.0) {  // |y - c'| <= |R| |x - c| + err + |c' - (R c + t)|
+        w.sphere.center = carry(R, t, u.sphere.center);
+        w.sphere.radius = outward(nR * u.sphere.radius + err + place_error(absR, u.sphere.center, t));
+      }
+      if (u.obb.half[0] >= 0.0) {
+        // y = c' + fl(R A) a + (R A - fl(R A)) a + (R c + t - c') + e, |a_k| <= half_k: within the
+        // pad of the carried box; fl(R A)'s columns are within 1e-15 |R| |A_k| <= 2e-15 of R A_k.
+        w.obb.center = carry(R, t, u.obb.center);
+        w.obb.axes = R * u.obb.axes;
+        w.obb.half = u.obb.half;
+        w.obb.pad = outward(nR * u.obb.pad + err + place_error(absR, u.obb.center, t) + 1e-14 * u.obb.half.sum());
+      }
+      // The boxes, tight: each leaf's from its triangles' placed vertices.
+      if (b.count > 0) {
+        Aabb box;
+        for (std::uint32_t i = 0; i < b.count; ++i)
+          for (std::uint32_t v : r.faces[r.tree.order[b.first + i]]) box.extend(r.vertices[v]);
+        b.bv.box = box;
+      }
     }
-    if (u.obb.half[0] >= 0.0) {
-      // y = c' + fl(R A) a + (R A - fl(R A)) a + (R c + t - c') + e, |a_k| <= half_k: within the
-      // pad of the carried box; fl(R A)'s columns are within 1e-15 |R| |A_k| <= 2e-15 of R A_k.
-      w.obb.center = carry(R, t, u.obb.center);
-      w.obb.axes = R * u.obb.axes;
-      w.obb.half = u.obb.half;
-      w.obb.pad = outward(nR * u.obb.pad + err + place_error(absR, u.obb.center, t) + 1e-14 * u.obb.half.sum());
-    }
-  }
-  // The boxes, tight: each leaf's from its triangles' placed vertices, each internal node's the
-  // union of its children's (children follow their parent in the node array).
+  });
+  // Each internal node's box: the union of its children's (children follow their parent in the
+  // node array).
   for (std::size_t k = r.tree.nodes.size(); k-- > 0;) {
     auto& b = r.tree.nodes[k];
+    if (b.count > 0) continue;
     Aabb box;
-    if (b.count > 0) {
-      for (std::uint32_t i = 0; i < b.count; ++i)
-        for (std::uint32_t v : r.faces[r.tree.order[b.first + i]]) box.extend(r.vertices[v]);
-    } else {
-      box.extend(r.tree.nodes[b.first].bv.box);
-      box.extend(r.tree.nodes[b.first + 1].bv.box);
-    }
+    box.extend(r.tree.nodes[b.first].bv.box);
+    box.extend(r.tree.nodes[b.first + 1].bv.box);
     b.bv.box = box;
   }
   return r;
