@@ -135,9 +135,10 @@ struct TopWork {
 
 // The top of a large build: nodes of more than `defer` primitives are split (their volumes fitted
 // later from the listed copies), the others listed as deferred subtrees; two halves are split in
-// parallel while large. Every node gets the number the serial pre-order walk would give it, which depends on the
-// counts only: a node's children are the pair at `first_free`, then come the left child's
-// top_nodes - 1 descendants, then the right child's. Deferred subtrees are listed left to right.
+// parallel while large. Every node gets the number the serial pre-order walk would give it, which
+// depends on the counts only: a node's children are the pair at `first_free`, then come the left
+// child's top_nodes - 1 descendants, then the right child's. Deferred subtrees are listed left to
+// right.
 template <class BV, class Fit>
 void split_top(typename Bvh<BV>::NodeArray& nodes, std::vector<std::uint32_t>& order,
                const std::vector<Eigen::Vector3d>& centroids, const Fit& fit, std::uint32_t leaf_size,
@@ -177,12 +178,12 @@ void split_top(typename Bvh<BV>::NodeArray& nodes, std::vector<std::uint32_t>& o
 
 // fit(ids, n) returns the bounding volume of the n primitives ids[0..n).
 // Large hierarchies are built in parallel (TBB): the top is split first (its large halves in
-// parallel, split_top), then the top's volumes and the subtrees of at most 8,192 primitives are built on all threads, the subtrees in place and
-// numbered in a fixed order, so the tree (its shape, its node numbering and every volume) depends only on the
-// input, never on the thread count. A top node's volume is fitted from a copy of its primitives in
-// the order they had before its split, the order a serial build fits them in. (Fitted serially,
-// the top's volumes over 832,000 triangles took most of a 3 s build of spheres, boxes and
-// oriented boxes.)
+// parallel, split_top), then the top's volumes and the subtrees of at most 8,192 primitives are
+// built on all threads, the subtrees in place and numbered in a fixed order, so the tree (its
+// shape, its node numbering and every volume) depends only on the input, never on the thread
+// count. A top node's volume is fitted from a copy of its primitives in the order they had before
+// its split, the order a serial build fits them in. (Fitted serially, the top's volumes over
+// 832,000 triangles took most of a 3 s build of spheres, boxes and oriented boxes.)
 template <class BV, class Fit>
 Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit, const BvhBuildOptions& options = {}) {
   Bvh<BV> bvh;
