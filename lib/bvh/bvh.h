@@ -111,17 +111,12 @@ void build_subtree(typename Bvh<BV>::NodeArray& nodes, std::vector<std::uint32_t
 }
 
 // The number of nodes build_subtree makes for `count` primitives (the split depends on the count
-// only: halves count / 2 and count - count / 2, leaves of at most leaf_size).
-inline std::uint32_t subtree_nodes(std::uint32_t count, std::uint32_t leaf_size) {
-  if (count <= leaf_size) return 1;
-  return 1 + subtree_nodes(count / 2, leaf_size) + subtree_nodes(count - count / 2, leaf_size);
-}
-
-// The number of nodes the top of a deferred build has for `count` primitives: the node itself,
-// and below it unless it is deferred (at most `defer` primitives) or a leaf.
-inline std::uint32_t top_nodes(std::uint32_t count, std::uint32_t defer, std::uint32_t leaf_size) {
-  if (count <= defer || count <= leaf_size) return 1;
-  return 1 + top_nodes(count / 2, defer, leaf_size) + top_nodes(count - count / 2, defer, leaf_size);
+// only: halves count / 2 and count - count / 2, leaves of at most leaf_size); with `defer`, the
+// nodes of the top of a deferred build (split_top), whose nodes of at most `defer` primitives
+// stand for their unbuilt subtrees.
+inline std::uint32_t subtree_nodes(std::uint32_t count, std::uint32_t leaf_size, std::uint32_t defer = 0) {
+  if (count <= leaf_size || count <= defer) return 1;
+  return 1 + subtree_nodes(count / 2, leaf_size, defer) + subtree_nodes(count - count / 2, leaf_size, defer);
 }
 
 struct TopWork {
@@ -133,25 +128,19 @@ struct TopWork {
   }
 };
 
-// The top of a large build: nodes of more than `defer` primitives are split (their volumes fitted
-// later from the listed copies), the others listed as deferred subtrees; two halves are split in
-// parallel while large. Every node gets the number the serial pre-order walk would give it, which
-// depends on the counts only: a node's children are the pair at `first_free`, then come the left
-// child's top_nodes - 1 descendants, then the right child's. Deferred subtrees are listed left to
-// right.
+// The top of a large build: nodes of more than `defer` (and leaf_size) primitives are split
+// (their volumes fitted later from the listed copies), the others listed as deferred subtrees; two
+// halves are split in parallel while large. Every node gets the number the serial pre-order walk
+// would give it, which depends on the counts only: a node's children are the pair at
+// `first_free`, then come the left child's subtree_nodes - 1 descendants, then the right child's.
+// Deferred subtrees are listed left to right.
 template <class BV, class Fit>
 void split_top(typename Bvh<BV>::NodeArray& nodes, std::vector<std::uint32_t>& order,
                const std::vector<Eigen::Vector3d>& centroids, const Fit& fit, std::uint32_t leaf_size,
                std::uint32_t defer, BuildTask task, std::uint32_t first_free, TopWork& out) {
   constexpr std::uint32_t kParallelSplit = 65536;
   const std::uint32_t count = task.end - task.begin;
-  if (count <= leaf_size) {
-    nodes[task.node].bv = fit(order.data() + task.begin, count);
-    nodes[task.node].first = task.begin;
-    nodes[task.node].count = count;
-    return;
-  }
-  if (count <= defer) {
+  if (count <= leaf_size || count <= defer) {  // a leaf is a deferred subtree of one node
     out.deferred.push_back(task);
     return;
   }
@@ -161,7 +150,7 @@ void split_top(typename Bvh<BV>::NodeArray& nodes, std::vector<std::uint32_t>& o
   nodes[task.node].count = 0;
   const BuildTask left{first_free, task.begin, mid}, right{first_free + 1, mid, task.end};
   const std::uint32_t left_free = first_free + 2;
-  const std::uint32_t right_free = left_free + top_nodes(mid - task.begin, defer, leaf_size) - 1;
+  const std::uint32_t right_free = left_free + subtree_nodes(mid - task.begin, leaf_size, defer) - 1;
   if (count <= kParallelSplit) {
     split_top<BV>(nodes, order, centroids, fit, leaf_size, defer, left, left_free, out);
     split_top<BV>(nodes, order, centroids, fit, leaf_size, defer, right, right_free, out);
@@ -205,7 +194,7 @@ Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit,
     detail::build_subtree<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, {0, 0, n}, append_pair);
     return bvh;
   }
-  bvh.nodes.resize(detail::top_nodes(n, kDefer, leaf_size));
+  bvh.nodes.resize(detail::subtree_nodes(n, leaf_size, kDefer));
   detail::TopWork top;
   detail::split_top<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, kDefer, {0, 0, n}, 1, top);
   const std::vector<detail::BuildTask>& deferred = top.deferred;
