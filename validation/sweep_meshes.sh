@@ -12,11 +12,15 @@
 #   CHECK_POSES (6: certificates sampled per mesh), TIME_LIMIT (300 s per command), OUT
 #   (build/sweep-meshes), MOVER (a mesh moved against every one: the default is each mesh itself),
 #   TOLERANCE (cdbench poses --tolerance; its default when unset), POSES_ARGS (more options for
-#   cdbench poses, e.g. "--direction-sampling grid": axis-aligned approach directions).
+#   cdbench poses, e.g. "--direction-sampling grid": axis-aligned approach directions), BENCH
+#   (approaches: also time validation/bench_poses on that many approaches, one thread, and print
+#   a certified polished pose's time over FCL's conservative advancement, all levels; empty: not).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="$root/build/cdbench"
 checker="$root/build/validation/check_poses"
+bencher="$root/build/validation/bench_poses"
+bench=${BENCH:-}
 max_faces=${MAX_FACES:-10000}
 levels=${LEVELS:--20%,0,5%}
 directions=${DIRECTIONS:-20}
@@ -37,9 +41,10 @@ if [ ${#meshes[@]} -eq 0 ]; then
 fi
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //');" \
      "levels $levels; $directions directions x $orientations orientations; at most $max_faces faces;" \
-     "mover ${MOVER:-each mesh itself}; tolerance ${TOLERANCE:-default}; ${POSES_ARGS:-}"
-printf '%-28s %8s %8s %11s %8s %10s %9s %s\n' mesh faces seconds certified failed confirmed max-steps note
+     "mover ${MOVER:-each mesh itself}; tolerance ${TOLERANCE:-default}; ${POSES_ARGS:-}${bench:+; bench_poses on $bench approaches}"
+printf '%-28s %8s %8s %11s %8s %10s %9s %9s %s\n' mesh faces seconds certified failed confirmed max-steps pose/FCL note
 tried=0 skipped=0 too_big=0 failed_levels=0 poses=0 certified=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
+worst_ratio=0 worst_name=-
 for mesh in "${meshes[@]}"; do
   name=$(basename "$mesh")
   name=${name//./_}  # keeps the extension: CGAL's data has sphere.off and sphere.obj
@@ -64,7 +69,7 @@ for mesh in "${meshes[@]}"; do
   note=""
   [ $rc -eq 124 ] && note="time limit"
   [ $rc -ne 0 ] && [ $rc -ne 124 ] && note="exit $rc"
-  n=0 c=0 f=0 ok="-" most=0
+  n=0 c=0 f=0 ok="-" most=0 ratio="-"
   if [ -f "$dir/poses.csv" ]; then
     # Poses, certified poses, and the most polishing steps one pose took (long plateaus).
     read -r n c most < <(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "status") s = i; if ($i == "polish_steps") p = i }; next }
@@ -85,6 +90,17 @@ print(sum(1 for l in levels if l['certified'] + l['no_contact'] < l['poses']
     else
       note="$note checker: ${line:0:60}"
     fi
+    if [ -n "$bench" ]; then
+      # The "all" row of bench_poses' per-level table: its last column is pose / FCL CA.
+      ratio=$(timeout "$limit" "$bencher" "$dir" --approaches "$bench" 2>&1 | awk '$1 == "all" { r = $NF } END { print r }')
+      if [ -z "$ratio" ]; then
+        ratio="-"
+        note="$note bench_poses failed"
+      elif python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "$ratio" "$worst_ratio"; then
+        worst_ratio=$ratio
+        worst_name=$name
+      fi
+    fi
   fi
   poses=$((poses + n))
   certified=$((certified + c))
@@ -93,9 +109,10 @@ print(sum(1 for l in levels if l['certified'] + l['no_contact'] < l['poses']
     slowest=$secs
     slowest_name=$name
   fi
-  printf '%-28s %8s %8s %11s %8s %10s %9s %s\n' "$name" "$faces" "$secs" "$c/$n" "$f" "$ok" "$most" "$note"
+  printf '%-28s %8s %8s %11s %8s %10s %9s %9s %s\n' "$name" "$faces" "$secs" "$c/$n" "$f" "$ok" "$most" "$ratio" "$note"
 done
 echo
 echo "meshes run: $tried (not closed solids: $skipped; more than $max_faces faces: $too_big)"
 echo "failed levels: $failed_levels; certified poses: $certified/$poses;" \
      "sampled certificates confirmed: $confirmed/$sampled; slowest: $slowest_name $slowest s"
+if [ -n "$bench" ]; then echo "largest certified pose / FCL CA (all levels): $worst_name $worst_ratio"; fi
