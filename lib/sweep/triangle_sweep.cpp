@@ -2,6 +2,8 @@
 
 #include <CGAL/Interval_nt.h>
 
+#include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 
@@ -300,11 +302,53 @@ std::optional<mpq_class> first_contact_time(const Triangle& A, const Triangle& B
   return std::nullopt;
 }
 
+namespace {
+// The geometric event a candidate's time solves for, as the point sets it depends on: kind 0, B's
+// vertex j reaching the plane of A (A's three corners); kind 1, the plane of B reaching A's vertex
+// i; kind 2, the lines of an edge of each; kinds 3 and 4, a vertex and the line of an edge; kind
+// 5, two vertices. The exact time is a function of these sets alone (its formula, evaluated
+// exactly, gives the one solution whatever the order of the corners or of an edge's ends), so two
+// candidates with equal events have equal times.
+struct Event {
+  int kind = 0;
+  std::array<Vec3, 3> a{}, b{};  // the points, each side sorted; unused slots stay zero
+};
+bool point_less(const Vec3& p, const Vec3& q) {
+  return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+}
+template <std::size_t N>
+std::array<Vec3, 3> sorted(const std::array<Vec3, N>& p) {
+  std::array<Vec3, 3> r{};
+  std::copy(p.begin(), p.end(), r.begin());
+  std::sort(r.begin(), r.begin() + N, point_less);
+  return r;
+}
+std::array<Vec3, 2> edge(const Triangle& T, int i) { return {T[i], T[(i + 1) % 3]}; }
+std::array<Vec3, 1> vertex(const Triangle& T, int i) { return {T[i]}; }
+Event event_of(const SweepCandidate& c, const Triangle& A, const Triangle& B) {
+  Event e;
+  e.kind = c.kind;
+  switch (c.kind) {
+    case 0: e.a = sorted(A), e.b = sorted(vertex(B, c.j)); break;
+    case 1: e.a = sorted(vertex(A, c.i)), e.b = sorted(B); break;
+    case 2: e.a = sorted(edge(A, c.i)), e.b = sorted(edge(B, c.j)); break;
+    case 3: e.a = sorted(vertex(A, c.i)), e.b = sorted(edge(B, c.j)); break;
+    case 4: e.a = sorted(edge(A, c.i)), e.b = sorted(vertex(B, c.j)); break;
+    default: e.a = sorted(vertex(A, c.i)), e.b = sorted(vertex(B, c.j)); break;
+  }
+  return e;
+}
+bool same_event(const Event& x, const Event& y) { return x.kind == y.kind && x.a == y.a && x.b == y.b; }
+}  // namespace
+
 int compare_entry_times(const LineContact& c1, const Triangle& A1, const Triangle& B1, const Vec3& v1,
                         const LineContact& c2, const Triangle& A2, const Triangle& B2, const Vec3& v2) {
   if (c1.t_in.hi < c2.t_in.lo) return -1;
   if (c2.t_in.hi < c1.t_in.lo) return 1;
   if (c1.t_in.lo == c1.t_in.hi && c2.t_in.lo == c2.t_in.hi) return 0;  // both exact doubles, equal
+  // One event seen from two triangle pairs (a vertex or an edge shared by neighbouring faces: the
+  // usual tie of a first contact) needs no rationals.
+  if (v1 == v2 && same_event(event_of(c1.in, A1, B1), event_of(c2.in, A2, B2))) return 0;
   return cmp(exact_candidate_time(A1, B1, v1, c1.in), exact_candidate_time(A2, B2, v2, c2.in));
 }
 

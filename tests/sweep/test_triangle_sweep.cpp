@@ -224,6 +224,62 @@ TEST(TriangleSweep, HandBuiltDegenerateCases) {
   }
 }
 
+// compare_entry_times decides one event seen from two triangle pairs (a vertex or an edge shared by
+// neighbouring faces, corners in any order) without rationals; every answer must equal the exact
+// comparison. Cases: a mover vertex shared by two faces reaching a fixed face (kind 0), a mover
+// edge shared by two faces crossing a fixed ridge (kind 2, edges reversed in the neighbours), and
+// near-ties of different events (a second vertex one ulp higher: overlapping enclosures, unequal
+// times) that must not be merged.
+TEST(TriangleSweep, CompareEntryTimesTiesAgreeWithRationals) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const auto jitter = [&](double x) { return x + 0.01 * U(rng); };
+  int ties = 0, near = 0, compared = 0;
+  const auto check = [&](const Triangle& A1, const Triangle& B1, const Triangle& A2, const Triangle& B2, const Vec3& v) {
+    const LineContact c1 = line_contact(A1, B1, v), c2 = line_contact(A2, B2, v);
+    if (!c1.hit || !c2.hit) return;
+    ++compared;
+    const int exact = cmp(exact_candidate_time(A1, B1, v, c1.in), exact_candidate_time(A2, B2, v, c2.in));
+    const int got = compare_entry_times(c1, A1, B1, v, c2, A2, B2, v);
+    EXPECT_EQ(got, exact) << describe(A1, B1, v) << "\nagainst\n" << describe(A2, B2, v);
+    ties += exact == 0;
+  };
+  for (int k = 0; k < 400; ++k) {
+    const Vec3 v(0.05 * U(rng), 0.05 * U(rng), -1.0 - 0.1 * std::abs(U(rng)));
+    // A vertex b below its two faces, over a fixed face; the neighbour's corners in another order.
+    const Triangle A{Vec3(jitter(-10), jitter(-10), jitter(0)), Vec3(jitter(10), jitter(-10), jitter(0)),
+                     Vec3(jitter(0), jitter(10), jitter(0))};
+    const Vec3 b(U(rng), U(rng), 5.0 + U(rng));
+    const Triangle B1{b, b + Vec3(jitter(1), jitter(0), jitter(1)), b + Vec3(jitter(0), jitter(1), jitter(2))};
+    const Triangle B2{b + Vec3(jitter(-1), jitter(0.5), jitter(3)), b + Vec3(jitter(0.3), jitter(-1), jitter(1)), b};
+    const Triangle Ar{A[2], A[1], A[0]};
+    check(A, B1, A, B2, v);
+    check(A, B1, Ar, B2, v);
+    // Another vertex beside b parallel to A's plane, then one ulp higher: a different event whose
+    // time differs from b's by about an ulp (the enclosures overlap; the exact times differ or not).
+    const Vec3 n = (A[1] - A[0]).cross(A[2] - A[0]);
+    Vec3 c = b + 0.25 * n.cross(Vec3(1, 0, 0)).normalized();
+    c[2] = std::nextafter(c[2], 100.0);
+    const Triangle C{c, c + Vec3(jitter(1), jitter(0), jitter(1)), c + Vec3(jitter(0), jitter(1), jitter(2))};
+    const LineContact lb = line_contact(A, B1, v), lc = line_contact(A, C, v);
+    near += lb.hit && lc.hit && !(lb.t_in.hi < lc.t_in.lo) && !(lc.t_in.hi < lb.t_in.lo);
+    check(A, B1, A, C, v);
+    check(A, C, A, B1, v);
+    // A mover ridge su over a fixed ridge pq, each shared by two faces (reversed in the second).
+    const double h = 3.0 + U(rng);
+    const Vec3 p(jitter(-5), jitter(0), jitter(0)), q(jitter(5), jitter(0), jitter(0));
+    const Vec3 s(jitter(0.3), jitter(-5), h), u(jitter(0.2), jitter(5), h + 0.1 * U(rng));
+    const Triangle F1{p, q, Vec3(jitter(0), jitter(3), jitter(-2))}, F2{q, p, Vec3(jitter(0), jitter(-3), jitter(-2))};
+    const Triangle M1{s, u, Vec3(jitter(3), jitter(0), h + 2)}, M2{u, s, Vec3(jitter(-3), jitter(0), h + 2)};
+    check(F1, M1, F2, M2, v);
+    check(F1, M2, F2, M1, v);
+    check(F2, M1, F1, M1, v);
+  }
+  EXPECT_GT(compared, 2000);
+  EXPECT_GT(ties, 1500);  // most comparisons are true ties of one event (2,000 of 2,800)
+  EXPECT_GT(near, 100);   // and the near-ties reach the exact comparison (400)
+}
+
 std::size_t random_case_count() {
   if (const char* e = std::getenv("CDBENCH_SWEEP_CASES")) return std::strtoull(e, nullptr, 10);
   return 100000;
