@@ -21,6 +21,13 @@ Vec3 bbox_centre(const std::vector<Vec3>& v) {
   return b.center();
 }
 
+double bbox_diagonal(const std::vector<Vec3>& v) {
+  if (v.empty()) return 0.0;
+  Aabb b;
+  for (const Vec3& p : v) b.extend(p);
+  return b.extent().norm();
+}
+
 double max_distance(const std::vector<Vec3>& v, const Vec3& c) {
   double r = 0.0;
   for (const Vec3& p : v) r = std::max(r, (p - c).norm());
@@ -122,7 +129,15 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
   s.mover_ref = bbox_centre(mover.vertices);
   s.fixed_radius = max_distance(fixed.mesh().vertices, s.fixed_ref);
   s.mover_radius = max_distance(mover.vertices, s.mover_ref);
-  s.advance_target_limit = 12.0 * std::min(median_edge_length(fixed.mesh()), median_edge_length(mover));
+  {
+    // The pairs within reach of a target tau lie in a band about the contact about sqrt(R tau)
+    // across (R a curvature radius, here the smaller diagonal), holding some R tau / e^2 triangles
+    // of median edge e: the advance pays while tau/e is at most 12 and (tau/e)(D/e) at most 1650
+    // (measured on armadillo and its subdivisions and bunny00: doc/poses.md).
+    const double e = std::min(median_edge_length(fixed.mesh()), median_edge_length(mover));
+    const double D = std::min(bbox_diagonal(fixed.mesh().vertices), bbox_diagonal(mover.vertices));
+    s.advance_target_limit = D > 0.0 ? std::min(12.0 * e, 1650.0 * e * e / D) : 0.0;
+  }
   s.mover_sweep = mover_sweep ? std::move(mover_sweep)
                               : std::make_shared<const SweepMesh>(make_sweep_mesh(mover.vertices, mover.faces));
   return s;

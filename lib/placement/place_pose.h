@@ -25,10 +25,11 @@ struct ApproachSetup {
   std::vector<std::uint32_t> components;  // component_representatives(*mover)
   Vec3 fixed_ref = Vec3::Zero(), mover_ref = Vec3::Zero();  // bbox centres
   double fixed_radius = 0.0, mover_radius = 0.0;  // max distance of a vertex from the reference point
-  // Targets > 0 up to this use the separated advance (PoseOptions::separated_advance): 12 times the
-  // smaller of the two meshes' median edge lengths. A heuristic that only picks the kind of step:
-  // the advance's traversal visits every pair that may come within the target, and where the
-  // target spans dozens of triangles certified steps are cheaper (measured, doc/poses.md).
+  // Targets > 0 up to this use the separated advance (PoseOptions::separated_advance): the smaller
+  // of 12 e and 1650 e^2 / D, e the smaller of the two meshes' median edge lengths and D of their
+  // bounding-box diagonals. A heuristic that only picks the kind of step: the advance's traversal
+  // visits every pair that may come within the target, and where that band holds many triangles
+  // certified steps are cheaper (measured, doc/poses.md).
   double advance_target_limit = 0.0;
   // The fixed surface's own sweep mesh, when attached: a first contact with it is certified by the
   // exact sweep (a touching pose, c in a few-ulp interval about 0), without a branch and bound.
