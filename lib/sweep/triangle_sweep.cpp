@@ -311,14 +311,14 @@ namespace {
 // candidates with equal events have equal times.
 struct Event {
   int kind = 0;
-  std::array<Vec3, 3> a{}, b{};  // the points, each side sorted; unused slots stay zero
+  std::array<Vec3, 3> a, b;  // the points, each side sorted; unused slots zero
 };
 bool point_less(const Vec3& p, const Vec3& q) {
   return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
 }
 template <std::size_t N>
 std::array<Vec3, 3> sorted(const std::array<Vec3, N>& p) {
-  std::array<Vec3, 3> r{};
+  std::array<Vec3, 3> r{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  // Eigen leaves a default Vec3 unset
   std::copy(p.begin(), p.end(), r.begin());
   std::sort(r.begin(), r.begin() + N, point_less);
   return r;
