@@ -15,19 +15,6 @@
 namespace cdbench {
 namespace {
 
-Vec3 bbox_centre(const std::vector<Vec3>& v) {
-  Aabb b;
-  for (const Vec3& p : v) b.extend(p);
-  return b.center();
-}
-
-double bbox_diagonal(const std::vector<Vec3>& v) {
-  if (v.empty()) return 0.0;
-  Aabb b;
-  for (const Vec3& p : v) b.extend(p);
-  return b.extent().norm();
-}
-
 double max_distance(const std::vector<Vec3>& v, const Vec3& c) {
   double r = 0.0;
   for (const Vec3& p : v) r = std::max(r, (p - c).norm());
@@ -125,8 +112,9 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
   s.fixed = &fixed;
   s.mover = &mover;
   s.components = component_representatives(mover);
-  s.fixed_ref = bbox_centre(fixed.mesh().vertices);
-  s.mover_ref = bbox_centre(mover.vertices);
+  const Aabb mover_box = mover.bbox();
+  s.fixed_ref = fixed.bbox().center();
+  s.mover_ref = mover_box.center();
   s.fixed_radius = max_distance(fixed.mesh().vertices, s.fixed_ref);
   s.mover_radius = max_distance(mover.vertices, s.mover_ref);
   {
@@ -135,7 +123,7 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
     // of median edge e: the advance pays while tau/e is at most 12 and (tau/e)(D/e) at most 1650
     // (measured on armadillo and its subdivisions and bunny00: doc/poses.md).
     const double e = std::min(median_edge_length(fixed.mesh()), median_edge_length(mover));
-    const double D = std::min(bbox_diagonal(fixed.mesh().vertices), bbox_diagonal(mover.vertices));
+    const double D = std::min(fixed.bbox().diagonal(), mover_box.diagonal());
     s.advance_target_limit = D > 0.0 ? std::min(12.0 * e, 1650.0 * e * e / D) : 0.0;
   }
   s.mover_sweep = mover_sweep ? std::move(mover_sweep)
