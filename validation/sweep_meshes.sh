@@ -6,7 +6,7 @@
 # max-steps column: the most polishing steps one pose took) and a summary: meshes tried, failed
 # levels, certified fraction, sampled certificates confirmed, the slowest run. Meshes that are not
 # closed solids are counted and skipped (their rejection is `cdbench check`'s business, tested
-# elsewhere).
+# elsewhere), or with REPAIR=1 repaired first.
 # Usage: validation/sweep_meshes.sh [MESH ...]
 # Environment: MAX_FACES (10000), LEVELS (-20%,0,5%), DIRECTIONS (20), ORIENTATIONS (2),
 #   CHECK_POSES (6: certificates sampled per mesh), TIME_LIMIT (300 s per command), OUT
@@ -14,7 +14,10 @@
 #   TOLERANCE (cdbench poses --tolerance; its default when unset), POSES_ARGS (more options for
 #   cdbench poses, e.g. "--direction-sampling grid": axis-aligned approach directions), BENCH
 #   (approaches: also time validation/bench_poses on that many approaches, one thread, and print
-#   a certified polished pose's time over FCL's conservative advancement, all levels; empty: not).
+#   a certified polished pose's time over FCL's conservative advancement, all levels; empty: not),
+#   REPAIR (1: a mesh that `cdbench check` rejects is first made a closed solid by `cdbench repair`
+#   into OUT, as a user would, and run on that; its note says so with the repair's seconds and the
+#   solid's faces; empty: such meshes are skipped).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="$root/build/cdbench"
@@ -43,15 +46,27 @@ echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -
      "levels $levels; $directions directions x $orientations orientations; at most $max_faces faces;" \
      "mover ${MOVER:-each mesh itself}; tolerance ${TOLERANCE:-default}; ${POSES_ARGS:-}${bench:+; bench_poses on $bench approaches}"
 printf '%-28s %8s %8s %11s %8s %10s %9s %9s %s\n' mesh faces seconds certified failed confirmed max-steps pose/FCL note
-tried=0 skipped=0 too_big=0 failed_levels=0 poses=0 certified=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
+tried=0 skipped=0 repaired_count=0 repair_failed=0 too_big=0 failed_levels=0 poses=0 certified=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
 worst_ratio=0 worst_name=-
 for mesh in "${meshes[@]}"; do
   name=$(basename "$mesh")
   name=${name//./_}  # keeps the extension: CGAL's data has sphere.off and sphere.obj
   check="$out/$name.check"
+  repaired=""
   if ! timeout "$limit" "$bin" check "$mesh" --no-max-penetration > "$check" 2>&1; then
-    skipped=$((skipped + 1))
-    continue
+    if [ "${REPAIR:-}" != 1 ]; then
+      skipped=$((skipped + 1))
+      continue
+    fi
+    start=$(date +%s.%N)
+    if ! timeout "$limit" "$bin" repair "$mesh" "$out/$name.repaired.off" > "$out/$name.repair.log" 2>&1 ||
+       ! timeout "$limit" "$bin" check "$out/$name.repaired.off" --no-max-penetration > "$check" 2>&1; then
+      printf '%-28s %8s %8s %11s %8s %10s %9s %9s %s\n' "$name" - - - - - - - "repair failed: see $out/$name.repair.log"
+      repair_failed=$((repair_failed + 1))
+      continue
+    fi
+    repaired=$(python3 -c "print('%.1f' % ($(date +%s.%N) - $start))")
+    mesh="$out/$name.repaired.off"
   fi
   faces=$(awk '/^mesh:/ && /triangles/ { print $(NF-1); exit }' "$check")
   if [ -z "$faces" ] || [ "$faces" -gt "$max_faces" ]; then
@@ -59,6 +74,7 @@ for mesh in "${meshes[@]}"; do
     continue
   fi
   tried=$((tried + 1))
+  [ -n "$repaired" ] && repaired_count=$((repaired_count + 1))
   dir="$out/$name"
   rm -rf "$dir"
   start=$(date +%s.%N)
@@ -67,8 +83,9 @@ for mesh in "${meshes[@]}"; do
   rc=$?
   secs=$(python3 -c "print('%.1f' % ($(date +%s.%N) - $start))")
   note=""
-  [ $rc -eq 124 ] && note="time limit"
-  [ $rc -ne 0 ] && [ $rc -ne 124 ] && note="exit $rc"
+  [ -n "$repaired" ] && note="repaired ($repaired s)"
+  [ $rc -eq 124 ] && note="$note time limit"
+  [ $rc -ne 0 ] && [ $rc -ne 124 ] && note="$note exit $rc"
   n=0 c=0 f=0 ok="-" most=0 ratio="-"
   if [ -f "$dir/poses.csv" ]; then
     # Poses, certified poses, and the most polishing steps one pose took (long plateaus).
@@ -112,7 +129,8 @@ print(sum(1 for l in levels if l['certified'] + l['no_contact'] < l['poses']
   printf '%-28s %8s %8s %11s %8s %10s %9s %9s %s\n' "$name" "$faces" "$secs" "$c/$n" "$f" "$ok" "$most" "$ratio" "$note"
 done
 echo
-echo "meshes run: $tried (not closed solids: $skipped; more than $max_faces faces: $too_big)"
+echo "meshes run: $tried (repaired first: $repaired_count; repair failed: $repair_failed; not closed solids:" \
+     "$skipped; more than $max_faces faces: $too_big)"
 echo "failed levels: $failed_levels; certified poses: $certified/$poses;" \
      "sampled certificates confirmed: $confirmed/$sampled; slowest: $slowest_name $slowest s"
 if [ -n "$bench" ]; then echo "largest certified pose / FCL CA (all levels): $worst_name $worst_ratio"; fi
