@@ -4,6 +4,8 @@
 //  - fcl::detail::conservativeAdvancementMeshOriented (OBBRSS, TranslationMotion) on the same
 //    approach, from the same far start to the mirrored far end;
 //  - how far FCL's contact is from the exact one, and the certified pose rate of the pose set;
+//  - on lines the exact sweep proves to miss, any contact FCL claims, certified at its pose (a
+//    penetrating one would contradict the sweep: exit 1);
 //  - per level, the certified polished pose on the same approaches (the pose set's own start and
 //    tolerance), timed in the same run, and its ratio to FCL's conservative advancement.
 // Usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]
@@ -118,6 +120,7 @@ static int run(int argc, char** argv) {
   double t_exact = 0.0, t_fcl = 0.0, max_over = 0.0, max_under = 0.0;
   std::uint64_t node_tests = 0, leaf_sweeps = 0;  // the exact first contact's work
   std::size_t differ = 0, overshoot = 0, both = 0, fcl_miss = 0;
+  std::size_t exact_miss = 0, fcl_only = 0, fcl_only_contradicting = 0, fcl_only_grazing = 0;
   // Where the two disagree, the certified clearance decides: at the exact contact it must enclose 0
   // (touching), a hair before it be positive (no earlier contact), and at FCL's contact, if FCL
   // went past, be negative (FCL's pose penetrates).
@@ -162,7 +165,19 @@ static int run(int argc, char** argv) {
       level_certified[l] += p.contact && p.certified && p.on_target;
       level_steps[l] += static_cast<std::size_t>(p.steps);
     }
-    if (!c.hit) continue;
+    if (!c.hit) {
+      // The exact sweep proves the line misses; FCL claiming a contact there is checked by a
+      // certificate at its pose: c > 0 refutes FCL; c < 0 would contradict the sweep (an error,
+      // exit 1); an interval holding 0 is a graze within the certificate's width.
+      ++exact_miss;
+      if (hit) {
+        ++fcl_only;
+        const Interval at = clearance_at(*frame, d, lambda_ca);
+        if (at.hi < 0.0) ++fcl_only_contradicting;
+        else if (!(at.lo > 0.0)) ++fcl_only_grazing;
+      }
+      continue;
+    }
     const double lambda_fcl = hit ? lambda_ca : NAN;
     const double err = lambda_fcl - lambda_exact;  // < 0: FCL moved past the exact first contact
     if (!hit || std::abs(err) > 1e-6 * diag) {
@@ -209,6 +224,10 @@ static int run(int argc, char** argv) {
   std::printf("%-12s %-8s %12.3f %12.1f %14s %14s %14.2f\n", "all", "", 1e3 * all / (M * L), M * L / all, "", "",
               (all / (M * L)) / (t_fcl / M));
   std::printf("approaches %zu, contact found by both %zu, FCL found none %zu\n", M, both, fcl_miss);
+  std::printf("lines the exact sweep proves to miss: %zu; FCL found a contact on %zu of them: certified at FCL's pose "
+              "apart %zu, grazing (c's interval holds 0) %zu, penetrating %zu (contradicts the sweep)\n",
+              exact_miss, fcl_only, fcl_only - fcl_only_grazing - fcl_only_contradicting, fcl_only_grazing,
+              fcl_only_contradicting);
   std::printf("FCL contact differs from the exact one by > 1e-6 diag: %zu (%.1f%%), past it: %zu; max past %.3g, "
               "max short %.3g (x diag: %.3g, %.3g)\n",
               differ, both ? 100.0 * differ / both : 0.0, overshoot, max_over, max_under, max_over / diag,
@@ -216,6 +235,11 @@ static int run(int argc, char** argv) {
   std::printf("disagreements checked with certified clearances: %zu; exact contact confirmed (c encloses 0 there, "
               "c > 0 just before): %zu; FCL pose past the contact certified penetrating: %zu\n",
               checked, exact_confirmed, fcl_penetrating);
+  if (fcl_only_contradicting > 0) {
+    std::fprintf(stderr, "bench_poses: error: %zu lines the exact sweep proves to miss hold a certified penetrating pose\n",
+                 fcl_only_contradicting);
+    return 1;
+  }
   return 0;
 }
 
