@@ -16,8 +16,8 @@
 #   (approaches: also time validation/bench_poses on that many approaches, one thread, and print
 #   a certified polished pose's time over FCL's conservative advancement, all levels; empty: not),
 #   REPAIR (1: a mesh that `cdbench check` rejects is first made a closed solid by `cdbench repair`
-#   into OUT, as a user would, and run on that; its note says so with the repair's seconds and the
-#   solid's faces; empty: such meshes are skipped).
+#   into OUT, as a user would, and run on that (faces: the repaired solid's); its note says so with
+#   the repair's seconds; empty: such meshes are skipped).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="$root/build/cdbench"
@@ -37,6 +37,8 @@ extra=()
 # shellcheck disable=SC2206  # POSES_ARGS is a list of words by design
 [ -n "${POSES_ARGS:-}" ] && extra+=(${POSES_ARGS})
 mkdir -p "$out"
+# Seconds since START (a `date +%s.%N` reading), one decimal.
+seconds_since() { python3 -c "print('%.1f' % ($(date +%s.%N) - $1))"; }
 meshes=("$@")
 if [ ${#meshes[@]} -eq 0 ]; then
   [ -d "$root/data/cgal/meshes" ] || bash "$root/scripts/fetch-cgal-data.sh"
@@ -61,11 +63,12 @@ for mesh in "${meshes[@]}"; do
     start=$(date +%s.%N)
     if ! timeout "$limit" "$bin" repair "$mesh" "$out/$name.repaired.off" > "$out/$name.repair.log" 2>&1 ||
        ! timeout "$limit" "$bin" check "$out/$name.repaired.off" --no-max-penetration > "$check" 2>&1; then
-      printf '%-28s %8s %8s %11s %8s %10s %9s %9s %s\n' "$name" - - - - - - - "repair failed: see $out/$name.repair.log"
+      printf '%-28s %8s %8s %11s %8s %10s %9s %9s %s\n' "$name" - - - - - - - \
+        "repair failed: see $out/$name.repair.log and $check"
       repair_failed=$((repair_failed + 1))
       continue
     fi
-    repaired=$(python3 -c "print('%.1f' % ($(date +%s.%N) - $start))")
+    repaired=$(seconds_since "$start")
     mesh="$out/$name.repaired.off"
   fi
   faces=$(awk '/^mesh:/ && /triangles/ { print $(NF-1); exit }' "$check")
@@ -81,7 +84,7 @@ for mesh in "${meshes[@]}"; do
   timeout "$limit" "$bin" poses "$mesh" --levels="$levels" --directions "$directions" \
     --orientations "$orientations" "${extra[@]}" -o "$dir" > "$out/$name.log" 2>&1
   rc=$?
-  secs=$(python3 -c "print('%.1f' % ($(date +%s.%N) - $start))")
+  secs=$(seconds_since "$start")
   note=""
   [ -n "$repaired" ] && note="repaired ($repaired s)"
   [ $rc -eq 124 ] && note="$note time limit"
