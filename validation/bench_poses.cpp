@@ -9,8 +9,10 @@
 //  - per level, the certified polished pose on the same approaches (the pose set's own start and
 //    tolerance), timed in the same run, and its ratio to FCL's conservative advancement.
 // Usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]
+//                    [--no-support-planes]
 //   --no-separated-advance: targets > 0 advance by a certificate per step (the former way), for A/B.
 //   --no-sweep-certificate: the touching pose certified by a branch and bound (the former way), A/B.
+//   --no-support-planes: penetrating targets of a convex F without its supporting planes, A/B.
 
 #include <algorithm>
 #include <chrono>
@@ -45,8 +47,9 @@ TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_s
 static int run(int argc, char** argv) {
   const char* usage =
       "usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]\n"
+      "       [--no-support-planes]\n"
       "  times certified polished poses of a pose set made by `cdbench poses` against FCL's conservative\n"
-      "  advancement on the same approaches (M: how many, default 200); the two --no-* switches select\n"
+      "  advancement on the same approaches (M: how many, default 200); the --no-* switches select\n"
       "  the former ways of the separated advance and of the touching certificate (A/B)\n";
   if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
     std::fputs(usage, stdout);
@@ -58,11 +61,12 @@ static int run(int argc, char** argv) {
   }
   const std::string dir = argv[1];
   std::size_t wanted = 200;
-  bool separated_advance = true, no_sweep_certificate = false;
+  bool separated_advance = true, no_sweep_certificate = false, support_planes = true;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--approaches") == 0 && i + 1 < argc) wanted = std::stoul(argv[++i]);
     else if (std::strcmp(argv[i], "--no-separated-advance") == 0) separated_advance = false;  // A/B
     else if (std::strcmp(argv[i], "--no-sweep-certificate") == 0) no_sweep_certificate = true;  // A/B
+    else if (std::strcmp(argv[i], "--no-support-planes") == 0) support_planes = false;  // A/B
     else {
       std::fprintf(stderr, "bench_poses: unknown option '%s'\n%s", argv[i], usage);
       return 2;
@@ -106,6 +110,7 @@ static int run(int argc, char** argv) {
   po.polish = ps["polishing"]["enabled"].get<bool>();
   po.max_steps = ps["polishing"]["max_steps"].get<int>();
   po.separated_advance = separated_advance;
+  po.support_planes = support_planes;
   for (std::size_t l = 0; l < L; ++l) {
     const auto& e = ps["levels"][l];
     level_target[l] = e["target"].get<double>();

@@ -171,10 +171,10 @@ double patched_depth_bound(const SignedDistance& sdf, const Vec3& c, const std::
   return round_up(best);
 }
 
-// Weights lambda on the simplex minimising max_k sum_j lambda_j D[k][j] (K corners, M members,
-// D > 0 row-major). With u = lambda / t this is the standard-form program max 1.u subject to
-// D u <= 1, u >= 0, whose origin is feasible: a dense simplex with Bland's rule (K, M <= 16).
-// Returns false when it does not finish (the caller then keeps its other bound).
+}  // namespace
+
+// With u = lambda / t the program is the standard form max 1.u subject to D u <= 1, u >= 0, whose
+// origin is feasible: a dense simplex with Bland's rule.
 bool minimax_weights(const double* D, int K, int M, std::vector<double>& lambda) {
   const int W = M + K + 1;  // members, slacks, right-hand side
   thread_local std::vector<double> T;
@@ -229,7 +229,6 @@ bool minimax_weights(const double* D, int K, int M, std::vector<double>& lambda)
   return false;
 }
 
-}  // namespace
 
 double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uint32_t>& ids, const Vec3* corners,
                            int n_corners, std::size_t max_members) {

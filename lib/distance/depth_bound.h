@@ -81,4 +81,9 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
 // largest, worth certifying as a candidate (a lower bound on the maximum depth). moments (optional,
 // at most 8 corners) receives the translated form of the same bound, with the same weights.
 
+// The small linear program behind minimax_depth_bound: weights lambda on the simplex minimising
+// max_k sum_j lambda_j D[k][j] (K rows, M members, D > 0 row-major, K, M <= 16). It only picks
+// weights (callers evaluate their bounds rigorously); false when it does not finish.
+bool minimax_weights(const double* D, int K, int M, std::vector<double>& lambda);
+
 }  // namespace cdbench

@@ -146,4 +146,38 @@ SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrien
   return r;
 }
 
+HalfspaceAdvance halfspace_advance(const SupportPlanes& support, const MoverOrientation& orientation, const Vec3& t,
+                                   const Vec3& d, double target, double slack, double h_max) {
+  HalfspaceAdvance r;
+  r.lower = std::numeric_limits<double>::infinity();
+  // The exact mover at a pose t' within slack of t - mu d lies within transform_error(t) + slack of
+  // the placed one moved by -mu d, and a double evaluation at t' within transform_error(t') more
+  // (|t'_k| <= |t_k| + h_max |d_k| + slack, as in separated_advance); c is 1-Lipschitz in them.
+  Vec3 far_t;
+  for (int k = 0; k < 3; ++k) far_t[k] = std::abs(t[k]) + 1.001 * h_max * std::abs(d[k]) + slack;
+  const double margin = round_up(round_up(slack + orientation.transform_error(t)) + orientation.transform_error(far_t));
+  const PlacedView P = orientation.placed_view(t);
+  double h = std::max(0.0, h_max);
+  for (std::size_t f = 0; f < orientation.faces->size(); ++f) {
+    const Face& face = (*orientation.faces)[f];
+    const HalfspaceTriangleBound b = halfspace_triangle_bound(support, P[face[0]], P[face[1]], P[face[2]], d);
+    if (b.lower < r.lower) {
+      r.lower = b.lower;
+      r.face = static_cast<std::int64_t>(f);
+      r.beta = b.beta;
+      r.gamma = b.gamma;
+    }
+    // s >= lower - mu rate - margin on the triangle's points at the pose t - mu d: above the target
+    // while mu < (lower - margin - target) / rate.
+    const double room = round_down(round_down(b.lower - margin) - target);
+    if (!(room > 0.0)) {
+      h = 0.0;
+    } else if (b.rate > 0.0) {
+      h = std::min(h, round_down(room / b.rate));
+    }
+  }
+  r.h = h;
+  return r;
+}
+
 }  // namespace cdbench

@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "distance/signed_distance.h"
+#include "distance/support_planes.h"
 #include "placement/mover.h"
 #include "sweep/mesh_sweep.h"
 
@@ -38,5 +39,22 @@ SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrien
                                    const Vec3& d, double target, double slack, double h_max,
                                    std::int64_t hint_fixed = -1, std::int64_t hint_mover = -1,
                                    const SweepTrees* trees = nullptr);
+
+// Conservative advancement towards a penetrating target by F's supporting planes
+// (distance/support_planes.h; doc/poses.md, "Supporting planes"): each mover triangle's weighted
+// plane bound falls linearly along the line, so the least of the triangles' crossings of the target
+// is a step, much longer than the Lipschitz step where c falls slower than the advance (a convex F,
+// whose bound is exact inside it: Newton's method on a piecewise-linear c).
+struct HalfspaceAdvance {
+  double h = 0.0;       // the proven step (0: none), at most h_max
+  double lower = 0.0;   // the least triangle bound at t (a lower bound of c there, before margins)
+  std::int64_t face = -1;  // the mover face of that least bound, and a guess of its deepest point
+  double beta = 1.0 / 3, gamma = 1.0 / 3;
+};
+// `slack` as for separated_advance. Returns h in [0, h_max] such that every pose t' within `slack`
+// of t - mu d, 0 <= mu <= h, has c >= target for the exact transform and any double evaluation. No
+// precondition: the bound holds at every pose.
+HalfspaceAdvance halfspace_advance(const SupportPlanes& support, const MoverOrientation& orientation, const Vec3& t,
+                                   const Vec3& d, double target, double slack, double h_max);
 
 }  // namespace cdbench

@@ -758,11 +758,59 @@ class BranchAndBound {
 
 }  // namespace
 
+namespace {
+
+// The certificate from F's supporting planes (ClearanceOptions::support; doc/poses.md, "Supporting
+// planes"): every triangle of the placed mover has s >= its weighted plane bound, so c is at least
+// the least of them; the upper end is the certified s at the guessed deepest point of the triangle
+// with the least bound (a point of the placed mover's surface within eta of the computed one).
+// False when the two ends are farther apart than the requested width.
+bool halfspace_certificate(const SignedDistance& fixed, const SupportPlanes& support, const MoverOrientation& o,
+                           const PlacedView& P, const ClearanceOptions& options, ClearanceResult& r) {
+  double lower = kInf, beta = 0.0, gamma = 0.0;
+  std::int64_t face = -1;
+  for (std::size_t f = 0; f < o.faces->size(); ++f) {
+    const Face& tri = (*o.faces)[f];
+    const HalfspaceTriangleBound b = halfspace_triangle_bound(support, P[tri[0]], P[tri[1]], P[tri[2]], Vec3::Zero());
+    if (b.lower < lower) {
+      lower = b.lower;
+      face = static_cast<std::int64_t>(f);
+      beta = b.beta;
+      gamma = b.gamma;
+    }
+  }
+  if (face < 0 || !(lower > -kInf)) return false;
+  const Face& tri = (*o.faces)[static_cast<std::size_t>(face)];
+  const Vec3 &p0 = P[tri[0]], &p1 = P[tri[1]], &p2 = P[tri[2]];
+  const Vec3 e1 = p1 - p0, e2 = p2 - p0;
+  const Vec3 x = p0 + beta * e1 + gamma * e2;
+  // As for a cell's corners (BranchAndBound::geometry): a few roundings per coordinate.
+  const double eta =
+      1e-14 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) * 1.7320508075688774;
+  const double upper = up(fixed.signed_distance(x).hi + eta);
+  if (!(lower >= relaxed_threshold(upper, options.tolerance, options.relative_tolerance, options.target)))
+    return false;
+  r.clearance = {lower, upper};
+  r.argmin_face = face;
+  r.argmin_beta = beta;
+  r.argmin_gamma = gamma;
+  return true;
+}
+
+}  // namespace
+
 ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover,
                                   const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
                                   const Vec3& t, const ClearanceOptions& options) {
   ClearanceResult r;
   const PlacedView P = orientation.placed_view(t);
+  if (options.support && !options.support->empty() && halfspace_certificate(fixed, *options.support, orientation, P, options, r)) {
+    if (options.frontier) options.frontier->valid = false;
+    r.transform_error = orientation.transform_error(t);
+    r.clearance.lo = down(r.clearance.lo - 2 * r.transform_error);
+    r.clearance.hi = up(r.clearance.hi + 2 * r.transform_error);
+    return r;
+  }
   const SweepTrees* trees =
       options.sweep_trees && options.sweep_trees->fixed && options.sweep_trees->mover ? options.sweep_trees : nullptr;
   const auto pair_traversal = [&](DistancePolicy& policy) {

@@ -17,6 +17,7 @@
 #include "core/interval.h"
 #include "distance/depth_bound.h"
 #include "distance/signed_distance.h"
+#include "distance/support_planes.h"
 #include "placement/mover.h"
 #include "sweep/mesh_sweep.h"
 
@@ -86,6 +87,11 @@ struct ClearanceOptions {
   // When set (fixed: F's own sweep mesh; mover: this orientation's), the pair-distance path visits
   // node pairs of these trees, their oriented boxes pruning as well (ObbTrial). Speed only.
   const SweepTrees* sweep_trees = nullptr;
+  // F's supporting planes (distance/support_planes.h), when F is convex: the certificate is first
+  // tried from them (a rigorous lower end from each mover triangle's weighted plane bound, the upper
+  // end at its guessed deepest point), which is tight wherever c < 0; the usual paths run when it
+  // is not tight enough. For penetrating poses; speed only.
+  const SupportPlanes* support = nullptr;
   // In/out: when valid, the branch and bound starts from it; replaced by this run's frontier
   // (invalidated when the distance path decides).
   ClearanceFrontier* frontier = nullptr;

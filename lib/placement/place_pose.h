@@ -37,6 +37,9 @@ struct ApproachSetup {
   // The mover's sweep mesh in its own coordinates, built once: each orientation carries it
   // (placed_sweep_mesh) instead of building a tree.
   std::shared_ptr<const SweepMesh> mover_sweep;
+  // F's supporting planes when F is convex (small meshes only: SupportPlanes::build), else null:
+  // penetrating targets then step and certify by them (doc/poses.md, "Supporting planes").
+  std::shared_ptr<const SupportPlanes> support;
 };
 // mover_sweep: the mover's sweep mesh in its own coordinates when the caller has it (the fixed
 // surface's, when the mover is the fixed mesh); built here otherwise.
@@ -104,6 +107,9 @@ struct PoseOptions {
   // Targets > 0: once the mover is certified above the target, advance by the pair traversal's
   // reach bounds (advance.h) without a certificate per step; off: a certificate per step (A/B).
   bool separated_advance = true;
+  // Targets < 0 with a convex F: steps and certificates from F's supporting planes
+  // (ApproachSetup::support); off: certificates and Lipschitz steps only (for A/B measurements).
+  bool support_planes = true;
 };
 
 struct PoseOutcome {

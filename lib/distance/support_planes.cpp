@@ -1,0 +1,264 @@
+#include "distance/support_planes.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "core/interval.h"
+#include "distance/depth_bound.h"
+#include "distance/point_triangle_distance.h"
+
+namespace cdbench {
+
+SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, double relative_slack) {
+  SupportPlanes S;
+  if (F.faces.empty() || static_cast<double>(F.faces.size()) * static_cast<double>(F.vertices.size()) > max_work)
+    return S;
+  const double slack = relative_slack * F.bbox().diagonal();
+  std::vector<SupportPlane> found;
+  bool all = true;
+  for (const Face& f : F.faces) {
+    const TrianglePlane pl = make_triangle_plane(F.vertices[f[0]], F.vertices[f[1]], F.vertices[f[2]]);
+    if (!std::isfinite(pl.eps)) {
+      all = false;
+      continue;
+    }
+    double e = -std::numeric_limits<double>::infinity();
+    for (const Vec3& v : F.vertices) {
+      const PlaneOffset o = plane_offset(pl.n, pl.d, v);  // exact n.v - d <= value + error
+      e = std::max(e, round_up(o.value + o.error));
+      if (e > slack) break;
+    }
+    if (!(e <= slack)) {
+      all = false;
+      continue;
+    }
+    SupportPlane p;
+    p.n = pl.n;
+    p.d = pl.d;
+    p.e = e;
+    // n.n rounds by at most 3 u relative and the root by 1 u more.
+    const double r = std::sqrt(pl.n.squaredNorm());
+    p.norm_lo = r * (1.0 - 4e-15);
+    p.norm_up = r * (1.0 + 4e-15);
+    found.push_back(p);
+  }
+  S.convex_ = all;
+  // Coplanar faces give (nearly) the same plane: one of them is kept (any subset stays valid).
+  std::sort(found.begin(), found.end(), [](const SupportPlane& x, const SupportPlane& y) {
+    for (int k = 0; k < 3; ++k)
+      if (x.n[k] != y.n[k]) return x.n[k] < y.n[k];
+    return x.d < y.d;
+  });
+  const double scale = 1e-12 * (1.0 + F.bbox().diagonal());
+  for (const SupportPlane& p : found) {
+    bool duplicate = false;
+    for (std::size_t k = S.planes_.size(); k-- > 0 && !duplicate;) {
+      const SupportPlane& q = S.planes_[k];
+      if (p.n[0] - q.n[0] > 1e-12) break;  // sorted by n[0]: no later kept plane is nearer
+      duplicate = (p.n - q.n).cwiseAbs().maxCoeff() <= 1e-12 && std::abs(p.d - q.d) <= scale;
+      if (duplicate && p.e < q.e) S.planes_[k] = p;
+    }
+    if (!duplicate) S.planes_.push_back(p);
+  }
+  return S;
+}
+
+namespace {
+
+// A lower bound of a / |n| from a lower bound of a, for |n| in [lo, up].
+inline double over_norm_down(double a, double lo, double up) { return round_down(a >= 0.0 ? a / up : a / lo); }
+inline double over_norm_up(double a, double lo, double up) { return round_up(a >= 0.0 ? a / lo : a / up); }
+
+// The weighted mean sum w_j q_j / sum w_j rounded down (up: of -q, negated), for w >= 0 with a
+// positive sum: the computed sums are within (M + 1) u of the exact ones (M <= 16 terms), and the
+// factors cover that with margin.
+double weighted_mean_down(const double* w, const double* q, int M) {
+  double s = 0.0, a = 0.0, W = 0.0;
+  for (int j = 0; j < M; ++j) {
+    if (!(w[j] > 0.0)) continue;
+    s += w[j] * q[j];
+    a += std::abs(w[j] * q[j]);
+    W += w[j];
+  }
+  const double lo = round_down(s - 5e-15 * a);
+  return round_down(lo >= 0.0 ? lo / (W * (1.0 + 5e-15)) : lo / (W * (1.0 - 5e-15)));
+}
+
+}  // namespace
+
+namespace {
+
+// The weights for the members `idx` (plane indices): corner values v (estimates: they only pick the
+// weights), the weights w of the linear program, and a guess (beta, gamma) of the point where the
+// members' maximum is least.
+struct MemberProgram {
+  int M = 0;
+  std::array<std::uint32_t, 16> idx{};
+  std::array<std::array<double, 16>, 3> v{};
+  std::vector<double> w;
+  double beta = 1.0 / 3, gamma = 1.0 / 3, least = HUGE_VAL;
+
+  void solve(const std::vector<SupportPlane>& P, const std::array<const Vec3*, 3>& x) {
+    double vmax = -HUGE_VAL, vmin = HUGE_VAL;
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < M; ++j) {
+        const SupportPlane& p = P[idx[j]];
+        v[k][j] = p.n.dot(*x[k]) - p.d - p.e;
+        vmax = std::max(vmax, v[k][j]);
+        vmin = std::min(vmin, v[k][j]);
+      }
+    // Weights maximising the least corner value of the weighted mean: minimax_weights on
+    // 1 + (vmax - v) / spread (positive, about 1; the same optimum).
+    thread_local std::vector<double> D;
+    D.resize(static_cast<std::size_t>(3 * M));
+    const double spread = std::max(vmax - vmin, 1e-300);
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < M; ++j) D[k * M + j] = 1.0 + (vmax - v[k][j]) / spread;
+    if (!minimax_weights(D.data(), 3, M, w)) {
+      w.assign(static_cast<std::size_t>(M), 0.0);  // the best single plane instead
+      int best = 0;
+      double best_v = -HUGE_VAL;
+      for (int j = 0; j < M; ++j) {
+        const double m = std::min({v[0][j], v[1][j], v[2][j]});
+        if (m > best_v) {
+          best_v = m;
+          best = j;
+        }
+      }
+      w[static_cast<std::size_t>(best)] = 1.0;
+    }
+    guess();
+  }
+
+  // Among the corners, the points of the edges where two weighted members are equal and the point
+  // where three are, the least maximum of the members (affine in the barycentrics): the vertices
+  // of the linear program over the triangle whose optimum the weights certify (complementary
+  // slackness).
+  void guess() {
+    const auto value_at = [&](double be, double ga) {
+      double h = -HUGE_VAL;
+      for (int j = 0; j < M; ++j) h = std::max(h, v[0][j] + be * (v[1][j] - v[0][j]) + ga * (v[2][j] - v[0][j]));
+      return h;
+    };
+    std::array<int, 3> sup{};
+    int ns = 0;
+    for (int j = 0; j < M && ns < 3; ++j)
+      if (w[j] > 0.0) sup[ns++] = j;
+    least = HUGE_VAL;
+    const auto offer = [&](double be, double ga) {
+      if (!(be >= 0.0 && ga >= 0.0 && be + ga <= 1.0)) return;
+      const double h = value_at(be, ga);
+      if (h < least) {
+        least = h;
+        beta = be;
+        gamma = ga;
+      }
+    };
+    offer(0.0, 0.0);
+    offer(1.0, 0.0);
+    offer(0.0, 1.0);
+    const std::array<std::array<double, 2>, 3> corner{{{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}}};
+    for (int i = 0; i < ns; ++i)
+      for (int l = i + 1; l < ns; ++l) {
+        const int p = sup[i], q = sup[l];
+        for (int k = 0; k < 3; ++k) {
+          const int k2 = (k + 1) % 3;
+          const double f0 = v[k][p] - v[k][q], f1 = v[k2][p] - v[k2][q];
+          if (!(f0 != f1)) continue;
+          const double t = f0 / (f0 - f1);
+          if (t > 0.0 && t < 1.0)
+            offer(corner[k][0] + t * (corner[k2][0] - corner[k][0]), corner[k][1] + t * (corner[k2][1] - corner[k][1]));
+        }
+      }
+    if (ns == 3) {
+      // h_p - h_q = 0 and h_p - h_r = 0, affine in (beta, gamma).
+      const auto diff = [&](int p, int q) {
+        const double f0 = v[0][p] - v[0][q];
+        return std::array<double, 3>{f0, (v[1][p] - v[1][q]) - f0, (v[2][p] - v[2][q]) - f0};
+      };
+      const auto A = diff(sup[0], sup[1]), B = diff(sup[0], sup[2]);
+      const double det = A[1] * B[2] - A[2] * B[1];
+      if (det != 0.0) offer((-A[0] * B[2] + A[2] * B[0]) / det, (-A[1] * B[0] + A[0] * B[1]) / det);
+    }
+  }
+};
+
+}  // namespace
+
+HalfspaceTriangleBound halfspace_triangle_bound(const SupportPlanes& S, const Vec3& a, const Vec3& b, const Vec3& c,
+                                                const Vec3& d, int max_members) {
+  HalfspaceTriangleBound r;
+  const std::vector<SupportPlane>& P = S.planes();
+  if (P.empty()) {
+    r.lower = -std::numeric_limits<double>::infinity();
+    return r;
+  }
+  const std::array<const Vec3*, 3> x{&a, &b, &c};
+  thread_local MemberProgram lp;
+  // The members: first the planes highest at the centroid; then, while a plane not among them is
+  // higher at the guessed least point than the members' maximum there, it joins (column
+  // generation: at the program's optimum no plane is higher, and the bound is then exact for a
+  // convex F). Only the weights depend on this.
+  const int first = std::min<int>(static_cast<int>(P.size()), std::clamp(max_members, 1, 16));
+  thread_local std::vector<std::pair<double, std::uint32_t>> order;
+  order.resize(P.size());
+  const Vec3 g = (a + b + c) / 3.0;
+  for (std::size_t j = 0; j < P.size(); ++j) order[j] = {P[j].n.dot(g) - P[j].d, static_cast<std::uint32_t>(j)};
+  std::partial_sort(order.begin(), order.begin() + first, order.end(), [](const auto& u, const auto& v) {
+    return u.first > v.first || (u.first == v.first && u.second < v.second);
+  });
+  lp.M = first;
+  for (int j = 0; j < first; ++j) lp.idx[j] = order[j].second;
+  lp.solve(P, x);
+  for (int round = 0; round < 4 && lp.M < 16; ++round) {
+    const Vec3 y = a + lp.beta * (b - a) + lp.gamma * (c - a);
+    const double tol = 1e-12 * (1.0 + std::abs(lp.least));
+    double best = lp.least + tol;
+    std::int64_t join = -1;
+    for (std::size_t j = 0; j < P.size(); ++j) {
+      const double h = P[j].n.dot(y) - P[j].d - P[j].e;
+      if (h > best && std::find(lp.idx.begin(), lp.idx.begin() + lp.M, static_cast<std::uint32_t>(j)) ==
+                          lp.idx.begin() + lp.M) {
+        best = h;
+        join = static_cast<std::int64_t>(j);
+      }
+    }
+    if (join < 0) break;
+    lp.idx[lp.M++] = static_cast<std::uint32_t>(join);
+    lp.solve(P, x);
+  }
+  const int M = lp.M;
+  const std::vector<double>& w = lp.w;
+  // The rigorous bound with these weights: per corner, per member, (n.x - d - e) / |n| rounded down.
+  std::array<double, 16> q{};
+  r.lower = HUGE_VAL;
+  for (int k = 0; k < 3; ++k) {
+    for (int j = 0; j < M; ++j) {
+      if (!(w[j] > 0.0)) continue;
+      const SupportPlane& p = P[lp.idx[j]];
+      const PlaneOffset o = plane_offset(p.n, p.d, *x[k]);
+      q[j] = over_norm_down(round_down(round_down(o.value - o.error) - p.e), p.norm_lo, p.norm_up);
+    }
+    r.lower = std::min(r.lower, weighted_mean_down(w.data(), q.data(), M));
+  }
+  // The rate: sum w (n.d) / |n| / sum w, rounded up (the mean of -rates rounded down, negated).
+  for (int j = 0; j < M; ++j) {
+    if (!(w[j] > 0.0)) continue;
+    const SupportPlane& p = P[lp.idx[j]];
+    const double t0 = p.n[0] * d[0], t1 = p.n[1] * d[1], t2 = p.n[2] * d[2];
+    const double hi = round_up(t0 + t1 + t2 + 2e-15 * (std::abs(t0) + std::abs(t1) + std::abs(t2)));
+    q[j] = -over_norm_up(hi, p.norm_lo, p.norm_up);
+  }
+  r.rate = -weighted_mean_down(w.data(), q.data(), M);
+  if (std::isnan(r.lower) || std::isnan(r.rate)) {
+    r.lower = -std::numeric_limits<double>::infinity();
+    r.rate = 0.0;
+  }
+  r.beta = lp.beta;
+  r.gamma = lp.gamma;
+  return r;
+}
+
+}  // namespace cdbench

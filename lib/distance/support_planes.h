@@ -1,0 +1,63 @@
+#pragma once
+// Supporting planes of F: a plane n.x = d with every vertex of F on its inner side, n.v - d <= e,
+// bounds the signed distance from below everywhere:
+//   s(x) >= (n.x - d - e) / |n|.
+// The solid lies in the convex hull of F's vertices, hence in the half-space n.x <= d + e. Outside
+// the solid, s(x) = dist(x, solid) >= the distance to that half-space; inside, the ray from x along
+// n leaves the half-space after (d + e - n.x) / |n| and the solid no later, so F is that near. A
+// convex F has one such plane per face, and then s = max over them wherever s < 0: the signed
+// distance inside a convex polyhedron is the largest of its faces' signed plane distances.
+//
+// For a triangle of the mover and weights w >= 0 on the planes, the weighted mean of the plane
+// bounds is affine in x, so its least value over the triangle is at a corner, and it falls at a
+// known rate when the triangle is translated: one linear lower bound of c along a whole line of
+// poses, exact where the deepest point of a convex F's penetration lies on the triangle (the
+// weights of a small linear program make it so, by linear-programming duality). See
+// doc/poses.md, "Supporting planes".
+#include <cstdint>
+#include <vector>
+
+#include "core/triangle_mesh.h"
+
+namespace cdbench {
+
+struct SupportPlane {
+  Vec3 n = Vec3::Zero();     // about unit
+  double d = 0.0;
+  double e = 0.0;            // >= max over F's vertices of the exact n.v - d (rounded up)
+  double norm_lo = 1.0, norm_up = 1.0;  // enclose |n|
+};
+
+class SupportPlanes {
+ public:
+  SupportPlanes() = default;
+  // The planes of F's faces that support F within `relative_slack` times its bounding-box diagonal
+  // (near-duplicates merged). Searched only when faces x vertices is at most max_work (an O(F V)
+  // scan): otherwise, and for a mesh no face of which supports it, the set is empty (only speed
+  // depends on it: every use has another bound).
+  static SupportPlanes build(const TriangleMesh& F, double max_work = 2e7, double relative_slack = 1e-9);
+  const std::vector<SupportPlane>& planes() const { return planes_; }
+  bool empty() const { return planes_.empty(); }
+  // Every face of F supports it: F is convex (then the bound below is exact where s < 0).
+  bool convex() const { return convex_; }
+
+ private:
+  std::vector<SupportPlane> planes_;
+  bool convex_ = false;
+};
+
+// For the triangle abc (exact real triangle of these doubles) and a direction d: for every point x
+// of the triangle and every mu >= 0,
+//   s(x - mu d) >= lower - mu rate   (rigorous; rate may be negative: the bound then rises).
+// The weights come from a small linear program over the `max_members` planes highest at the
+// triangle's centroid (any weights are valid; these make the bound tight at mu = 0). `beta, gamma`:
+// barycentrics of a point of the triangle where the weighted planes' maximum is least (a guess of
+// the deepest point, for an upper end; not part of the bound). lower = -inf when the set is empty.
+struct HalfspaceTriangleBound {
+  double lower = 0.0, rate = 0.0;
+  double beta = 1.0 / 3, gamma = 1.0 / 3;
+};
+HalfspaceTriangleBound halfspace_triangle_bound(const SupportPlanes& S, const Vec3& a, const Vec3& b, const Vec3& c,
+                                                const Vec3& d, int max_members = 6);
+
+}  // namespace cdbench

@@ -1,0 +1,149 @@
+// F's supporting planes (distance/support_planes.h): the planes found support F (checked in exact
+// rationals), convex solids have one per distinct face plane, and each triangle's weighted plane
+// bound holds along the whole line (against certified signed distances at dense samples), is tight
+// inside a convex F, and is not tight where a control says it should not be.
+#include <gtest/gtest.h>
+
+#include <iomanip>
+#include <random>
+
+#include "distance/signed_distance.h"
+#include "distance/support_planes.h"
+#include "exact_reference.h"
+#include "mesh/shapes.h"
+
+namespace cdbench {
+namespace {
+
+using testing::Epeck;
+
+TriangleMesh tetrahedron() {
+  TriangleMesh m;
+  m.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  m.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  return m;
+}
+
+// Every vertex of F satisfies n.v - d <= e exactly: the plane supports F.
+void expect_supporting(const TriangleMesh& F, const SupportPlanes& S) {
+  for (const SupportPlane& p : S.planes()) {
+    const Epeck::FT e(p.e);
+    for (const Vec3& v : F.vertices) {
+      const Epeck::FT value = Epeck::FT(p.n[0]) * v[0] + Epeck::FT(p.n[1]) * v[1] + Epeck::FT(p.n[2]) * v[2] - p.d;
+      ASSERT_TRUE(value <= e) << std::setprecision(17) << "n " << p.n.transpose() << " d " << p.d << " e " << p.e
+                              << " vertex " << v.transpose();
+    }
+    ASSERT_GT(p.norm_up, 0.0);
+    const Epeck::FT nn = Epeck::FT(p.n[0]) * p.n[0] + Epeck::FT(p.n[1]) * p.n[1] + Epeck::FT(p.n[2]) * p.n[2];
+    EXPECT_TRUE(Epeck::FT(p.norm_lo) * p.norm_lo <= nn && nn <= Epeck::FT(p.norm_up) * p.norm_up);
+  }
+}
+
+TEST(SupportPlanes, ConvexSolidsHaveOnePlanePerFacePlane) {
+  const TriangleMesh box = make_box(Vec3(-1, -2, -0.5), Vec3(1, 0.5, 3));
+  const SupportPlanes b = SupportPlanes::build(box);
+  EXPECT_TRUE(b.convex());
+  EXPECT_EQ(b.planes().size(), 6u);  // 12 triangles, 6 distinct planes
+  expect_supporting(box, b);
+  const TriangleMesh tet = tetrahedron();
+  const SupportPlanes t = SupportPlanes::build(tet);
+  EXPECT_TRUE(t.convex());
+  EXPECT_EQ(t.planes().size(), 4u);
+  expect_supporting(tet, t);
+  const TriangleMesh ico = make_icosphere(1.0, 1);
+  const SupportPlanes i = SupportPlanes::build(ico);
+  EXPECT_TRUE(i.convex());
+  EXPECT_EQ(i.planes().size(), ico.faces.size());
+  expect_supporting(ico, i);
+  // A torus: no face supports it from the hole's side, some do from outside.
+  const TriangleMesh torus = make_torus(1.0, 0.35, 24, 12);
+  const SupportPlanes r = SupportPlanes::build(torus);
+  EXPECT_FALSE(r.convex());
+  EXPECT_LT(r.planes().size(), torus.faces.size() / 2);
+  expect_supporting(torus, r);
+  // Beyond the work budget nothing is searched.
+  EXPECT_TRUE(SupportPlanes::build(ico, 10.0).empty());
+}
+
+struct LineCheck {
+  int triangles = 0, points = 0, violations = 0, inside = 0;
+  double worst_gap = 0.0;  // inside a convex F: largest (least sampled s) - lower at mu = 0
+};
+
+// Random triangles in and around F, random directions: at each sample point x of the triangle and
+// each mu, the certified s(x - mu d) must reach lower - mu rate.
+LineCheck check_lines(const TriangleMesh& F, std::uint64_t seed, int n, double rate_factor = 1.0) {
+  const SignedDistance sd(F);
+  const SupportPlanes S = SupportPlanes::build(F);
+  std::mt19937_64 rng(seed);
+  const Aabb box = F.bbox();
+  const double diag = box.diagonal();
+  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
+  LineCheck out;
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& v : F.vertices) mean += v / static_cast<double>(F.vertices.size());
+  for (int k = 0; k < n; ++k) {
+    // Every other triangle about the vertices' mean (inside a convex F), the others anywhere around.
+    const Vec3 c = k % 2 ? Vec3(mean + 0.05 * diag * Vec3(s(rng), s(rng), s(rng))) : Vec3(box.lo[0] + (box.hi[0] - box.lo[0]) * (1.4 * u(rng) - 0.2),
+                 box.lo[1] + (box.hi[1] - box.lo[1]) * (1.4 * u(rng) - 0.2),
+                 box.lo[2] + (box.hi[2] - box.lo[2]) * (1.4 * u(rng) - 0.2));
+    const double size = diag * (k % 2 ? 0.05 : k % 3 == 0 ? 0.02 : 0.15) * (0.2 + u(rng));
+    const std::array<Vec3, 3> v{c + size * Vec3(s(rng), s(rng), s(rng)), c + size * Vec3(s(rng), s(rng), s(rng)),
+                                c + size * Vec3(s(rng), s(rng), s(rng))};
+    const Vec3 d = Vec3(s(rng), s(rng), s(rng)).normalized();
+    const HalfspaceTriangleBound b = halfspace_triangle_bound(S, v[0], v[1], v[2], d);
+    ++out.triangles;
+    double least = HUGE_VAL;
+    bool inside = true;
+    for (int i = 0; i <= 6; ++i)
+      for (int j = 0; i + j <= 6; ++j) {
+        const Vec3 x = v[0] + (i / 6.0) * (v[1] - v[0]) + (j / 6.0) * (v[2] - v[0]);
+        for (double mu : {0.0, 0.05 * diag, 0.2 * diag, 0.6 * diag}) {
+          const Interval sx = sd.signed_distance(x - mu * d);
+          ++out.points;
+          if (sx.hi < b.lower - mu * b.rate * rate_factor) {
+            if (rate_factor == 1.0)
+              ADD_FAILURE() << std::setprecision(17) << "triangle " << v[0].transpose() << " / " << v[1].transpose()
+                            << " / " << v[2].transpose() << " d " << d.transpose() << " mu " << mu << ": s <= "
+                            << sx.hi << " < " << b.lower << " - mu " << b.rate;
+            ++out.violations;
+          }
+          if (mu == 0.0) {
+            least = std::min(least, sx.hi);
+            inside = inside && sx.hi < 0.0;
+          }
+        }
+      }
+    if (inside && S.convex()) {
+      // The samples are 1/6 of the edges apart: the least s over the triangle is within that of
+      // the least sample (s is 1-Lipschitz), and the bound is exact for a convex F.
+      ++out.inside;
+      double edge = 0.0;
+      for (int e = 0; e < 3; ++e) edge = std::max(edge, (v[e] - v[(e + 1) % 3]).norm());
+      out.worst_gap = std::max(out.worst_gap, (least - b.lower) - edge / 6.0);
+    }
+  }
+  return out;
+}
+
+TEST(SupportPlanes, TriangleBoundHoldsAlongTheLine) {
+  for (const TriangleMesh& F : {tetrahedron(), make_box(Vec3(0, 0, 0), Vec3(2, 1, 0.5)), make_icosphere(1.0, 1),
+                                make_torus(1.0, 0.35, 24, 12)}) {
+    const LineCheck c = check_lines(F, 7, 150);
+    EXPECT_EQ(c.violations, 0);
+    EXPECT_GT(c.points, 10000);
+    // Tight inside a convex F (up to the sampling): the weights of the linear program.
+    EXPECT_LE(c.worst_gap, 1e-9 * F.bbox().diagonal());
+    if (SupportPlanes::build(F).convex()) EXPECT_GT(c.inside, 5);
+  }
+}
+
+// The control: with the rate halved the same check fails (it has teeth: along the line the bound
+// follows s closely, not merely from below).
+TEST(SupportPlanes, HalvedRateFailsTheCheck) {
+  const LineCheck c = check_lines(tetrahedron(), 11, 150, 0.5);
+  EXPECT_GT(c.violations, 0);
+}
+
+}  // namespace
+}  // namespace cdbench
