@@ -881,6 +881,14 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   return r;
 }
 
+std::shared_ptr<const SupportPlanes> support_planes_for(const TriangleMesh& fixed, const TriangleMesh& mover) {
+  constexpr std::size_t kSupportWork = 4096;
+  if (mover.faces.empty()) return nullptr;
+  auto S = std::make_shared<SupportPlanes>(SupportPlanes::build(fixed));
+  if (!S->convex() || S->empty() || mover.faces.size() * S->planes().size() > kSupportWork) return nullptr;
+  return S;
+}
+
 ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover, const Eigen::Matrix3d& R,
                                   const Vec3& t, double tolerance) {
   ClearanceOptions options;

@@ -12,6 +12,7 @@
 //  * then widened by twice the transform's rounding bound (ours vs exact, exact vs any other).
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/interval.h"
@@ -114,6 +115,12 @@ struct ClearanceResult {
 ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover,
                                   const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
                                   const Vec3& t, const ClearanceOptions& options);
+
+// F's supporting planes where they pay as a certificate's first try (ClearanceOptions::support)
+// for this mover: F convex and (mover triangles) x (planes) at most 4,096, since each try evaluates
+// every plane for every mover triangle where a branch and bound visits few cells (measured:
+// doc/poses.md, "Supporting planes"). Null otherwise.
+std::shared_ptr<const SupportPlanes> support_planes_for(const TriangleMesh& fixed, const TriangleMesh& mover);
 
 // The one-call form (builds the mover's orientation tree each time: for many poses of one rotation,
 // make_mover_orientation once and call the function above).

@@ -126,13 +126,9 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
     const double D = std::min(fixed.bbox().diagonal(), mover_box.diagonal());
     s.advance_target_limit = D > 0.0 ? std::min(12.0 * e, 1650.0 * e * e / D) : 0.0;
   }
-  {
-    // Only a convex F: there the planes' bound is exact wherever s < 0. A non-convex F's hull
-    // faces bound only the parts of a penetration near them, and each step's planes would then be
-    // a cost on every mover triangle for little gain.
-    auto support = std::make_shared<SupportPlanes>(SupportPlanes::build(fixed.mesh()));
-    if (support->convex() && !support->empty()) s.support = std::move(support);
-  }
+  // Only a convex F: there the planes' bound is exact wherever s < 0. A non-convex F's hull faces
+  // bound only the parts of a penetration near them.
+  s.support = support_planes_for(fixed.mesh(), mover);
   s.mover_sweep = mover_sweep ? std::move(mover_sweep)
                               : std::make_shared<const SweepMesh>(make_sweep_mesh(mover.vertices, mover.faces));
   return s;
@@ -209,17 +205,9 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // parts) the oriented boxes prune most pairs. Penetrating targets keep the box trees.
   const SweepTrees trees{setup.surface, &frame.swept, frame.t0};
   if (setup.surface && target > 0.0) copt.sweep_trees = &trees;
-  // Penetrating targets with a convex F: its supporting planes step and certify
-  // (doc/poses.md, "Supporting planes"). Each step costs about (mover triangles x planes) plane
-  // evaluations, where the branch and bound visits few cells: the planes pay up to about 4,096 of
-  // them (measured: break-even on an 80-face icosphere against itself, 6,400; a 320-face sphere
-  // 8x slower with them, a tetrahedron 100x faster).
-  constexpr std::size_t kSupportWork = 4096;
-  const SupportPlanes* support =
-      options.support_planes && target < 0.0 && setup.support &&
-              setup.mover->faces.size() * setup.support->planes().size() <= kSupportWork
-          ? setup.support.get()
-          : nullptr;
+  // Penetrating targets with a convex F: its supporting planes step and certify, where they pay
+  // (support_planes_for; doc/poses.md, "Supporting planes").
+  const SupportPlanes* support = options.support_planes && target < 0.0 ? setup.support.get() : nullptr;
   copt.support = support;
   // While far from the target an advance step needs only a loose lower bound: a width of a part of
   // the remaining gap (upper end - target, tightening as the search lowers the upper end) costs at

@@ -37,8 +37,9 @@ struct ApproachSetup {
   // The mover's sweep mesh in its own coordinates, built once: each orientation carries it
   // (placed_sweep_mesh) instead of building a tree.
   std::shared_ptr<const SweepMesh> mover_sweep;
-  // F's supporting planes when F is convex (small meshes only: SupportPlanes::build), else null:
-  // penetrating targets then step and certify by them (doc/poses.md, "Supporting planes").
+  // F's supporting planes where they pay (support_planes_for: F convex, few mover triangles x
+  // planes), else null: penetrating targets then step and certify by them (doc/poses.md,
+  // "Supporting planes").
   std::shared_ptr<const SupportPlanes> support;
 };
 // mover_sweep: the mover's sweep mesh in its own coordinates when the caller has it (the fixed
