@@ -94,34 +94,35 @@ namespace {
 // weights), the weights w of the linear program, and a guess (beta, gamma) of the point where the
 // members' maximum is least.
 struct MemberProgram {
-  int M = 0;
+  int K = 3, M = 0;  // corners (a triangle's 3 or a box's 8), members
   std::array<std::uint32_t, 16> idx{};
-  std::array<std::array<double, 16>, 3> v{};
+  std::array<std::array<double, 16>, 8> v{};
   std::vector<double> w;
   double beta = 1.0 / 3, gamma = 1.0 / 3, least = HUGE_VAL;
 
-  void solve(const std::vector<SupportPlane>& P, const std::array<const Vec3*, 3>& x) {
+  void solve(const std::vector<SupportPlane>& P, const Vec3* x) {
     double vmax = -HUGE_VAL, vmin = HUGE_VAL;
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < K; ++k)
       for (int j = 0; j < M; ++j) {
         const SupportPlane& p = P[idx[j]];
-        v[k][j] = p.n.dot(*x[k]) - p.d - p.e;
+        v[k][j] = p.n.dot(x[k]) - p.d - p.e;
         vmax = std::max(vmax, v[k][j]);
         vmin = std::min(vmin, v[k][j]);
       }
     // Weights maximising the least corner value of the weighted mean: minimax_weights on
     // 1 + (vmax - v) / spread (positive, about 1; the same optimum).
     thread_local std::vector<double> D;
-    D.resize(static_cast<std::size_t>(3 * M));
+    D.resize(static_cast<std::size_t>(K * M));
     const double spread = std::max(vmax - vmin, 1e-300);
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < K; ++k)
       for (int j = 0; j < M; ++j) D[k * M + j] = 1.0 + (vmax - v[k][j]) / spread;
-    if (!minimax_weights(D.data(), 3, M, w)) {
+    if (!minimax_weights(D.data(), K, M, w)) {
       w.assign(static_cast<std::size_t>(M), 0.0);  // the best single plane instead
       int best = 0;
       double best_v = -HUGE_VAL;
       for (int j = 0; j < M; ++j) {
-        const double m = std::min({v[0][j], v[1][j], v[2][j]});
+        double m = HUGE_VAL;
+        for (int k = 0; k < K; ++k) m = std::min(m, v[k][j]);
         if (m > best_v) {
           best_v = m;
           best = j;
@@ -129,7 +130,7 @@ struct MemberProgram {
       }
       w[static_cast<std::size_t>(best)] = 1.0;
     }
-    guess();
+    if (K == 3) guess();
   }
 
   // Among the corners, the points of the edges where two weighted members are equal and the point
@@ -187,24 +188,25 @@ struct MemberProgram {
 
 }  // namespace
 
-HalfspaceTriangleBound halfspace_triangle_bound(const SupportPlanes& S, const Vec3& a, const Vec3& b, const Vec3& c,
-                                                const Vec3& d, int max_members) {
-  HalfspaceTriangleBound r;
+HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, const Vec3& d, int max_members) {
+  HalfspaceBound r;
   const std::vector<SupportPlane>& P = S.planes();
-  if (P.empty()) {
+  if (P.empty() || n < 1 || n > 8) {
     r.lower = -std::numeric_limits<double>::infinity();
     return r;
   }
-  const std::array<const Vec3*, 3> x{&a, &b, &c};
   thread_local MemberProgram lp;
-  // The members: first the planes highest at the centroid; then, while a plane not among them is
-  // higher at the guessed least point than the members' maximum there, it joins (column
-  // generation: at the program's optimum no plane is higher, and the bound is then exact for a
-  // convex F). Only the weights depend on this.
+  lp.K = n;
+  // The members: first the planes highest at the centroid; then, for a triangle, while a plane
+  // not among them is higher at the guessed least point than the members' maximum there, it joins
+  // (column generation: at the program's optimum no plane is higher, and the bound is then exact
+  // for a convex F). Only the weights depend on this.
   const int first = std::min<int>(static_cast<int>(P.size()), std::clamp(max_members, 1, 16));
   thread_local std::vector<std::pair<double, std::uint32_t>> order;
   order.resize(P.size());
-  const Vec3 g = (a + b + c) / 3.0;
+  Vec3 g = Vec3::Zero();
+  for (int k = 0; k < n; ++k) g += x[k];
+  g /= static_cast<double>(n);
   for (std::size_t j = 0; j < P.size(); ++j) order[j] = {P[j].n.dot(g) - P[j].d, static_cast<std::uint32_t>(j)};
   std::partial_sort(order.begin(), order.begin() + first, order.end(), [](const auto& u, const auto& v) {
     return u.first > v.first || (u.first == v.first && u.second < v.second);
@@ -212,8 +214,8 @@ HalfspaceTriangleBound halfspace_triangle_bound(const SupportPlanes& S, const Ve
   lp.M = first;
   for (int j = 0; j < first; ++j) lp.idx[j] = order[j].second;
   lp.solve(P, x);
-  for (int round = 0; round < 4 && lp.M < 16; ++round) {
-    const Vec3 y = a + lp.beta * (b - a) + lp.gamma * (c - a);
+  for (int round = 0; n == 3 && round < 4 && lp.M < 16; ++round) {
+    const Vec3 y = x[0] + lp.beta * (x[1] - x[0]) + lp.gamma * (x[2] - x[0]);
     const double tol = 1e-12 * (1.0 + std::abs(lp.least));
     double best = lp.least + tol;
     std::int64_t join = -1;
@@ -234,11 +236,11 @@ HalfspaceTriangleBound halfspace_triangle_bound(const SupportPlanes& S, const Ve
   // The rigorous bound with these weights: per corner, per member, (n.x - d - e) / |n| rounded down.
   std::array<double, 16> q{};
   r.lower = HUGE_VAL;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < n; ++k) {
     for (int j = 0; j < M; ++j) {
       if (!(w[j] > 0.0)) continue;
       const SupportPlane& p = P[lp.idx[j]];
-      const PlaneOffset o = plane_offset(p.n, p.d, *x[k]);
+      const PlaneOffset o = plane_offset(p.n, p.d, x[k]);
       q[j] = over_norm_down(round_down(round_down(o.value - o.error) - p.e), p.norm_lo, p.norm_up);
     }
     r.lower = std::min(r.lower, weighted_mean_down(w.data(), q.data(), M));
@@ -256,8 +258,10 @@ HalfspaceTriangleBound halfspace_triangle_bound(const SupportPlanes& S, const Ve
     r.lower = -std::numeric_limits<double>::infinity();
     r.rate = 0.0;
   }
-  r.beta = lp.beta;
-  r.gamma = lp.gamma;
+  if (n == 3) {
+    r.beta = lp.beta;
+    r.gamma = lp.gamma;
+  }
   return r;
 }
 

@@ -46,18 +46,18 @@ class SupportPlanes {
   bool convex_ = false;
 };
 
-// For the triangle abc (exact real triangle of these doubles) and a direction d: for every point x
-// of the triangle and every mu >= 0,
-//   s(x - mu d) >= lower - mu rate   (rigorous; rate may be negative: the bound then rises).
+// For the convex hull of the points x[0..n) (n <= 8: a triangle's corners, a box's) and a direction
+// d: for every point y of the hull and every mu >= 0,
+//   s(y - mu d) >= lower - mu rate   (rigorous; rate may be negative: the bound then rises).
 // The weights come from a small linear program over the `max_members` planes highest at the
-// triangle's centroid (any weights are valid; these make the bound tight at mu = 0). `beta, gamma`:
-// barycentrics of a point of the triangle where the weighted planes' maximum is least (a guess of
-// the deepest point, for an upper end; not part of the bound). lower = -inf when the set is empty.
-struct HalfspaceTriangleBound {
+// points' centroid, for a triangle extended by column generation (any weights are valid; these
+// make the bound tight at mu = 0). For a triangle, `beta, gamma`: barycentrics of a point where
+// the weighted planes' maximum is least (a guess of the deepest point, for an upper end; not part
+// of the bound). lower = -inf when the set is empty.
+struct HalfspaceBound {
   double lower = 0.0, rate = 0.0;
   double beta = 1.0 / 3, gamma = 1.0 / 3;
 };
-HalfspaceTriangleBound halfspace_triangle_bound(const SupportPlanes& S, const Vec3& a, const Vec3& b, const Vec3& c,
-                                                const Vec3& d, int max_members = 6);
+HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, const Vec3& d, int max_members = 6);
 
 }  // namespace cdbench

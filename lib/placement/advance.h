@@ -46,15 +46,27 @@ SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrien
 // is a step, much longer than the Lipschitz step where c falls slower than the advance (a convex F,
 // whose bound is exact inside it: Newton's method on a piecewise-linear c).
 struct HalfspaceAdvance {
-  double h = 0.0;       // the proven step (0: none), at most h_max
-  double lower = 0.0;   // the least triangle bound at t (a lower bound of c there, before margins)
-  std::int64_t face = -1;  // the mover face of that least bound, and a guess of its deepest point
+  double h = 0.0;          // the proven step (0: none), at most h_max
+  double lower = 0.0;      // the plane bound at t of the triangle that set h (before margins)
+  std::int64_t face = -1;  // that mover face, and a guess of its deepest point (a hint)
   double beta = 1.0 / 3, gamma = 1.0 / 3;
 };
 // `slack` as for separated_advance. Returns h in [0, h_max] such that every pose t' within `slack`
 // of t - mu d, 0 <= mu <= h, has c >= target for the exact transform and any double evaluation. No
-// precondition: the bound holds at every pose.
+// precondition: the bound holds at every pose. The mover's box tree is walked best first, nodes
+// bounded by the planes at their boxes' corners, so that only triangles that may set h are bounded.
 HalfspaceAdvance halfspace_advance(const SupportPlanes& support, const MoverOrientation& orientation, const Vec3& t,
                                    const Vec3& d, double target, double slack, double h_max);
+
+// The least plane bound over the placed mover's triangles at the pose t (no margins: the placed
+// doubles' triangles), the same walk: a lower bound of c at t up to the transform's rounding, and
+// the face and point where it is least (for the certificate's upper end).
+struct HalfspaceMinimum {
+  double lower = 0.0;
+  std::int64_t face = -1;
+  double beta = 1.0 / 3, gamma = 1.0 / 3;
+};
+HalfspaceMinimum least_halfspace_bound(const SupportPlanes& support, const MoverOrientation& orientation,
+                                       const Vec3& t);
 
 }  // namespace cdbench

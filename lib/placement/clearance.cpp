@@ -9,6 +9,7 @@
 #include "distance/point_triangle_distance.h"
 #include "distance/triangle_distance.h"
 #include "mesh/components.h"
+#include "placement/advance.h"
 #include "util/thread_scratch.h"
 
 namespace cdbench {
@@ -766,19 +767,10 @@ namespace {
 // with the least bound (a point of the placed mover's surface within eta of the computed one).
 // False when the two ends are farther apart than the requested width.
 bool halfspace_certificate(const SignedDistance& fixed, const SupportPlanes& support, const MoverOrientation& o,
-                           const PlacedView& P, const ClearanceOptions& options, ClearanceResult& r) {
-  double lower = kInf, beta = 0.0, gamma = 0.0;
-  std::int64_t face = -1;
-  for (std::size_t f = 0; f < o.faces->size(); ++f) {
-    const Face& tri = (*o.faces)[f];
-    const HalfspaceTriangleBound b = halfspace_triangle_bound(support, P[tri[0]], P[tri[1]], P[tri[2]], Vec3::Zero());
-    if (b.lower < lower) {
-      lower = b.lower;
-      face = static_cast<std::int64_t>(f);
-      beta = b.beta;
-      gamma = b.gamma;
-    }
-  }
+                           const PlacedView& P, const Vec3& t, const ClearanceOptions& options, ClearanceResult& r) {
+  const HalfspaceMinimum m = least_halfspace_bound(support, o, t);
+  const double lower = m.lower, beta = m.beta, gamma = m.gamma;
+  const std::int64_t face = m.face;
   if (face < 0 || !(lower > -kInf)) return false;
   const Face& tri = (*o.faces)[static_cast<std::size_t>(face)];
   const Vec3 &p0 = P[tri[0]], &p1 = P[tri[1]], &p2 = P[tri[2]];
@@ -804,7 +796,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
                                   const Vec3& t, const ClearanceOptions& options) {
   ClearanceResult r;
   const PlacedView P = orientation.placed_view(t);
-  if (options.support && !options.support->empty() && halfspace_certificate(fixed, *options.support, orientation, P, options, r)) {
+  if (options.support && !options.support->empty() && halfspace_certificate(fixed, *options.support, orientation, P, t, options, r)) {
     if (options.frontier) options.frontier->valid = false;
     r.transform_error = orientation.transform_error(t);
     r.clearance.lo = down(r.clearance.lo - 2 * r.transform_error);
@@ -882,10 +874,10 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
 }
 
 std::shared_ptr<const SupportPlanes> support_planes_for(const TriangleMesh& fixed, const TriangleMesh& mover) {
-  constexpr std::size_t kSupportWork = 4096;
+  constexpr std::size_t kMaxPlanes = 64;
   if (mover.faces.empty()) return nullptr;
   auto S = std::make_shared<SupportPlanes>(SupportPlanes::build(fixed));
-  if (!S->convex() || S->empty() || mover.faces.size() * S->planes().size() > kSupportWork) return nullptr;
+  if (!S->convex() || S->empty() || S->planes().size() > kMaxPlanes) return nullptr;
   return S;
 }
 

@@ -116,10 +116,11 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
                                   const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
                                   const Vec3& t, const ClearanceOptions& options);
 
-// F's supporting planes where they pay as a certificate's first try (ClearanceOptions::support)
-// for this mover: F convex and (mover triangles) x (planes) at most 4,096, since each try evaluates
-// every plane for every mover triangle where a branch and bound visits few cells (measured:
-// doc/poses.md, "Supporting planes"). Null otherwise.
+// F's supporting planes where they pay as a certificate's first try and for steps
+// (ClearanceOptions::support, halfspace_advance): F convex with at most 64 distinct face planes.
+// Each node and triangle the walk bounds picks its planes from all of them, so many planes cost
+// more than the branch and bound saves (measured: doc/poses.md, "Supporting planes"). Null
+// otherwise.
 std::shared_ptr<const SupportPlanes> support_planes_for(const TriangleMesh& fixed, const TriangleMesh& mover);
 
 // The one-call form (builds the mover's orientation tree each time: for many poses of one rotation,

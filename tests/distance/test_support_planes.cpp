@@ -91,7 +91,23 @@ LineCheck check_lines(const TriangleMesh& F, std::uint64_t seed, int n, double r
     const std::array<Vec3, 3> v{c + size * Vec3(s(rng), s(rng), s(rng)), c + size * Vec3(s(rng), s(rng), s(rng)),
                                 c + size * Vec3(s(rng), s(rng), s(rng))};
     const Vec3 d = Vec3(s(rng), s(rng), s(rng)).normalized();
-    const HalfspaceTriangleBound b = halfspace_triangle_bound(S, v[0], v[1], v[2], d);
+    const HalfspaceBound b = halfspace_bound(S, v.data(), 3, d);
+    // The same over the triangle's bounding box (8 corners, as for the mover's tree nodes).
+    Vec3 lo = v[0].cwiseMin(v[1]).cwiseMin(v[2]), hi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+    std::array<Vec3, 8> corners;
+    for (int q = 0; q < 8; ++q)
+      for (int a = 0; a < 3; ++a) corners[q][a] = (q >> a) & 1 ? hi[a] : lo[a];
+    const HalfspaceBound bb = halfspace_bound(S, corners.data(), 8, d);
+    for (int q = 0; q < 27; ++q) {
+      const Vec3 y = lo + Vec3((q % 3) / 2.0, (q / 3 % 3) / 2.0, (q / 9) / 2.0).cwiseProduct(hi - lo);
+      for (double mu : {0.0, 0.1 * diag, 0.5 * diag}) {
+        ++out.points;
+        if (sd.signed_distance(y - mu * d).hi < bb.lower - mu * bb.rate * rate_factor) {
+          if (rate_factor == 1.0) ADD_FAILURE() << std::setprecision(17) << "box " << lo.transpose() << " / " << hi.transpose() << " mu " << mu;
+          ++out.violations;
+        }
+      }
+    }
     ++out.triangles;
     double least = HUGE_VAL;
     bool inside = true;
