@@ -194,7 +194,7 @@ struct HalfspacePolicy {
 };
 
 // Every triangle for a small mover (its few tree nodes, each an 8-corner program, cost more than
-// they prune: a tetrahedron's steps 4.7x slower walked), else the walk.
+// they prune: a tetrahedron's poses several times slower walked), else the walk.
 void visit(const MoverOrientation& o, HalfspacePolicy& p) {
   constexpr std::size_t kLoopFaces = 64;
   if (o.faces->size() > kLoopFaces) {
