@@ -15,7 +15,8 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
   SupportPlanes S;
   if (F.faces.empty() || static_cast<double>(F.faces.size()) * static_cast<double>(F.vertices.size()) > max_work)
     return S;
-  const double slack = relative_slack * F.bbox().diagonal();
+  const double diagonal = F.bbox().diagonal();
+  const double slack = relative_slack * diagonal;
   std::vector<SupportPlane> found;
   bool all = true;
   for (const Face& f : F.faces) {
@@ -51,7 +52,7 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
       if (x.n[k] != y.n[k]) return x.n[k] < y.n[k];
     return x.d < y.d;
   });
-  const double scale = 1e-12 * (1.0 + F.bbox().diagonal());
+  const double scale = 1e-12 * (1.0 + diagonal);
   for (const SupportPlane& p : found) {
     bool duplicate = false;
     for (std::size_t k = S.planes_.size(); k-- > 0 && !duplicate;) {
@@ -85,10 +86,6 @@ double weighted_mean_down(const double* w, const double* q, int M) {
   const double lo = round_down(s - 5e-15 * a);
   return round_down(lo >= 0.0 ? lo / (W * (1.0 + 5e-15)) : lo / (W * (1.0 - 5e-15)));
 }
-
-}  // namespace
-
-namespace {
 
 // The weights for the members `idx` (plane indices): corner values v (estimates: they only pick the
 // weights), the weights w of the linear program, and a guess (beta, gamma) of the point where the

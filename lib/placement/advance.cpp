@@ -13,6 +13,17 @@
 namespace cdbench {
 namespace {
 
+// The transform's rounding at the pose t and at any pose an advance of at most h_max reaches:
+// |t'_k| <= |t_k| + h_max |d_k| + slack.
+struct AdvanceRounding {
+  double at_t, farthest;
+};
+AdvanceRounding advance_rounding(const MoverOrientation& o, const Vec3& t, const Vec3& d, double slack, double h_max) {
+  Vec3 far_t;
+  for (int k = 0; k < 3; ++k) far_t[k] = std::abs(t[k]) + 1.001 * h_max * std::abs(d[k]) + slack;
+  return {o.transform_error(t), o.transform_error(far_t)};
+}
+
 // The pair traversal: node pairs in order of the time their boxes (the fixed one grown by `reach`)
 // can first meet, pruned at the least pair bound so far. Runs under upward rounding (the box times
 // are interval computations); the mover's vertices are placed in round-to-nearest, as everywhere.
@@ -118,10 +129,8 @@ SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrien
                                    std::int64_t hint_fixed, std::int64_t hint_mover, const SweepTrees* trees) {
   SeparatedAdvance r;
   if (!(h_max > 0.0)) return r;
-  // The transform's rounding at t and at any pose reached (|t'_k| <= |t_k| + h_max |d_k| + slack).
-  Vec3 far_t;
-  for (int k = 0; k < 3; ++k) far_t[k] = std::abs(t[k]) + 1.001 * h_max * std::abs(d[k]) + slack;
-  const double margin = slack + orientation.transform_error(t) + orientation.transform_error(far_t);
+  const AdvanceRounding rounding = advance_rounding(orientation, t, d, slack, h_max);
+  const double margin = slack + rounding.at_t + rounding.farthest;
   const double reach = round_up(target + margin);
   CGAL::Protect_FPU_rounding<true> guard;
   AdvancePolicy policy{fixed.mesh(), fixed.planes(), orientation, t, -d, reach, h_max};
@@ -219,10 +228,9 @@ HalfspaceAdvance halfspace_advance(const SupportPlanes& support, const MoverOrie
                                    const Vec3& d, double target, double slack, double h_max) {
   // The exact mover at a pose t' within slack of t - mu d lies within transform_error(t) + slack of
   // the placed one moved by -mu d, and a double evaluation at t' within transform_error(t') more
-  // (|t'_k| <= |t_k| + h_max |d_k| + slack, as in separated_advance); c is 1-Lipschitz in them.
-  Vec3 far_t;
-  for (int k = 0; k < 3; ++k) far_t[k] = std::abs(t[k]) + 1.001 * h_max * std::abs(d[k]) + slack;
-  const double margin = round_up(round_up(slack + orientation.transform_error(t)) + orientation.transform_error(far_t));
+  // (advance_rounding, as in separated_advance); c is 1-Lipschitz in them.
+  const AdvanceRounding rounding = advance_rounding(orientation, t, d, slack, h_max);
+  const double margin = round_up(round_up(slack + rounding.at_t) + rounding.farthest);
   HalfspacePolicy p{support, orientation, orientation.placed_view(t), t, d, true, target, margin,
                     std::max(0.0, h_max), {}};
   visit(orientation, p);
@@ -231,7 +239,6 @@ HalfspaceAdvance halfspace_advance(const SupportPlanes& support, const MoverOrie
   r.face = p.out.face;
   r.beta = p.out.beta;
   r.gamma = p.out.gamma;
-  r.lower = p.out.lower;
   return r;
 }
 

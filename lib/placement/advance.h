@@ -47,8 +47,7 @@ SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrien
 // whose bound is exact inside it: Newton's method on a piecewise-linear c).
 struct HalfspaceAdvance {
   double h = 0.0;          // the proven step (0: none), at most h_max
-  double lower = 0.0;      // the plane bound at t of the triangle that set h (before margins)
-  std::int64_t face = -1;  // that mover face, and a guess of its deepest point (a hint)
+  std::int64_t face = -1;  // the mover face that set h, and a guess of its deepest point (a hint)
   double beta = 1.0 / 3, gamma = 1.0 / 3;
 };
 // `slack` as for separated_advance. Returns h in [0, h_max] such that every pose t' within `slack`

@@ -38,6 +38,23 @@ inline double relaxed_threshold(double upper, double tol, double rel, double tar
   return upper - std::max(tol, rel * (upper - target));
 }
 
+// How far p0 + b e1 + g e2 (e1 = p1 - p0, e2 = p2 - p0, weights in [0, 1]), computed in doubles,
+// lies from the exact point of the placed triangle: each coordinate takes a few roundings, each at
+// most u times a magnitude below |p0| + |p1 - p0| + |p2 - p0|; 1e-14 covers them (u = 1.1e-16) with
+// margin.
+inline double combination_rounding(const Vec3& p0, const Vec3& e1, const Vec3& e2) {
+  return 1e-14 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) *
+         1.7320508075688774;
+}
+
+// The interval of c computed for the placed doubles, widened to hold for the exact transform and
+// any double evaluation of it (twice the transform's rounding bound).
+void widen_for_transform(ClearanceResult& r, const MoverOrientation& o, const Vec3& t) {
+  r.transform_error = o.transform_error(t);
+  r.clearance.lo = down(r.clearance.lo - 2 * r.transform_error);
+  r.clearance.hi = up(r.clearance.hi + 2 * r.transform_error);
+}
+
 // Minimum triangle-pair distance between the placed mover and F (squared, certified), stopping at
 // the first proven intersection. In the fast mode a leaf costs a double closest-point estimate plus
 // a rigorous lower bound from the projections on the estimated direction (exact up to rounding for
@@ -423,10 +440,7 @@ class BranchAndBound {
     } else {
       const Vec3 e1 = p1 - p0, e2 = p2 - p0;
       for (int k = 0; k < 3; ++k) v[k] = p0 + c.bary[k][0] * e1 + c.bary[k][1] * e2;
-      // Each coordinate: a few roundings, each at most u times a magnitude below
-      // |p0| + |p1 - p0| + |p2 - p0|; 1e-14 covers them (u = 1.1e-16) with margin.
-      g.eta = 1e-14 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) *
-              1.7320508075688774;
+      g.eta = combination_rounding(p0, e1, e2);
     }
     g.w = centre_weights(c);
     g.m = g.w[0] == g.w[1] && g.w[1] == g.w[2] ? Vec3((v[0] + v[1] + v[2]) / 3.0)
@@ -767,25 +781,21 @@ namespace {
 // with the least bound (a point of the placed mover's surface within eta of the computed one).
 // False when the two ends are farther apart than the requested width.
 bool halfspace_certificate(const SignedDistance& fixed, const SupportPlanes& support, const MoverOrientation& o,
-                           const PlacedView& P, const Vec3& t, const ClearanceOptions& options, ClearanceResult& r) {
+                           const Vec3& t, const ClearanceOptions& options, ClearanceResult& r) {
   const HalfspaceMinimum m = least_halfspace_bound(support, o, t);
-  const double lower = m.lower, beta = m.beta, gamma = m.gamma;
-  const std::int64_t face = m.face;
-  if (face < 0 || !(lower > -kInf)) return false;
-  const Face& tri = (*o.faces)[static_cast<std::size_t>(face)];
+  if (m.face < 0 || !(m.lower > -kInf)) return false;
+  const PlacedView P = o.placed_view(t);
+  const Face& tri = (*o.faces)[static_cast<std::size_t>(m.face)];
   const Vec3 &p0 = P[tri[0]], &p1 = P[tri[1]], &p2 = P[tri[2]];
   const Vec3 e1 = p1 - p0, e2 = p2 - p0;
-  const Vec3 x = p0 + beta * e1 + gamma * e2;
-  // As for a cell's corners (BranchAndBound::geometry): a few roundings per coordinate.
-  const double eta =
-      1e-14 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) * 1.7320508075688774;
-  const double upper = up(fixed.signed_distance(x).hi + eta);
-  if (!(lower >= relaxed_threshold(upper, options.tolerance, options.relative_tolerance, options.target)))
+  const Vec3 x = p0 + m.beta * e1 + m.gamma * e2;
+  const double upper = up(fixed.signed_distance(x).hi + combination_rounding(p0, e1, e2));
+  if (!(m.lower >= relaxed_threshold(upper, options.tolerance, options.relative_tolerance, options.target)))
     return false;
-  r.clearance = {lower, upper};
-  r.argmin_face = face;
-  r.argmin_beta = beta;
-  r.argmin_gamma = gamma;
+  r.clearance = {m.lower, upper};
+  r.argmin_face = m.face;
+  r.argmin_beta = m.beta;
+  r.argmin_gamma = m.gamma;
   return true;
 }
 
@@ -795,14 +805,13 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
                                   const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
                                   const Vec3& t, const ClearanceOptions& options) {
   ClearanceResult r;
-  const PlacedView P = orientation.placed_view(t);
-  if (options.support && !options.support->empty() && halfspace_certificate(fixed, *options.support, orientation, P, t, options, r)) {
+  if (options.support && !options.support->empty() &&
+      halfspace_certificate(fixed, *options.support, orientation, t, options, r)) {
     if (options.frontier) options.frontier->valid = false;
-    r.transform_error = orientation.transform_error(t);
-    r.clearance.lo = down(r.clearance.lo - 2 * r.transform_error);
-    r.clearance.hi = up(r.clearance.hi + 2 * r.transform_error);
+    widen_for_transform(r, orientation, t);
     return r;
   }
+  const PlacedView P = orientation.placed_view(t);
   const SweepTrees* trees =
       options.sweep_trees && options.sweep_trees->fixed && options.sweep_trees->mover ? options.sweep_trees : nullptr;
   const auto pair_traversal = [&](DistancePolicy& policy) {
@@ -867,9 +876,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     bb.run(options.max_cells, options.hint_face, options.hint_beta, options.hint_gamma, warm, r);
     if (options.frontier) bb.export_frontier(*options.frontier);
   }
-  r.transform_error = orientation.transform_error(t);
-  r.clearance.lo = down(r.clearance.lo - 2 * r.transform_error);
-  r.clearance.hi = up(r.clearance.hi + 2 * r.transform_error);
+  widen_for_transform(r, orientation, t);
   return r;
 }
 

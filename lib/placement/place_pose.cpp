@@ -295,6 +295,12 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   }
   out.contact = true;
   out.raw_clearance = c.clearance;
+  // The advance passed the far side of F without reaching the target: c > target on the whole line.
+  const auto missed = [&] {
+    out.contact = false;
+    out.reason = "no-contact";
+    return out;
+  };
   const auto within = [&](const Interval& x) {
     return x.lo >= target - options.tolerance && x.hi <= target + options.tolerance;
   };
@@ -352,11 +358,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
                                 pose_rounding_slack(frame, std::abs(out.lambda) + h_max), h_max, copt.hint_pair_fixed,
                                 copt.hint_pair_mover, copt.sweep_trees);
           if (!a.oriented_paid) copt.sweep_trees = nullptr;
-          if (a.h >= h_max) {  // no pair comes within reach before the far side: c > target on the line
-            out.contact = false;
-            out.reason = "no-contact";
-            return out;
-          }
+          if (a.h >= h_max) return missed();  // no pair comes within reach before the far side
           h = std::max(h, a.h);
           if (a.fixed_face >= 0) {
             copt.hint_pair_fixed = a.fixed_face;
@@ -374,22 +376,19 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       if (support) {
         // The planes' step where it beats this certificate's, chained without certificates while
         // it stays longer than the tolerance (Newton's method on a piecewise-linear c: a few steps).
-        HalfspaceAdvance a = halfspace_advance(*support, frame.orientation, pose_translation(frame, dir, out.lambda),
-                                               dir, target, pose_rounding_slack(frame, 2.0 * lambda_far),
-                                               out.lambda + lambda_far);
+        const auto planes_step = [&] {
+          return halfspace_advance(*support, frame.orientation, pose_translation(frame, dir, out.lambda), dir, target,
+                                   pose_rounding_slack(frame, 2.0 * lambda_far), out.lambda + lambda_far);
+        };
+        HalfspaceAdvance a = planes_step();
         if (a.h > step) {
           for (;;) {
             if (a.face >= 0) set_hint(copt, {a.beta, a.gamma}, static_cast<std::uint32_t>(a.face));
             out.lambda -= a.h;
             ++out.steps;
-            if (out.lambda <= -lambda_far) {  // c > target on the whole line
-              out.contact = false;
-              out.reason = "no-contact";
-              return out;
-            }
+            if (out.lambda <= -lambda_far) return missed();
             if (a.h <= options.tolerance || out.steps >= options.max_steps) break;
-            a = halfspace_advance(*support, frame.orientation, pose_translation(frame, dir, out.lambda), dir, target,
-                                  pose_rounding_slack(frame, 2.0 * lambda_far), out.lambda + lambda_far);
+            a = planes_step();
             if (!(a.h > 0.0)) break;
           }
           c = certify(out.lambda, false);
@@ -421,12 +420,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       }
       if (!advanced) {
         out.lambda -= step;
-        if (out.lambda < -lambda_far) {
-          // Passed the fixed object without reaching the target: c > target on the whole line.
-          out.contact = false;
-          out.reason = "no-contact";
-          return out;
-        }
+        if (out.lambda < -lambda_far) return missed();
         c = certify(out.lambda, true);
       }
       ++out.steps;
