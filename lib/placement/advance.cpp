@@ -7,6 +7,8 @@
 #include <limits>
 
 #include "core/interval.h"
+#include "distance/deep_cover.h"
+#include "distance/point_triangle_distance.h"
 #include "distance/triangle_distance.h"
 #include "sweep/mesh_sweep.h"
 
@@ -214,6 +216,114 @@ void visit(const MoverOrientation& o, HalfspacePolicy& p) {
 }
 
 }  // namespace
+
+namespace {
+
+// Where a moving box or triangle can meet a box of the deep-zone cover (doc/poses.md, "Deep-zone
+// jumps"): the mover's rotated doubles a moved to a + t0 + lambda d (exact in lambda), the cover's
+// boxes grown by `margin`. Each separating axis gives an interval of lambda outside of which it
+// separates them, computed outwards (every operation rounded and then moved one ulp out, valid in
+// any rounding mode); their intersection holds every lambda where the two meet.
+struct LambdaRange {
+  double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+  bool empty() const { return !(lo <= hi); }
+  void meet(double l, double h) {
+    lo = std::max(lo, l);
+    hi = std::min(hi, h);
+  }
+};
+
+// Along an axis where the moving range is [p_lo, p_hi] + lambda w (w in [w_lo, w_hi], of one sign
+// or zero) and the fixed one [b_lo, b_hi] (every bound already outward): the lambdas where they may
+// overlap.
+void axis_range(double p_lo, double p_hi, double b_lo, double b_hi, double w_lo, double w_hi, LambdaRange& r) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (w_lo == 0.0 && w_hi == 0.0) {
+    if (!(p_lo <= b_hi && p_hi >= b_lo)) r.meet(kInf, -kInf);
+    return;
+  }
+  if (!(w_lo > 0.0) && !(w_hi < 0.0)) return;  // the sign of the motion is uncertain: no constraint
+  if (w_hi < 0.0) {  // mirror the axis
+    axis_range(-p_hi, -p_lo, -b_hi, -b_lo, -w_hi, -w_lo, r);
+    return;
+  }
+  // p_hi + lambda w >= b_lo and p_lo + lambda w <= b_hi, for the exact w in [w_lo, w_hi] > 0.
+  const double n1 = round_down(b_lo - p_hi), n2 = round_up(b_hi - p_lo);
+  const double lo = round_down(std::min(n1 / w_lo, n1 / w_hi));
+  const double hi = round_up(std::max(n2 / w_lo, n2 / w_hi));
+  r.meet(lo, hi);
+}
+
+struct CoverContactPolicy {
+  const MoverOrientation& o;
+  const DeepCover& cover;
+  Vec3 t0, d;
+  double margin;
+  double stop_at;  // a contact at or beyond it settles the query
+  double best = -std::numeric_limits<double>::infinity();
+  std::uint64_t leaves = 0;
+
+  // The moving box A (rotated coordinates) against B: the coordinate axes.
+  LambdaRange boxes(const Aabb& A, const Aabb& B) const {
+    LambdaRange r;
+    for (int k = 0; k < 3 && !r.empty(); ++k)
+      axis_range(round_down(A.lo[k] + t0[k]), round_up(A.hi[k] + t0[k]), round_down(B.lo[k] - margin),
+                 round_up(B.hi[k] + margin), d[k], d[k], r);
+    return r;
+  }
+  double bound(const Aabb& A, const Aabb& B) const {
+    const LambdaRange r = boxes(A, B);
+    return r.empty() ? std::numeric_limits<double>::infinity() : -r.hi;
+  }
+  double prune_bound() const { return -best; }
+  bool done() const { return best >= stop_at; }
+  bool split_first(const Aabb& a, const Aabb& b) const { return a.extent().squaredNorm() >= b.extent().squaredNorm(); }
+  void leaf(std::uint32_t face, std::uint32_t box) {
+    ++leaves;
+    const Face& f = (*o.faces)[face];
+    const Vec3 &a0 = o.rotated[f[0]], &a1 = o.rotated[f[1]], &a2 = o.rotated[f[2]];
+    Aabb tri;
+    tri.extend(a0);
+    tri.extend(a1);
+    tri.extend(a2);
+    const Aabb& B = cover.boxes[box];
+    LambdaRange r = boxes(tri, B);
+    // The triangle's normal (any vector separates validly; the computed one nearly as the exact).
+    const Vec3 n = (a1 - a0).cross(a2 - a0);
+    if (!r.empty() && n.cwiseAbs().maxCoeff() > 0.0) {
+      double p_lo = std::numeric_limits<double>::infinity(), p_hi = -p_lo;
+      for (const Vec3* a : {&a0, &a1, &a2}) {
+        const PlaneOffset v = plane_offset(n, 0.0, *a);
+        p_lo = std::min(p_lo, round_down(v.value - v.error));
+        p_hi = std::max(p_hi, round_up(v.value + v.error));
+      }
+      const PlaneOffset nt = plane_offset(n, 0.0, t0), nd = plane_offset(n, 0.0, d);
+      p_lo = round_down(p_lo + round_down(nt.value - nt.error));
+      p_hi = round_up(p_hi + round_up(nt.value + nt.error));
+      Vec3 lo_corner, hi_corner;
+      for (int k = 0; k < 3; ++k) {
+        const double bl = round_down(B.lo[k] - margin), bh = round_up(B.hi[k] + margin);
+        lo_corner[k] = n[k] >= 0.0 ? bl : bh;
+        hi_corner[k] = n[k] >= 0.0 ? bh : bl;
+      }
+      const PlaneOffset bl = plane_offset(n, 0.0, lo_corner), bh = plane_offset(n, 0.0, hi_corner);
+      axis_range(p_lo, p_hi, round_down(bl.value - bl.error), round_up(bh.value + bh.error),
+                 round_down(nd.value - nd.error), round_up(nd.value + nd.error), r);
+    }
+    if (!r.empty()) best = std::max(best, r.hi);
+  }
+};
+
+}  // namespace
+
+double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orientation, const Vec3& t0, const Vec3& d,
+                          double margin, double stop_at) {
+  if (!cover.complete || cover.boxes.empty() || orientation.boxes.empty())
+    return -std::numeric_limits<double>::infinity();
+  CoverContactPolicy p{orientation, cover, t0, d, margin, stop_at};
+  traverse_pairs_best_first(orientation.boxes, cover.tree, p);
+  return p.best;
+}
 
 HalfspaceMinimum least_halfspace_bound(const SupportPlanes& support, const MoverOrientation& orientation,
                                        const Vec3& t) {

@@ -5,7 +5,9 @@
 // rounding margins) of each other; the least of these bounds is a step that keeps c above the
 // target. As FCL's conservative advancement, with rigorous bounds.
 #include <cstdint>
+#include <limits>
 
+#include "distance/deep_cover.h"
 #include "distance/signed_distance.h"
 #include "distance/support_planes.h"
 #include "placement/mover.h"
@@ -67,5 +69,17 @@ struct HalfspaceMinimum {
 };
 HalfspaceMinimum least_halfspace_bound(const SupportPlanes& support, const MoverOrientation& orientation,
                                        const Vec3& t);
+
+// The latest advance at which the mover can meet a box of F's deep-zone cover
+// (distance/deep_cover.h; doc/poses.md, "Deep-zone jumps"): lambda_K such that for every lambda >
+// lambda_K the mover's triangles with the rotated doubles moved by t0 + lambda d (exactly), grown
+// by `margin`, miss every box. With margin at least the transform's rounding twice plus the pose
+// translation's rounding, every pose fl(t0 + lambda d) with lambda > lambda_K has c > the cover's
+// target for the exact transform and any double evaluation. -inf when no box is met on the whole
+// line (or the cover is incomplete: then nothing is claimed, and the caller must not use it).
+// The search stops at the first contact found at or beyond `stop_at` and returns it (a lambda_K
+// that large is of no use to the caller; +inf: the exact latest contact).
+double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orientation, const Vec3& t0, const Vec3& d,
+                          double margin, double stop_at = std::numeric_limits<double>::infinity());
 
 }  // namespace cdbench

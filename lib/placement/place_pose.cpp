@@ -93,6 +93,17 @@ double median_edge_length(const TriangleMesh& m) {
 
 }  // namespace
 
+bool deep_cover_wanted(double target, double max_penetration) {
+  return target < 0.0 && max_penetration > 0.0 && -target >= 0.2 * max_penetration;
+}
+
+DeepCoverOptions deep_cover_options(double target) {
+  DeepCoverOptions o;
+  o.cell_size = 0.5 * std::abs(target);
+  o.max_cells = 150000;
+  return o;
+}
+
 Vec3 pose_translation(const OrientationFrame& f, const Vec3& dir, double lambda) {
   return Vec3(f.t0[0] + lambda * dir[0], f.t0[1] + lambda * dir[1], f.t0[2] + lambda * dir[2]);
 }
@@ -329,9 +340,46 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       last_loose = false;
       adopt(c);
     }
+    // Returns false when the line never meets the zone (c > target on all of it).
+    const auto cover_jump = [&](const DeepCover& cover) -> bool {
+      // Every pose beyond the moving mover's first contact with the deep zone's cover has its
+      // surface outside the zone: c > target there. The exact positions at fl(t0 + lambda d) lie
+      // within the pose's rounding plus the transform's (twice: ours and any other evaluation).
+      const double slack = pose_rounding_slack(frame, lambda_far);
+      Vec3 far_t;
+      for (int k = 0; k < 3; ++k) far_t[k] = std::abs(frame.t0[k]) + 1.001 * lambda_far * std::abs(dir[k]) + slack;
+      const double margin = round_up(round_up(2.0 * frame.orientation.transform_error(far_t)) + slack);
+      // Worth a jump only beyond what one two-sided step proves.
+      const double worth = out.lambda - 2.0 * std::max(0.0, c.clearance.lo - target);
+      const double lk = deep_cover_contact(cover, frame.orientation, frame.t0, dir, margin, worth);
+      ++out.cover_queries;
+      if (!(lk > -lambda_far)) return false;  // the line never meets the zone
+      if (lk < worth) {
+        // A jump past what one step would prove. Kept only when the certificate there is on the
+        // target or provably before the crossing (c(lk) >= target holds, but a certificate of a
+        // pose exactly at the target could straddle it).
+        const double lambda0 = out.lambda;
+        const ClearanceResult c0 = c;
+        const ClearanceFrontier f0 = frontier;
+        frontier.valid = false;
+        out.lambda = lk;
+        c = certify(out.lambda, false);
+        if (!within(c.clearance) && !(c.clearance.lo > target)) {
+          out.lambda = lambda0;
+          c = c0;
+          frontier = f0;
+          adopt(c);
+        } else {
+          ++out.cover_jumps;
+        }
+      }
+      return true;
+    };
     // The previous pose of the advance, for the slope of c (a heuristic: it only picks steps).
     double prev_lambda = 0.0, prev_mid = 0.0;
     bool have_prev = false;
+    int flat_steps = 0;
+    bool use_cover = options.deep_cover && target < 0.0 && options.deep_cover->target() == target;
     while (!within(c.clearance) && out.steps < options.max_steps) {
       // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
       // margin; the rounding of t by the absolute one): stepping by c_lo - target cannot pass the
@@ -397,6 +445,23 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       }
       const double mid = 0.5 * (c.clearance.lo + c.clearance.hi);
       const double slope = have_prev ? std::max(0.0, (prev_mid - mid) / (prev_lambda - out.lambda)) : 1.0;
+      // A plateau: c flat (secant slope below 1/2) for two steps while still a fifth of |target|
+      // or more above it. There, once per pose, a jump to the first contact with the deep zone's
+      // cover. Not before: where c falls steeply, or slowly but near the target, the crossing is
+      // a few steps away and the cover would cost more than it saves (doc/performance.md).
+      flat_steps = slope < 0.5 && mid - target > 0.2 * std::abs(target) ? flat_steps + 1 : 0;
+      if (use_cover && flat_steps >= 2) {
+        use_cover = false;
+        if (const DeepCover* cover = options.deep_cover->get()) {
+          const double before = out.lambda;
+          if (!cover_jump(*cover)) return missed();
+          if (out.lambda != before) {
+            have_prev = false;
+            flat_steps = 0;
+            continue;
+          }
+        }
+      }
       prev_lambda = out.lambda;
       prev_mid = mid;
       have_prev = true;

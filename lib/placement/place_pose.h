@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "distance/deep_cover.h"
 #include "distance/signed_distance.h"
 #include "placement/clearance.h"
 #include "placement/mover.h"
@@ -111,7 +112,22 @@ struct PoseOptions {
   // Targets < 0 with a convex F: steps and certificates from F's supporting planes
   // (ApproachSetup::support); off: certificates and Lipschitz steps only (for A/B measurements).
   bool support_planes = true;
+  // Targets < 0: the level's cover of F's deep zone (distance/deep_cover.h), built when a pose
+  // first finds c flat: its first contact along the line is a start before the first crossing
+  // (doc/poses.md, "Deep-zone jumps"), to which the advance jumps when it lies beyond its own
+  // pose. Null: no jumps.
+  const LazyDeepCover* deep_cover = nullptr;
 };
+
+// The deep-zone cover a penetrating level uses (PoseOptions::deep_cover): cubes of half-diagonal
+// at most |target| / 2 along the zone's boundary, at most 150,000 cubes evaluated (about a second;
+// beyond, the level goes without). Measured: doc/performance.md, "Deep-zone jumps".
+DeepCoverOptions deep_cover_options(double target);
+// Whether a penetrating level gets a cover at all: its target at least a fifth of the maximum
+// penetration deep. Shallower zones lie just under most of F's surface, so a jump to them is short
+// while their covers are large (about F's area over target^2; armadillo -10 %: 91,000 cubes for
+// no gain; rotor and spool -10 %: over the budget).
+bool deep_cover_wanted(double target, double max_penetration);
 
 struct PoseOutcome {
   bool contact = false;  // the approach line met the offset surface
@@ -123,6 +139,7 @@ struct PoseOutcome {
   int steps = 0;
   int two_sided_tries = 0;  // long steps tried where c is flat (each accepted one is a step)
   bool continued = false;   // the advance continued from a higher target's pose (ApproachMemo)
+  int cover_queries = 0, cover_jumps = 0;  // deep-zone cover contacts asked, jumps taken
   std::string reason;      // why not certified / not on target
   std::uint64_t sphere_tests = 0, triangle_sweeps = 0, clearance_cells = 0;
 };

@@ -160,6 +160,11 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // offset for them): recorded, so that such a journal is never resumed or merged with the other
   // start. Absent otherwise, so that other runs still resume.
   if (near_surface_starts) run_key["near_surface_start_bands"] = kNearSurfaceBands;
+  // Penetrating polished levels jump across plateaus to the deep zone's cover (since 2026-11-27,
+  // session 29): their poses may differ within the tolerance from earlier binaries', whose
+  // journals must therefore not be resumed or merged with them.
+  if (polish && std::any_of(targets.begin(), targets.end(), [](double x) { return x < 0.0; }))
+    run_key["deep_zone_jumps"] = 1;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 
@@ -233,6 +238,13 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   po.max_steps = opt.max_steps;
 
 
+  // Penetrating levels: the deep zone's cover, built by the first pose that finds c flat
+  // (PoseOptions::deep_cover; deterministic, so the poses do not depend on which pose that is).
+  std::vector<std::unique_ptr<LazyDeepCover>> covers(L);
+  for (std::size_t l = 0; l < L; ++l)
+    if (polish && deep_cover_wanted(targets[l], mp.depth.lo))
+      covers[l] = std::make_unique<LazyDeepCover>(sdf, targets[l], deep_cover_options(targets[l]));
+
   // Pending approaches in order; an orientation's frame is built by the first thread that needs it
   // and freed after its last approach.
   std::vector<std::uint64_t> pending;
@@ -287,6 +299,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
       } else {
         PoseOptions level_po = po;
         level_po.start = start[l];
+        level_po.deep_cover = covers[l].get();
         Timer t_pose;
         const PoseOutcome p = place_pose(setup, frame, swept_against, dir, targets[l], level_po, &memo);
         level_ns[l] += static_cast<std::uint64_t>(t_pose.seconds() * 1e9);
@@ -384,9 +397,18 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   for (std::size_t l = 0; l < L; ++l) {
     const double sec = 1e-9 * static_cast<double>(level_ns[l].load());
     const double n = static_cast<double>(pending.size());
+    nlohmann::json cover;  // null: not built (no pose of the level found c flat)
+    if (const DeepCover* k = covers[l] ? covers[l]->peek() : nullptr) {
+      cover = {{"complete", k->complete}, {"cubes", k->cells}, {"boxes", k->boxes.size()},
+               {"seconds", covers[l]->seconds()}};
+      std::cerr << "cdbench poses: level " << specs[l].text << ": deep-zone cover "
+                << (k->complete ? "built" : "not used (its budget ran out)") << ", " << k->cells << " cubes, "
+                << k->boxes.size() << " boxes, " << covers[l]->seconds() << " s" << std::endl;
+    }
     level_timings.push_back({{"spec", specs[l].text},
                              {"thread_seconds", sec},
-                             {"poses_per_thread_second", sec > 0 ? n / sec : 0.0}});
+                             {"poses_per_thread_second", sec > 0 ? n / sec : 0.0},
+                             {"deep_cover", cover}});
   }
   ps["timings"] = {{"max_penetration", seconds_mp},
                    {"levels", level_timings},

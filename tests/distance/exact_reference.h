@@ -3,6 +3,10 @@
 // own inside test (Side_of_triangle_mesh), neither of which shares code with lib/distance.
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <memory>
 
 #include "core/interval.h"
 #include "core/triangle_mesh.h"
@@ -66,5 +70,25 @@ inline bool contains_sqrt(const Interval& i, const Epeck::FT& exact_sq) {
   const Epeck::FT lo(i.lo), hi(i.hi);
   return (i.lo <= 0 || lo * lo <= exact_sq) && i.hi >= 0 && exact_sq <= hi * hi;
 }
+
+// CGAL's own inside test: -1 inside, 0 on the surface, +1 outside.
+class CgalSide {
+ public:
+  explicit CgalSide(const TriangleMesh& m) {
+    for (const Vec3& v : m.vertices) sm_.add_vertex(Epick::Point_3(v.x(), v.y(), v.z()));
+    for (const Face& f : m.faces)
+      sm_.add_face(Mesh::Vertex_index(f[0]), Mesh::Vertex_index(f[1]), Mesh::Vertex_index(f[2]));
+    side_ = std::make_unique<CGAL::Side_of_triangle_mesh<Mesh, Epick>>(sm_);
+  }
+  int operator()(const Vec3& p) const {
+    const auto s = (*side_)(Epick::Point_3(p.x(), p.y(), p.z()));
+    return s == CGAL::ON_BOUNDED_SIDE ? -1 : s == CGAL::ON_BOUNDARY ? 0 : 1;
+  }
+
+ private:
+  using Mesh = CGAL::Surface_mesh<Epick::Point_3>;
+  Mesh sm_;
+  std::unique_ptr<CGAL::Side_of_triangle_mesh<Mesh, Epick>> side_;
+};
 
 }  // namespace cdbench::testing

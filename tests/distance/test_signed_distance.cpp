@@ -1,8 +1,5 @@
 #include <gtest/gtest.h>
 
-#include <CGAL/Side_of_triangle_mesh.h>
-#include <CGAL/Surface_mesh.h>
-
 #include <iomanip>
 #include <random>
 #include <sstream>
@@ -19,25 +16,7 @@ using testing::contains_sqrt;
 using testing::Epeck;
 using testing::Epick;
 
-// CGAL's own inside test, as an independent reference for the sign.
-class CgalSide {
- public:
-  explicit CgalSide(const TriangleMesh& m) {
-    for (const Vec3& v : m.vertices) sm_.add_vertex(Epick::Point_3(v.x(), v.y(), v.z()));
-    for (const Face& f : m.faces)
-      sm_.add_face(Mesh::Vertex_index(f[0]), Mesh::Vertex_index(f[1]), Mesh::Vertex_index(f[2]));
-    side_ = std::make_unique<CGAL::Side_of_triangle_mesh<Mesh, Epick>>(sm_);
-  }
-  int operator()(const Vec3& p) const {
-    const auto s = (*side_)(Epick::Point_3(p.x(), p.y(), p.z()));
-    return s == CGAL::ON_BOUNDED_SIDE ? -1 : s == CGAL::ON_BOUNDARY ? 0 : 1;
-  }
-
- private:
-  using Mesh = CGAL::Surface_mesh<Epick::Point_3>;
-  Mesh sm_;
-  std::unique_ptr<CGAL::Side_of_triangle_mesh<Mesh, Epick>> side_;
-};
+using testing::CgalSide;
 
 void check_points(const TriangleMesh& mesh, const std::vector<Vec3>& points) {
   const SignedDistance sdf(mesh);

@@ -150,7 +150,9 @@ TEST(SupportPlanes, TriangleBoundHoldsAlongTheLine) {
     EXPECT_GT(c.points, 10000);
     // Tight inside a convex F (up to the sampling): the weights of the linear program.
     EXPECT_LE(c.worst_gap, 1e-9 * F.bbox().diagonal());
-    if (SupportPlanes::build(F).convex()) EXPECT_GT(c.inside, 5);
+    if (SupportPlanes::build(F).convex()) {
+      EXPECT_GT(c.inside, 5);
+    }
   }
 }
 

@@ -1,0 +1,118 @@
+// The deep zone's cover (distance/deep_cover.h): every point at least |target| inside F, decided
+// independently (CGAL's inside test and exact rational distances), lies in a kept box; the cover is
+// deterministic; a budget too small gives no cover rather than a partial one.
+#include <gtest/gtest.h>
+
+#include <iomanip>
+#include <random>
+
+#include "distance/deep_cover.h"
+#include "distance/signed_distance.h"
+#include "exact_reference.h"
+#include "mesh/shapes.h"
+
+namespace cdbench {
+namespace {
+
+using testing::Epeck;
+using testing::CgalSide;
+
+// A thin plate (0.04 thick, deepest point 0.02) beside a thick block: at -0.05 only the block has a
+// deep zone, the plate none.
+TriangleMesh plate_and_block() {
+  return merge_meshes(make_box(Vec3(0, -0.5, -0.02), Vec3(1, 0.5, 0.02)), make_box(Vec3(1.2, -0.5, -0.5), Vec3(2, 0.5, 0.5)));
+}
+
+bool covered(const DeepCover& c, const Vec3& p) {
+  for (const Aabb& b : c.boxes)
+    if (b.contains(p)) return true;
+  return false;
+}
+
+// Points with exact depth >= |target| (inside, exact squared distance >= target^2) must be covered.
+// Samples concentrate near the zone's boundary, where a cover too tight would miss them.
+void expect_covers_deep_points(const TriangleMesh& m, double target, double cell, std::uint64_t seed) {
+  const SignedDistance sdf(m);
+  DeepCoverOptions o;
+  o.cell_size = cell;
+  o.max_cells = 2000000;
+  const DeepCover c = build_deep_cover(sdf, target, o);
+  ASSERT_TRUE(c.complete);
+  ASSERT_FALSE(c.boxes.empty());
+  const CgalSide side(m);
+  std::mt19937_64 rng(seed);
+  const Aabb b = m.bbox();
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int deep = 0, shallow_out = 0;
+  for (int i = 0; i < 4000; ++i) {
+    Vec3 p;
+    for (int k = 0; k < 3; ++k) p[k] = b.lo[k] + u(rng) * (b.hi[k] - b.lo[k]);
+    if (side(p) >= 0) continue;
+    const Epeck::FT d2 = testing::exact_squared_distance(p, m);
+    const bool is_deep = d2 >= Epeck::FT(target) * target;
+    if (is_deep) {
+      ++deep;
+      ASSERT_TRUE(covered(c, p)) << std::setprecision(17) << "deep point (" << p.x() << ", " << p.y() << ", " << p.z()
+                                 << ") outside every box; target " << target;
+    } else if (!covered(c, p)) {
+      ++shallow_out;
+    }
+  }
+  EXPECT_GT(deep, 50);        // the zone was sampled
+  EXPECT_GT(shallow_out, 50);  // and the cover is not all of F
+}
+
+TEST(DeepCover, HoldsEveryDeepPoint) {
+  expect_covers_deep_points(plate_and_block(), -0.05, 0.025, 1);
+  expect_covers_deep_points(make_torus(1.0, 0.4, 24, 12), -0.1, 0.05, 2);
+  expect_covers_deep_points(make_icosphere(1.0, 2), -0.3, 0.15, 3);
+}
+
+TEST(DeepCover, ThePlateHasNoDeepZone) {
+  // Only the block's interior is kept: no box reaches into the plate's slab beyond its boundary
+  // layer (the plate's deepest points are 0.02 deep, the target 0.05).
+  const SignedDistance sdf(plate_and_block());
+  DeepCoverOptions o;
+  o.cell_size = 0.025;
+  o.max_cells = 2000000;
+  const DeepCover c = build_deep_cover(sdf, -0.05, o);
+  ASSERT_TRUE(c.complete);
+  for (const Aabb& b : c.boxes) EXPECT_GT(b.hi.x(), 1.2 + 0.05 - 2 * 0.025 - 1e-9) << b.lo.transpose();
+}
+
+TEST(DeepCover, DeterministicAndBudgeted) {
+  const SignedDistance sdf(make_torus(1.0, 0.4, 24, 12));
+  DeepCoverOptions o;
+  o.cell_size = 0.05;
+  o.max_cells = 2000000;
+  const DeepCover a = build_deep_cover(sdf, -0.1, o), b = build_deep_cover(sdf, -0.1, o);
+  ASSERT_TRUE(a.complete);
+  ASSERT_EQ(a.boxes.size(), b.boxes.size());
+  for (std::size_t i = 0; i < a.boxes.size(); ++i) {
+    EXPECT_EQ(a.boxes[i].lo, b.boxes[i].lo);
+    EXPECT_EQ(a.boxes[i].hi, b.boxes[i].hi);
+  }
+  // A budget below what the cover needs: no boxes at all (a partial cover would claim too much).
+  o.max_cells = a.cells / 2;
+  const DeepCover c = build_deep_cover(sdf, -0.1, o);
+  EXPECT_FALSE(c.complete);
+  EXPECT_TRUE(c.boxes.empty());
+  EXPECT_LE(c.cells, o.max_cells);
+  // The lazy form builds the same cover once.
+  o.max_cells = 2000000;
+  const LazyDeepCover lazy(sdf, -0.1, o);
+  EXPECT_FALSE(lazy.built());
+  EXPECT_EQ(lazy.peek(), nullptr);
+  const DeepCover* l = lazy.get();
+  ASSERT_NE(l, nullptr);
+  EXPECT_TRUE(lazy.built());
+  EXPECT_EQ(l->boxes.size(), a.boxes.size());
+  EXPECT_EQ(lazy.get(), l);
+  // Deeper than the solid: nothing to cover, and complete.
+  const DeepCover none = build_deep_cover(sdf, -0.5, o);
+  EXPECT_TRUE(none.complete);
+  EXPECT_TRUE(none.boxes.empty());
+}
+
+}  // namespace
+}  // namespace cdbench

@@ -1,0 +1,146 @@
+// Deep-zone jumps (PoseOptions::deep_cover, deep_cover_contact; doc/poses.md, "Deep-zone jumps"):
+// beyond the mover's first contact with the cover its clearance is above the target (checked by
+// certificates), and a jump never passes the first crossing (poses with and without jumps agree
+// within the tolerance), while it crosses a plateau in one step.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <iomanip>
+#include <random>
+
+#include "distance/deep_cover.h"
+#include "mesh/components.h"
+#include "mesh/shapes.h"
+#include "placement/advance.h"
+#include "placement/clearance.h"
+#include "placement/place_pose.h"
+
+namespace cdbench {
+namespace {
+
+// A thin plate (0.04 thick, deepest point 0.02) then, past a gap, a thick block: at -0.05 the
+// mover slides through the plate on a plateau (c about -0.02) before it reaches the block.
+TriangleMesh plate_and_block() {
+  return merge_meshes(make_box(Vec3(0, -0.5, -0.02), Vec3(1, 0.5, 0.02)), make_box(Vec3(1.2, -0.5, -0.5), Vec3(2, 0.5, 0.5)));
+}
+
+struct World {
+  SignedDistance fixed;
+  TriangleMesh mover;
+  SweepMesh surface;
+  ApproachSetup setup;
+  World(const TriangleMesh& f, TriangleMesh m)
+      : fixed(f), mover(std::move(m)), surface(make_sweep_mesh(f.vertices, f.faces)),
+        setup(make_approach_setup(fixed, mover)) {
+    attach_surface_sweep(setup, surface);
+  }
+  World(const World&) = delete;
+};
+
+TEST(DeepJumps, CrossThePlateauInOneJump) {
+  World w(plate_and_block(), make_icosphere(0.1, 1));
+  w.setup.fixed_ref = Vec3(0, 0, 0);  // the mover's centre at (-lambda, 0, 0): through the plate's mid-plane
+  const OrientationFrame frame = make_orientation_frame(w.setup, Eigen::Matrix3d::Identity());
+  const double target = -0.05;
+  const LazyDeepCover cover(w.fixed, target, deep_cover_options(target));
+  PoseOptions opt;
+  opt.tolerance = 1e-7;
+  opt.start = PoseStart::Surface;
+  const Vec3 dir(-1, 0, 0);
+  const PoseOutcome plain = place_pose(w.setup, frame, &w.surface, dir, target, opt);
+  opt.deep_cover = &cover;
+  const PoseOutcome jumped = place_pose(w.setup, frame, &w.surface, dir, target, opt);
+  ASSERT_TRUE(plain.contact && plain.on_target && plain.certified);
+  ASSERT_TRUE(jumped.contact && jumped.on_target && jumped.certified);
+  // In the block, not in the plate: the sphere's front 0.05 inside x = 1.2 (its facets within 0.01).
+  EXPECT_LT(plain.lambda, -1.13);
+  EXPECT_GT(plain.lambda, -1.16);
+  // Both are the first crossing within the tolerance (c falls at unit rate there).
+  EXPECT_NEAR(jumped.lambda, plain.lambda, 4 * opt.tolerance);
+  EXPECT_GE(jumped.cover_jumps, 1);
+  EXPECT_LT(jumped.steps + 10, plain.steps) << "plain " << plain.steps << " jumped " << jumped.steps;
+  ASSERT_NE(cover.peek(), nullptr);
+  EXPECT_TRUE(cover.peek()->complete);
+
+  // A line beside the block: the plateau never ends; with the cover it is known at once.
+  w.setup.fixed_ref = Vec3(0, 0.35, 0);
+  const OrientationFrame beside = make_orientation_frame(w.setup, Eigen::Matrix3d::Identity());
+  const Vec3 slanted = Vec3(-1, 0.5, 0).normalized();  // leaves the block's side at y = 0.5
+  opt.deep_cover = nullptr;
+  const PoseOutcome p1 = place_pose(w.setup, beside, &w.surface, slanted, target, opt);
+  opt.deep_cover = &cover;
+  const PoseOutcome p2 = place_pose(w.setup, beside, &w.surface, slanted, target, opt);
+  EXPECT_EQ(p1.contact, p2.contact);
+  if (p1.contact) {
+    EXPECT_NEAR(p1.lambda, p2.lambda, 4 * opt.tolerance);
+  }
+}
+
+// Beyond the contact with the cover, every pose's certified clearance leaves room above the target
+// (c > target there: a certificate entirely below it would refute the cover or its contact).
+TEST(DeepJumps, NoPoseBeyondTheContactIsDeep) {
+  for (int shape = 0; shape < 2; ++shape) {
+    World w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
+    const double target = shape == 0 ? -0.05 : -0.12;
+    const LazyDeepCover cover(w.fixed, target, deep_cover_options(target));
+    ASSERT_NE(cover.get(), nullptr);
+    std::mt19937_64 rng(11 + shape);
+    std::normal_distribution<double> g;
+    int checked = 0;
+    for (int i = 0; i < 12; ++i) {
+      const Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+      const OrientationFrame frame = make_orientation_frame(w.setup, q.normalized().toRotationMatrix());
+      const Vec3 dir = Vec3(g(rng), g(rng), g(rng)).normalized();
+      const double lambda_far = w.setup.fixed_radius + w.setup.mover_radius + 1.0;
+      const double lk = deep_cover_contact(*cover.get(), frame.orientation, frame.t0, dir, 1e-12);
+      if (!(lk > -lambda_far)) continue;
+      ClearanceOptions copt;
+      copt.tolerance = 1e-6;
+      for (int k = 1; k <= 8; ++k) {
+        const double lambda = lk + 1e-6 + 0.02 * k * k;
+        const Vec3 t = pose_translation(frame, dir, lambda);
+        const ClearanceResult c = certify_clearance(w.fixed, w.mover, component_representatives(w.mover),
+                                                    frame.orientation, t, copt);
+        EXPECT_GT(c.clearance.hi, target) << std::setprecision(17) << "shape " << shape << " lambda " << lambda
+                                          << " lambda_K " << lk << " dir " << dir.transpose();
+        ++checked;
+      }
+    }
+    EXPECT_GT(checked, 20);
+  }
+}
+
+// Random approaches on both shapes: with and without jumps, the same first crossing.
+TEST(DeepJumps, SameFirstCrossingAsWithout) {
+  World w(plate_and_block(), make_icosphere(0.1, 1));
+  const double target = -0.05;
+  const LazyDeepCover cover(w.fixed, target, deep_cover_options(target));
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  int jumps = 0, compared = 0;
+  for (int i = 0; i < 16; ++i) {
+    // Lines near the plate's mid-plane, mostly along it.
+    w.setup.fixed_ref = Vec3(0.5, u(rng), 0.005 * g(rng));
+    const Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+    const OrientationFrame frame = make_orientation_frame(w.setup, q.normalized().toRotationMatrix());
+    const Vec3 dir = Vec3(-1, 0.3 * g(rng), 0.02 * g(rng)).normalized();
+    PoseOptions opt;
+    opt.tolerance = 1e-7;
+    opt.start = PoseStart::Surface;
+    const PoseOutcome a = place_pose(w.setup, frame, &w.surface, dir, target, opt);
+    opt.deep_cover = &cover;
+    const PoseOutcome b = place_pose(w.setup, frame, &w.surface, dir, target, opt);
+    ASSERT_EQ(a.contact, b.contact) << "approach " << i;
+    if (!a.contact) continue;
+    ASSERT_TRUE(a.on_target && b.on_target) << "approach " << i;
+    EXPECT_NEAR(a.lambda, b.lambda, 1e-5) << "approach " << i;
+    jumps += b.cover_jumps;
+    ++compared;
+  }
+  EXPECT_GT(compared, 8);
+  EXPECT_GT(jumps, 3);
+}
+
+}  // namespace
+}  // namespace cdbench
