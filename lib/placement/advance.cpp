@@ -3,6 +3,7 @@
 #include <CGAL/Interval_nt.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -288,9 +289,16 @@ struct CoverContactPolicy {
     tri.extend(a2);
     const Aabb& B = cover.boxes[box];
     LambdaRange r = boxes(tri, B);
-    // The triangle's normal (any vector separates validly; the computed one nearly as the exact).
-    const Vec3 n = (a1 - a0).cross(a2 - a0);
-    if (!r.empty() && n.cwiseAbs().maxCoeff() > 0.0) {
+    // The triangle's normal and its edges crossed with the axes: the separating axes of a
+    // triangle and a box (any vector separates validly; the computed ones nearly as the exact).
+    const std::array<Vec3, 3> edges{a1 - a0, a2 - a1, a0 - a2};
+    std::array<Vec3, 10> axes;
+    axes[0] = edges[0].cross(a2 - a0);
+    for (int e = 0; e < 3; ++e)
+      for (int k = 0; k < 3; ++k) axes[1 + 3 * e + k] = edges[e].cross(Vec3::Unit(k));
+    for (const Vec3& n : axes) {
+      if (r.empty()) break;
+      if (!(n.cwiseAbs().maxCoeff() > 0.0)) continue;
       double p_lo = std::numeric_limits<double>::infinity(), p_hi = -p_lo;
       for (const Vec3* a : {&a0, &a1, &a2}) {
         const PlaneOffset v = plane_offset(n, 0.0, *a);
