@@ -40,57 +40,69 @@ DeepCover build_deep_cover(const SignedDistance& fixed, double target, const Dee
   // Breadth first, one octree level at a time, so that a budget too small is found before the
   // finest (and largest) level is evaluated: its cubes are eight per undecided cube of the last.
   std::vector<Cube> level{root}, next;
-  // Per cube of a level: dropped (0), kept (1) or split (2), and its centre's side when known.
-  std::vector<signed char> verdict;
-  std::vector<signed char> centre_side;
-  std::vector<std::uint32_t> nearest;
+  // A cube's classification, and what its children take over: its centre's side (0: unknown) and
+  // nearest triangle.
+  struct Verdict {
+    enum : signed char { drop, keep, split } what = drop;
+    signed char side = 0;
+    std::uint32_t nearest = 0;
+  };
+  std::vector<Verdict> verdicts;
   const double depth = -target;  // |target|
-  const auto classify = [&](const Cube& cube, std::vector<std::uint32_t>& ids, signed char* side_out,
-                            std::uint32_t* near) -> signed char {
+  const auto classify = [&](const Cube& cube, std::vector<std::uint32_t>& ids, Verdict& v) {
     const Aabb& Q = cube.box;
     const Vec3 q = Q.center();
     // Every point of Q within r of q (q lies in Q: the farthest corner, rounded up).
     const Vec3 far = (Q.hi - q).cwiseMax(q - Q.lo);
     const double r = round_up(far.norm() * (1.0 + 1e-12));
-    const Interval ud = fixed.unsigned_distance(q, near, cube.hint);
-    *side_out = 0;
+    const Interval ud = fixed.unsigned_distance(q, &v.nearest, cube.hint);
     // s >= -dist(x, F) everywhere: shallow whatever q's side.
-    if (round_up(ud.hi + r) < depth) return 0;
+    if (round_up(ud.hi + r) < depth) return;
     const int side = cube.ref_side != 0 ? fixed.side(q, ud, cube.ref, cube.ref_side) : fixed.side(q, ud);
-    if (ud.lo > 0.0) *side_out = static_cast<signed char>(side);
-    if (side > 0 && round_down(ud.lo - r) > target) return 0;  // outside: s >= dist(q, F) - r
-    if (side < 0 && round_down(ud.lo - r) >= depth) return 1;  // inside Z: s <= s(q) + r <= target
+    if (ud.lo > 0.0) v.side = static_cast<signed char>(side);
+    if (side > 0 && round_down(ud.lo - r) > target) return;  // outside: s >= dist(q, F) - r
+    if (side < 0 && round_down(ud.lo - r) >= depth) {        // inside Z: s <= s(q) + r <= target
+      v.what = Verdict::keep;
+      return;
+    }
     const std::array<Vec3, 8> corners = Q.corners();
     // Sparse weights: a cube undecided by them is split, and is cheaper to split than to bound
     // with converged weights (rotor, retinal, boeing, pinion: 20-50 % less time, as many cubes).
     const double bound = depth_upper_bound(fixed, q, round_up(ud.hi + 2 * r), corners.data(), 8, ids, nullptr, nullptr,
                                            nullptr, nullptr, 0.0, DepthWeights::sparse);
-    if (bound < depth) return 0;  // s >= -dist >= -bound > target on the cube
-    return r <= options.cell_size ? 1 : 2;
+    if (bound < depth) return;  // s >= -dist >= -bound > target on the cube
+    v.what = r <= options.cell_size ? Verdict::keep : Verdict::split;
   };
   while (!level.empty()) {
-    if (cover.cells + level.size() > options.max_cells) {
+    // The cubes still to come must fit the budget: this level's, and near the last level the
+    // next ones, which are then well predicted: about four times as many as this level's when
+    // the next is the last (four children of eight kept along a surface). A budget that cannot
+    // hold them is given up now rather than after those levels. (Earlier, the growth is far
+    // from that.)
+    const double rho = 0.5 * level.front().box.diagonal();
+    const double to_come = rho > options.cell_size && 0.5 * rho <= options.cell_size ? 5.0 : 1.0;
+    if (static_cast<double>(cover.cells) + to_come * static_cast<double>(level.size()) >
+        static_cast<double>(options.max_cells)) {
       cover.boxes.clear();
       return cover;
     }
     // The cubes of a level are independent: classified on every thread (isolated, so that a
     // waiting thread takes no unrelated task), then assembled in order, so the cover does not
     // depend on the threads.
-    verdict.assign(level.size(), 0);
-    centre_side.assign(level.size(), 0);
-    nearest.assign(level.size(), 0);
+    verdicts.assign(level.size(), Verdict{});
     tbb::this_task_arena::isolate([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, level.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
-        std::vector<std::uint32_t> ids;
-        for (std::size_t i = range.begin(); i != range.end(); ++i) verdict[i] = classify(level[i], ids, &centre_side[i], &nearest[i]);
-      });
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, level.size(), 64),
+                        [&](const tbb::blocked_range<std::size_t>& range) {
+                          std::vector<std::uint32_t> ids;
+                          for (std::size_t i = range.begin(); i != range.end(); ++i) classify(level[i], ids, verdicts[i]);
+                        });
     });
     cover.cells += level.size();
     next.clear();
     for (std::size_t i = 0; i < level.size(); ++i) {
       const Aabb& Q = level[i].box;
-      if (verdict[i] == 1) cover.boxes.push_back(Q);
-      if (verdict[i] != 2) continue;
+      if (verdicts[i].what == Verdict::keep) cover.boxes.push_back(Q);
+      if (verdicts[i].what != Verdict::split) continue;
       // Eight children sharing the computed midpoints (q lies in Q, so they tile it).
       const Vec3 q = Q.center();
       for (int k = 0; k < 8; ++k) {
@@ -101,22 +113,9 @@ DeepCover build_deep_cover(const SignedDistance& fixed, double target, const Dee
           c.box.hi[a] = upper ? Q.hi[a] : q[a];
         }
         c.ref = q;
-        c.ref_side = centre_side[i];
-        c.hint = nearest[i];
+        c.ref_side = verdicts[i].side;
+        c.hint = verdicts[i].nearest;
         next.push_back(c);
-      }
-    }
-    // Near the last level the cubes still to come are known or well predicted: the next level's
-    // if it is the last, else about five times as many when the one after is (four children of
-    // eight kept along a surface). A budget that cannot hold them is given up now rather than
-    // after those levels. (Earlier, the growth is far from that.)
-    if (!next.empty()) {
-      const double rho = 0.5 * next.front().box.diagonal();
-      const double to_come = rho <= options.cell_size ? 1.0 : 0.5 * rho <= options.cell_size ? 5.0 : 0.0;
-      if (static_cast<double>(cover.cells) + to_come * static_cast<double>(next.size()) >
-          static_cast<double>(options.max_cells)) {
-        cover.boxes.clear();
-        return cover;
       }
     }
     std::swap(level, next);

@@ -216,10 +216,6 @@ void visit(const MoverOrientation& o, HalfspacePolicy& p) {
   for (std::uint32_t f = 0; f < o.faces->size() && !p.done(); ++f) p.leaf(f);
 }
 
-}  // namespace
-
-namespace {
-
 // Where a moving box or triangle can meet a box of the deep-zone cover (doc/poses.md, "Deep-zone
 // jumps"): the mover's rotated doubles a moved to a + t0 + lambda d (exact in lambda), the cover's
 // boxes grown by `margin`. Each separating axis gives an interval of lambda outside of which it
@@ -262,33 +258,39 @@ struct CoverContactPolicy {
   double margin;
   double stop_at;  // a contact at or beyond it settles the query
   double best = -std::numeric_limits<double>::infinity();
-  std::uint64_t leaves = 0;
 
-  // The moving box A (rotated coordinates) against B: the coordinate axes.
-  LambdaRange boxes(const Aabb& A, const Aabb& B) const {
+  // A cover's box grown by the margin, outwards.
+  Aabb grown(const Aabb& B) const {
+    Aabb G;
+    for (int k = 0; k < 3; ++k) {
+      G.lo[k] = round_down(B.lo[k] - margin);
+      G.hi[k] = round_up(B.hi[k] + margin);
+    }
+    return G;
+  }
+  // The moving box A (rotated coordinates) against the grown box G: the coordinate axes.
+  LambdaRange boxes(const Aabb& A, const Aabb& G) const {
     LambdaRange r;
     for (int k = 0; k < 3 && !r.empty(); ++k)
-      axis_range(round_down(A.lo[k] + t0[k]), round_up(A.hi[k] + t0[k]), round_down(B.lo[k] - margin),
-                 round_up(B.hi[k] + margin), d[k], d[k], r);
+      axis_range(round_down(A.lo[k] + t0[k]), round_up(A.hi[k] + t0[k]), G.lo[k], G.hi[k], d[k], d[k], r);
     return r;
   }
   double bound(const Aabb& A, const Aabb& B) const {
-    const LambdaRange r = boxes(A, B);
+    const LambdaRange r = boxes(A, grown(B));
     return r.empty() ? std::numeric_limits<double>::infinity() : -r.hi;
   }
   double prune_bound() const { return -best; }
   bool done() const { return best >= stop_at; }
   bool split_first(const Aabb& a, const Aabb& b) const { return a.extent().squaredNorm() >= b.extent().squaredNorm(); }
   void leaf(std::uint32_t face, std::uint32_t box) {
-    ++leaves;
     const Face& f = (*o.faces)[face];
     const Vec3 &a0 = o.rotated[f[0]], &a1 = o.rotated[f[1]], &a2 = o.rotated[f[2]];
     Aabb tri;
     tri.extend(a0);
     tri.extend(a1);
     tri.extend(a2);
-    const Aabb& B = cover.boxes[box];
-    LambdaRange r = boxes(tri, B);
+    const Aabb G = grown(cover.boxes[box]);
+    LambdaRange r = boxes(tri, G);
     // The triangle's normal and its edges crossed with the axes: the separating axes of a
     // triangle and a box (any vector separates validly; the computed ones nearly as the exact).
     const std::array<Vec3, 3> edges{a1 - a0, a2 - a1, a0 - a2};
@@ -310,9 +312,8 @@ struct CoverContactPolicy {
       p_hi = round_up(p_hi + round_up(nt.value + nt.error));
       Vec3 lo_corner, hi_corner;
       for (int k = 0; k < 3; ++k) {
-        const double bl = round_down(B.lo[k] - margin), bh = round_up(B.hi[k] + margin);
-        lo_corner[k] = n[k] >= 0.0 ? bl : bh;
-        hi_corner[k] = n[k] >= 0.0 ? bh : bl;
+        lo_corner[k] = n[k] >= 0.0 ? G.lo[k] : G.hi[k];
+        hi_corner[k] = n[k] >= 0.0 ? G.hi[k] : G.lo[k];
       }
       const PlaneOffset bl = plane_offset(n, 0.0, lo_corner), bh = plane_offset(n, 0.0, hi_corner);
       axis_range(p_lo, p_hi, round_down(bl.value - bl.error), round_up(bh.value + bh.error),
@@ -325,9 +326,15 @@ struct CoverContactPolicy {
 }  // namespace
 
 double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orientation, const Vec3& t0, const Vec3& d,
-                          double margin, double stop_at) {
+                          double slack, double lambda_max, double stop_at) {
   if (!cover.complete || cover.boxes.empty() || orientation.boxes.empty())
     return -std::numeric_limits<double>::infinity();
+  // The exact mover at a pose fl(t0 + lambda d), |lambda| <= lambda_max, lies within the
+  // transform's rounding there plus slack of the rotated doubles moved by t0 + lambda d, and a
+  // double evaluation within the transform's rounding more (advance_rounding's farthest pose
+  // bounds both).
+  const double margin =
+      round_up(round_up(2.0 * advance_rounding(orientation, t0, d, slack, lambda_max).farthest) + slack);
   CoverContactPolicy p{orientation, cover, t0, d, margin, stop_at};
   traverse_pairs_best_first(orientation.boxes, cover.tree, p);
   return p.best;

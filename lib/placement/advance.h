@@ -71,15 +71,17 @@ HalfspaceMinimum least_halfspace_bound(const SupportPlanes& support, const Mover
                                        const Vec3& t);
 
 // The latest advance at which the mover can meet a box of F's deep-zone cover
-// (distance/deep_cover.h; doc/poses.md, "Deep-zone jumps"): lambda_K such that for every lambda >
-// lambda_K the mover's triangles with the rotated doubles moved by t0 + lambda d (exactly), grown
-// by `margin`, miss every box. With margin at least the transform's rounding twice plus the pose
-// translation's rounding, every pose fl(t0 + lambda d) with lambda > lambda_K has c > the cover's
-// target for the exact transform and any double evaluation. -inf when no box is met on the whole
-// line (or the cover is incomplete: then nothing is claimed, and the caller must not use it).
-// The search stops at the first contact found at or beyond `stop_at` and returns it (a lambda_K
-// that large is of no use to the caller; +inf: the exact latest contact).
+// (distance/deep_cover.h; doc/poses.md, "Deep-zone jumps"): lambda_K such that every pose t' within
+// `slack` of t0 + lambda d, lambda_K < lambda <= lambda_max, has its mover's surface (exact
+// transform, or any double evaluation of it) outside every box, so c(t') > the cover's target.
+// The boxes are grown by twice the transform's rounding at the farthest such pose plus slack, and
+// the mover's triangles (the rotated doubles moved by t0 + lambda d, exactly) tested against them.
+// -inf when no box is met on the whole line (or the cover is incomplete: then nothing is claimed,
+// and the caller must not use it). The search stops at the first contact found at or beyond
+// `stop_at` and returns it (a lambda_K that large is of no use to the caller; +inf: the exact
+// latest contact).
 double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orientation, const Vec3& t0, const Vec3& d,
-                          double margin, double stop_at = std::numeric_limits<double>::infinity());
+                          double slack, double lambda_max,
+                          double stop_at = std::numeric_limits<double>::infinity());
 
 }  // namespace cdbench

@@ -343,16 +343,11 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     // Returns false when the line never meets the zone (c > target on all of it).
     const auto cover_jump = [&](const DeepCover& cover) -> bool {
       // Every pose beyond the moving mover's first contact with the deep zone's cover has its
-      // surface outside the zone: c > target there. The exact positions at fl(t0 + lambda d) lie
-      // within the pose's rounding plus the transform's (twice: ours and any other evaluation).
-      const double slack = pose_rounding_slack(frame, lambda_far);
-      Vec3 far_t;
-      for (int k = 0; k < 3; ++k) far_t[k] = std::abs(frame.t0[k]) + 1.001 * lambda_far * std::abs(dir[k]) + slack;
-      const double margin = round_up(round_up(2.0 * frame.orientation.transform_error(far_t)) + slack);
+      // surface outside the zone: c > target there (the poses' rounding: pose_rounding_slack).
       // Worth a jump only beyond what one two-sided step proves.
       const double worth = out.lambda - 2.0 * std::max(0.0, c.clearance.lo - target);
-      const double lk = deep_cover_contact(cover, frame.orientation, frame.t0, dir, margin, worth);
-      ++out.cover_queries;
+      const double lk = deep_cover_contact(cover, frame.orientation, frame.t0, dir,
+                                           pose_rounding_slack(frame, lambda_far), lambda_far, worth);
       if (!(lk > -lambda_far)) return false;  // the line never meets the zone
       if (lk < worth) {
         // A jump past what one step would prove. Kept only when the certificate there is on the

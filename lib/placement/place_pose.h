@@ -139,7 +139,7 @@ struct PoseOutcome {
   int steps = 0;
   int two_sided_tries = 0;  // long steps tried where c is flat (each accepted one is a step)
   bool continued = false;   // the advance continued from a higher target's pose (ApproachMemo)
-  int cover_queries = 0, cover_jumps = 0;  // deep-zone cover contacts asked, jumps taken
+  int cover_jumps = 0;      // jumps to the deep zone's cover taken
   std::string reason;      // why not certified / not on target
   std::uint64_t sphere_tests = 0, triangle_sweeps = 0, clearance_cells = 0;
 };

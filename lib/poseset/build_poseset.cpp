@@ -160,11 +160,11 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // offset for them): recorded, so that such a journal is never resumed or merged with the other
   // start. Absent otherwise, so that other runs still resume.
   if (near_surface_starts) run_key["near_surface_start_bands"] = kNearSurfaceBands;
-  // Penetrating polished levels jump across plateaus to the deep zone's cover (since 2026-11-27,
-  // session 29): their poses may differ within the tolerance from earlier binaries', whose
-  // journals must therefore not be resumed or merged with them.
-  if (polish && std::any_of(targets.begin(), targets.end(), [](double x) { return x < 0.0; }))
-    run_key["deep_zone_jumps"] = 1;
+  // Levels deep enough for the deep zone's cover jump across plateaus (since 2026-11-27, session
+  // 29): their poses may differ within the tolerance from earlier binaries', whose journals must
+  // therefore not be resumed or merged with them. Absent otherwise, so that other runs still resume.
+  const auto covered = [&](double x) { return polish && deep_cover_wanted(x, mp.depth.lo); };
+  if (std::any_of(targets.begin(), targets.end(), covered)) run_key["deep_zone_jumps"] = 1;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 
@@ -242,7 +242,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // (PoseOptions::deep_cover; deterministic, so the poses do not depend on which pose that is).
   std::vector<std::unique_ptr<LazyDeepCover>> covers(L);
   for (std::size_t l = 0; l < L; ++l)
-    if (polish && deep_cover_wanted(targets[l], mp.depth.lo))
+    if (covered(targets[l]))
       covers[l] = std::make_unique<LazyDeepCover>(sdf, targets[l], deep_cover_options(targets[l]));
 
   // Pending approaches in order; an orientation's frame is built by the first thread that needs it

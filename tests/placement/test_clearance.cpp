@@ -12,20 +12,15 @@
 #include "placement/advance.h"
 #include "placement/clearance.h"
 #include "placement/place_pose.h"
+#include "scene.h"
 #include "test_scale.h"
 
 namespace cdbench {
 namespace {
 
-// A random rotation (normalised random quaternion) and a random unit direction.
-Eigen::Matrix3d random_rotation(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  return Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
-}
-Vec3 random_direction(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  return Vec3(u(rng), u(rng), u(rng)).normalized();
-}
+using testing::random_direction;
+using testing::random_rotation;
+using testing::Scene;
 
 // No pose between `pose_lambda` and the far start (sampled at n points) is certified below the
 // target: the pose is on the first crossing.
@@ -44,23 +39,6 @@ void expect_no_earlier_crossing(const SignedDistance& fixed, const TriangleMesh&
   }
 }
 
-// A fixed solid, a mover and the fixed surface's sweep mesh (the surface start's contact).
-struct Scene {
-  SignedDistance fixed;
-  TriangleMesh mover;
-  ApproachSetup setup;  // points into fixed and mover: a Scene is neither copied nor moved
-  SweepMesh surface;
-  Scene(const TriangleMesh& f, TriangleMesh m)
-      : fixed(f), mover(std::move(m)), setup(make_approach_setup(fixed, mover)),
-        surface(make_sweep_mesh(f.vertices, f.faces)) {}
-  Scene(const Scene&) = delete;
-  // The setup with F's sweep mesh attached (touching poses certified by the sweep).
-  ApproachSetup attached() const {
-    ApproachSetup s = setup;
-    attach_surface_sweep(s, surface);
-    return s;
-  }
-};
 
 struct Case {
   SignedDistance fixed;

@@ -9,11 +9,11 @@
 #include <random>
 
 #include "distance/deep_cover.h"
-#include "mesh/components.h"
 #include "mesh/shapes.h"
 #include "placement/advance.h"
 #include "placement/clearance.h"
 #include "placement/place_pose.h"
+#include "scene.h"
 
 namespace cdbench {
 namespace {
@@ -24,32 +24,24 @@ TriangleMesh plate_and_block() {
   return merge_meshes(make_box(Vec3(0, -0.5, -0.02), Vec3(1, 0.5, 0.02)), make_box(Vec3(1.2, -0.5, -0.5), Vec3(2, 0.5, 0.5)));
 }
 
-struct World {
-  SignedDistance fixed;
-  TriangleMesh mover;
-  SweepMesh surface;
-  ApproachSetup setup;
-  World(const TriangleMesh& f, TriangleMesh m)
-      : fixed(f), mover(std::move(m)), surface(make_sweep_mesh(f.vertices, f.faces)),
-        setup(make_approach_setup(fixed, mover)) {
-    attach_surface_sweep(setup, surface);
-  }
-  World(const World&) = delete;
-};
+using testing::random_direction;
+using testing::random_rotation;
+using testing::Scene;
 
 TEST(DeepJumps, CrossThePlateauInOneJump) {
-  World w(plate_and_block(), make_icosphere(0.1, 1));
-  w.setup.fixed_ref = Vec3(0, 0, 0);  // the mover's centre at (-lambda, 0, 0): through the plate's mid-plane
-  const OrientationFrame frame = make_orientation_frame(w.setup, Eigen::Matrix3d::Identity());
+  const Scene w(plate_and_block(), make_icosphere(0.1, 1));
+  ApproachSetup setup = w.attached();
+  setup.fixed_ref = Vec3(0, 0, 0);  // the mover's centre at (-lambda, 0, 0): through the plate's mid-plane
+  const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
   const double target = -0.05;
   const LazyDeepCover cover(w.fixed, target, deep_cover_options(target));
   PoseOptions opt;
   opt.tolerance = 1e-7;
   opt.start = PoseStart::Surface;
   const Vec3 dir(-1, 0, 0);
-  const PoseOutcome plain = place_pose(w.setup, frame, &w.surface, dir, target, opt);
+  const PoseOutcome plain = place_pose(setup, frame, &w.surface, dir, target, opt);
   opt.deep_cover = &cover;
-  const PoseOutcome jumped = place_pose(w.setup, frame, &w.surface, dir, target, opt);
+  const PoseOutcome jumped = place_pose(setup, frame, &w.surface, dir, target, opt);
   ASSERT_TRUE(plain.contact && plain.on_target && plain.certified);
   ASSERT_TRUE(jumped.contact && jumped.on_target && jumped.certified);
   // In the block, not in the plate: the sphere's front 0.05 inside x = 1.2 (its facets within 0.01).
@@ -63,13 +55,13 @@ TEST(DeepJumps, CrossThePlateauInOneJump) {
   EXPECT_TRUE(cover.peek()->complete);
 
   // A line beside the block: the plateau never ends; with the cover it is known at once.
-  w.setup.fixed_ref = Vec3(0, 0.35, 0);
-  const OrientationFrame beside = make_orientation_frame(w.setup, Eigen::Matrix3d::Identity());
+  setup.fixed_ref = Vec3(0, 0.35, 0);
+  const OrientationFrame beside = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
   const Vec3 slanted = Vec3(-1, 0.5, 0).normalized();  // leaves the block's side at y = 0.5
   opt.deep_cover = nullptr;
-  const PoseOutcome p1 = place_pose(w.setup, beside, &w.surface, slanted, target, opt);
+  const PoseOutcome p1 = place_pose(setup, beside, &w.surface, slanted, target, opt);
   opt.deep_cover = &cover;
-  const PoseOutcome p2 = place_pose(w.setup, beside, &w.surface, slanted, target, opt);
+  const PoseOutcome p2 = place_pose(setup, beside, &w.surface, slanted, target, opt);
   EXPECT_EQ(p1.contact, p2.contact);
   if (p1.contact) {
     EXPECT_NEAR(p1.lambda, p2.lambda, 4 * opt.tolerance);
@@ -80,27 +72,24 @@ TEST(DeepJumps, CrossThePlateauInOneJump) {
 // (c > target there: a certificate entirely below it would refute the cover or its contact).
 TEST(DeepJumps, NoPoseBeyondTheContactIsDeep) {
   for (int shape = 0; shape < 2; ++shape) {
-    World w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
+    const Scene w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
     const double target = shape == 0 ? -0.05 : -0.12;
     const LazyDeepCover cover(w.fixed, target, deep_cover_options(target));
     ASSERT_NE(cover.get(), nullptr);
     std::mt19937_64 rng(11 + shape);
-    std::normal_distribution<double> g;
     int checked = 0;
     for (int i = 0; i < 12; ++i) {
-      const Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-      const OrientationFrame frame = make_orientation_frame(w.setup, q.normalized().toRotationMatrix());
-      const Vec3 dir = Vec3(g(rng), g(rng), g(rng)).normalized();
+      const OrientationFrame frame = make_orientation_frame(w.setup, random_rotation(rng));
+      const Vec3 dir = random_direction(rng);
       const double lambda_far = w.setup.fixed_radius + w.setup.mover_radius + 1.0;
-      const double lk = deep_cover_contact(*cover.get(), frame.orientation, frame.t0, dir, 1e-12);
+      const double lk = deep_cover_contact(*cover.get(), frame.orientation, frame.t0, dir, 1e-12, lambda_far);
       if (!(lk > -lambda_far)) continue;
       ClearanceOptions copt;
       copt.tolerance = 1e-6;
       for (int k = 1; k <= 8; ++k) {
         const double lambda = lk + 1e-6 + 0.02 * k * k;
         const Vec3 t = pose_translation(frame, dir, lambda);
-        const ClearanceResult c = certify_clearance(w.fixed, w.mover, component_representatives(w.mover),
-                                                    frame.orientation, t, copt);
+        const ClearanceResult c = certify_clearance(w.fixed, w.mover, w.setup.components, frame.orientation, t, copt);
         EXPECT_GT(c.clearance.hi, target) << std::setprecision(17) << "shape " << shape << " lambda " << lambda
                                           << " lambda_K " << lk << " dir " << dir.transpose();
         ++checked;
@@ -112,7 +101,8 @@ TEST(DeepJumps, NoPoseBeyondTheContactIsDeep) {
 
 // Random approaches on both shapes: with and without jumps, the same first crossing.
 TEST(DeepJumps, SameFirstCrossingAsWithout) {
-  World w(plate_and_block(), make_icosphere(0.1, 1));
+  const Scene w(plate_and_block(), make_icosphere(0.1, 1));
+  ApproachSetup setup = w.attached();
   const double target = -0.05;
   const LazyDeepCover cover(w.fixed, target, deep_cover_options(target));
   std::mt19937_64 rng(5);
@@ -121,16 +111,15 @@ TEST(DeepJumps, SameFirstCrossingAsWithout) {
   int jumps = 0, compared = 0;
   for (int i = 0; i < 16; ++i) {
     // Lines near the plate's mid-plane, mostly along it.
-    w.setup.fixed_ref = Vec3(0.5, u(rng), 0.005 * g(rng));
-    const Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-    const OrientationFrame frame = make_orientation_frame(w.setup, q.normalized().toRotationMatrix());
+    setup.fixed_ref = Vec3(0.5, u(rng), 0.005 * g(rng));
+    const OrientationFrame frame = make_orientation_frame(setup, random_rotation(rng));
     const Vec3 dir = Vec3(-1, 0.3 * g(rng), 0.02 * g(rng)).normalized();
     PoseOptions opt;
     opt.tolerance = 1e-7;
     opt.start = PoseStart::Surface;
-    const PoseOutcome a = place_pose(w.setup, frame, &w.surface, dir, target, opt);
+    const PoseOutcome a = place_pose(setup, frame, &w.surface, dir, target, opt);
     opt.deep_cover = &cover;
-    const PoseOutcome b = place_pose(w.setup, frame, &w.surface, dir, target, opt);
+    const PoseOutcome b = place_pose(setup, frame, &w.surface, dir, target, opt);
     ASSERT_EQ(a.contact, b.contact) << "approach " << i;
     if (!a.contact) continue;
     ASSERT_TRUE(a.on_target && b.on_target) << "approach " << i;
