@@ -9,11 +9,12 @@
 //  - per level, the certified polished pose on the same approaches (the pose set's own start and
 //    tolerance), timed in the same run, and its ratio to FCL's conservative advancement.
 // Usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]
-//                    [--no-support-planes] [--no-deep-cover]
+//                    [--no-support-planes] [--no-deep-cover] [--no-zone-octree]
 //   --no-separated-advance: targets > 0 advance by a certificate per step (the former way), for A/B.
 //   --no-sweep-certificate: the touching pose certified by a branch and bound (the former way), A/B.
 //   --no-support-planes: penetrating targets of a convex F without its supporting planes, A/B.
 //   --no-deep-cover: penetrating targets without the deep zone's cover (no jumps across plateaus), A/B.
+//   --no-zone-octree: where a cover runs out of its budget, no octree about the mover's path, A/B.
 
 #include <algorithm>
 #include <chrono>
@@ -49,10 +50,11 @@ TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_s
 static int run(int argc, char** argv) {
   const char* usage =
       "usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]\n"
-      "       [--no-support-planes] [--no-deep-cover]\n"
+      "       [--no-support-planes] [--no-deep-cover] [--no-zone-octree]\n"
       "  times certified polished poses of a pose set made by `cdbench poses` against FCL's conservative\n"
       "  advancement on the same approaches (M: how many, default 200); the --no-* switches select\n"
-      "  the former ways of the separated advance and of the touching certificate (A/B)\n";
+      "  former ways (A/B): the separated advance and the touching certificate by certificates, no\n"
+      "  supporting planes, no built deep-zone cover, no deep-zone octree about the mover's path\n";
   if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
     std::fputs(usage, stdout);
     return 0;
@@ -63,13 +65,15 @@ static int run(int argc, char** argv) {
   }
   const std::string dir = argv[1];
   std::size_t wanted = 200;
-  bool separated_advance = true, no_sweep_certificate = false, support_planes = true, deep_covers = true;
+  bool separated_advance = true, no_sweep_certificate = false, support_planes = true, deep_covers = true,
+       zone_octree = true;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--approaches") == 0 && i + 1 < argc) wanted = std::stoul(argv[++i]);
     else if (std::strcmp(argv[i], "--no-separated-advance") == 0) separated_advance = false;  // A/B
     else if (std::strcmp(argv[i], "--no-sweep-certificate") == 0) no_sweep_certificate = true;  // A/B
     else if (std::strcmp(argv[i], "--no-support-planes") == 0) support_planes = false;  // A/B
     else if (std::strcmp(argv[i], "--no-deep-cover") == 0) deep_covers = false;  // A/B
+    else if (std::strcmp(argv[i], "--no-zone-octree") == 0) zone_octree = false;  // A/B
     else {
       std::fprintf(stderr, "bench_poses: unknown option '%s'\n%s", argv[i], usage);
       return 2;
@@ -105,7 +109,7 @@ static int run(int argc, char** argv) {
   // The pose set's levels as `cdbench poses` placed them.
   const std::size_t L = ps["levels"].size();
   std::vector<double> level_target(L), level_seconds(L, 0.0);
-  std::vector<std::size_t> level_certified(L, 0), level_steps(L, 0), level_jumps(L, 0);
+  std::vector<std::size_t> level_certified(L, 0), level_steps(L, 0), level_jumps(L, 0), level_zone_cubes(L, 0);
   std::vector<PoseStart> level_start(L);
   std::vector<std::unique_ptr<SweepMesh>> level_offset(L);
   PoseOptions po;
@@ -114,6 +118,7 @@ static int run(int argc, char** argv) {
   po.max_steps = ps["polishing"]["max_steps"].get<int>();
   po.separated_advance = separated_advance;
   po.support_planes = support_planes;
+  if (!zone_octree) po.deep_zone_cubes = 0;
   for (std::size_t l = 0; l < L; ++l) {
     const auto& e = ps["levels"][l];
     level_target[l] = e["target"].get<double>();
@@ -128,10 +133,13 @@ static int run(int argc, char** argv) {
   // The penetrating levels' deep-zone covers, built when a pose first needs one, as in `cdbench
   // poses` (their build time is reported apart, with the other setup).
   std::vector<std::unique_ptr<LazyDeepCover>> level_cover(L);
+  std::vector<std::unique_ptr<DeepCubeMemo>> level_memo(L);
   const double max_penetration = ps["max_penetration"]["interval"][0].get<double>();
-  for (std::size_t l = 0; l < L; ++l)
+  for (std::size_t l = 0; l < L; ++l) {
     if (deep_covers && po.polish && deep_cover_wanted(level_target[l], max_penetration))
       level_cover[l] = std::make_unique<LazyDeepCover>(fixed, level_target[l], deep_cover_options(level_target[l]));
+    if (level_cover[l]) level_memo[l] = std::make_unique<DeepCubeMemo>(level_target[l]);
+  }
   double t_exact = 0.0, t_fcl = 0.0, max_over = 0.0, max_under = 0.0;
   std::uint64_t node_tests = 0, leaf_sweeps = 0;  // the exact first contact's work
   std::size_t differ = 0, overshoot = 0, both = 0, fcl_miss = 0;
@@ -175,12 +183,14 @@ static int run(int argc, char** argv) {
       PoseOptions lpo = po;
       lpo.start = level_start[l];
       lpo.deep_cover = level_cover[l].get();
+      lpo.deep_zone_memo = level_memo[l].get();
       t0 = Clock::now();
       const PoseOutcome p = place_pose(setup, *frame, swept, d, level_target[l], lpo, &memo);
       level_seconds[l] += seconds_since(t0);
       level_certified[l] += p.contact && p.certified && p.on_target;
       level_steps[l] += static_cast<std::size_t>(p.steps);
       level_jumps[l] += static_cast<std::size_t>(p.cover_jumps);
+      level_zone_cubes[l] += static_cast<std::size_t>(p.zone_cubes);
     }
     if (!c.hit) {
       // The exact sweep proves the line misses; FCL claiming a contact there is checked by a
@@ -246,12 +256,13 @@ static int run(int argc, char** argv) {
   for (std::size_t l = 0; l < L; ++l) {
     if (!level_cover[l]) continue;
     const std::string spec = ps["levels"][l]["spec"].get<std::string>();
+    std::printf("deep-zone jumps %s: %zu; octree cubes %zu (in ms/pose)", spec.c_str(), level_jumps[l], level_zone_cubes[l]);
     if (const DeepCover* k = level_cover[l]->peek())
-      std::printf("deep-zone cover %s (setup, not in ms/pose): %s, %llu cubes, %zu boxes, %.3f s; jumps %zu\n", spec.c_str(),
+      std::printf("; built cover (setup, not in ms/pose): %s, %llu cubes, %zu boxes, %.3f s\n",
                   k->complete ? "complete" : "budget exhausted, not used", static_cast<unsigned long long>(k->cells),
-                  k->boxes.size(), level_cover[l]->seconds(), level_jumps[l]);
+                  k->boxes.size(), level_cover[l]->seconds());
     else
-      std::printf("deep-zone cover %s: not needed (no pose found c flat)\n", spec.c_str());
+      std::printf("; built cover not needed (no pose found c flat)\n");
   }
   std::printf("approaches %zu, contact found by both %zu, FCL found none %zu\n", M, both, fcl_miss);
   std::printf("lines the exact sweep proves to miss: %zu; FCL found a contact on %zu of them: certified at FCL's pose "

@@ -4,6 +4,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <mutex>
+#include <unordered_map>
 
 #include <tbb/blocked_range.h>
 #include <tbb/collaborative_call_once.h>
@@ -13,66 +16,78 @@
 #include "distance/depth_bound.h"
 
 namespace cdbench {
-namespace {
+double deep_cube_radius(const Aabb& Q) {
+  const Vec3 q = Q.center();
+  // q lies in Q: the farthest corner, rounded up.
+  const Vec3 far = (Q.hi - q).cwiseMax(q - Q.lo);
+  return round_up(far.norm() * (1.0 + 1e-12));
+}
 
-struct Cube {
-  Aabb box;
-  Vec3 ref = Vec3::Zero();  // a point of known side (its parent's centre), or ref_side = 0
-  int ref_side = 0;
-  std::int64_t hint = -1;  // its parent's nearest triangle (a start for the nearest query)
-};
-
-}  // namespace
-
-DeepCover build_deep_cover(const SignedDistance& fixed, double target, const DeepCoverOptions& options) {
-  DeepCover cover;
-  cover.target = target;
-  if (!(target < 0.0) || fixed.mesh().faces.empty()) return cover;
+DeepCube deep_cover_root(const SignedDistance& fixed) {
   const Aabb b = fixed.bbox();
-  // The root: a cube about F's box (only the cells' shape depends on it), grown to contain it.
   const double half = 0.5 * (b.hi - b.lo).maxCoeff() * (1.0 + 1e-9);
-  Cube root;
+  DeepCube root;
   for (int k = 0; k < 3; ++k) {
     const double c = 0.5 * (b.lo[k] + b.hi[k]);
     root.box.lo[k] = std::min(b.lo[k], round_down(c - half));
     root.box.hi[k] = std::max(b.hi[k], round_up(c + half));
   }
+  return root;
+}
+
+DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, double cell_size, const DeepCube& cube,
+                                   std::vector<std::uint32_t>& ids) {
+  DeepCubeVerdict v;
+  const double depth = -target;  // |target|
+  const Aabb& Q = cube.box;
+  const Vec3 q = Q.center();
+  const double r = deep_cube_radius(Q);  // every point of Q within r of q
+  const Interval ud = fixed.unsigned_distance(q, &v.nearest, cube.hint);
+  // s >= -dist(x, F) everywhere: shallow whatever q's side.
+  if (round_up(ud.hi + r) < depth) return v;
+  const int side = cube.ref_side != 0 ? fixed.side(q, ud, cube.ref, cube.ref_side) : fixed.side(q, ud);
+  if (ud.lo > 0.0) v.side = static_cast<signed char>(side);
+  if (side > 0 && round_down(ud.lo - r) > target) return v;  // outside: s >= dist(q, F) - r
+  if (side < 0 && round_down(ud.lo - r) >= depth) {        // inside Z: s <= s(q) + r <= target
+    v.what = DeepCubeVerdict::keep;
+    return v;
+  }
+  const std::array<Vec3, 8> corners = Q.corners();
+  // Sparse weights: a cube undecided by them is split, and is cheaper to split than to bound with
+  // converged weights (rotor, retinal, boeing, pinion: 20-50 % less time, as many cubes).
+  const double bound = depth_upper_bound(fixed, q, round_up(ud.hi + 2 * r), corners.data(), 8, ids, nullptr, nullptr,
+                                         nullptr, nullptr, 0.0, DepthWeights::sparse);
+  if (bound < depth) return v;  // s >= -dist >= -bound > target on the cube
+  v.what = r <= cell_size ? DeepCubeVerdict::keep : DeepCubeVerdict::split;
+  return v;
+}
+
+std::array<DeepCube, 8> deep_cube_children(const DeepCube& cube, const DeepCubeVerdict& verdict) {
+  const Aabb& Q = cube.box;
+  const Vec3 q = Q.center();
+  std::array<DeepCube, 8> children;
+  for (int k = 0; k < 8; ++k) {
+    DeepCube& c = children[k];
+    for (int a = 0; a < 3; ++a) {
+      const bool upper = (k >> a) & 1;
+      c.box.lo[a] = upper ? q[a] : Q.lo[a];
+      c.box.hi[a] = upper ? Q.hi[a] : q[a];
+    }
+    c.ref = q;
+    c.ref_side = verdict.side;
+    c.hint = verdict.nearest;
+  }
+  return children;
+}
+
+DeepCover build_deep_cover(const SignedDistance& fixed, double target, const DeepCoverOptions& options) {
+  DeepCover cover;
+  cover.target = target;
+  if (!(target < 0.0) || fixed.mesh().faces.empty()) return cover;
   // Breadth first, one octree level at a time, so that a budget too small is found before the
   // finest (and largest) level is evaluated: its cubes are eight per undecided cube of the last.
-  std::vector<Cube> level{root}, next;
-  // A cube's classification, and what its children take over: its centre's side (0: unknown) and
-  // nearest triangle.
-  struct Verdict {
-    enum : signed char { drop, keep, split } what = drop;
-    signed char side = 0;
-    std::uint32_t nearest = 0;
-  };
-  std::vector<Verdict> verdicts;
-  const double depth = -target;  // |target|
-  const auto classify = [&](const Cube& cube, std::vector<std::uint32_t>& ids, Verdict& v) {
-    const Aabb& Q = cube.box;
-    const Vec3 q = Q.center();
-    // Every point of Q within r of q (q lies in Q: the farthest corner, rounded up).
-    const Vec3 far = (Q.hi - q).cwiseMax(q - Q.lo);
-    const double r = round_up(far.norm() * (1.0 + 1e-12));
-    const Interval ud = fixed.unsigned_distance(q, &v.nearest, cube.hint);
-    // s >= -dist(x, F) everywhere: shallow whatever q's side.
-    if (round_up(ud.hi + r) < depth) return;
-    const int side = cube.ref_side != 0 ? fixed.side(q, ud, cube.ref, cube.ref_side) : fixed.side(q, ud);
-    if (ud.lo > 0.0) v.side = static_cast<signed char>(side);
-    if (side > 0 && round_down(ud.lo - r) > target) return;  // outside: s >= dist(q, F) - r
-    if (side < 0 && round_down(ud.lo - r) >= depth) {        // inside Z: s <= s(q) + r <= target
-      v.what = Verdict::keep;
-      return;
-    }
-    const std::array<Vec3, 8> corners = Q.corners();
-    // Sparse weights: a cube undecided by them is split, and is cheaper to split than to bound
-    // with converged weights (rotor, retinal, boeing, pinion: 20-50 % less time, as many cubes).
-    const double bound = depth_upper_bound(fixed, q, round_up(ud.hi + 2 * r), corners.data(), 8, ids, nullptr, nullptr,
-                                           nullptr, nullptr, 0.0, DepthWeights::sparse);
-    if (bound < depth) return;  // s >= -dist >= -bound > target on the cube
-    v.what = r <= options.cell_size ? Verdict::keep : Verdict::split;
-  };
+  std::vector<DeepCube> level{deep_cover_root(fixed)}, next;
+  std::vector<DeepCubeVerdict> verdicts;
   while (!level.empty()) {
     // The cubes still to come must fit the budget: this level's, and near the last level the
     // next ones, which are then well predicted: about four times as many as this level's when
@@ -89,34 +104,21 @@ DeepCover build_deep_cover(const SignedDistance& fixed, double target, const Dee
     // The cubes of a level are independent: classified on every thread (isolated, so that a
     // waiting thread takes no unrelated task), then assembled in order, so the cover does not
     // depend on the threads.
-    verdicts.assign(level.size(), Verdict{});
+    verdicts.assign(level.size(), DeepCubeVerdict{});
     tbb::this_task_arena::isolate([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, level.size(), 64),
                         [&](const tbb::blocked_range<std::size_t>& range) {
                           std::vector<std::uint32_t> ids;
-                          for (std::size_t i = range.begin(); i != range.end(); ++i) classify(level[i], ids, verdicts[i]);
+                          for (std::size_t i = range.begin(); i != range.end(); ++i)
+                            verdicts[i] = classify_deep_cube(fixed, target, options.cell_size, level[i], ids);
                         });
     });
     cover.cells += level.size();
     next.clear();
     for (std::size_t i = 0; i < level.size(); ++i) {
-      const Aabb& Q = level[i].box;
-      if (verdicts[i].what == Verdict::keep) cover.boxes.push_back(Q);
-      if (verdicts[i].what != Verdict::split) continue;
-      // Eight children sharing the computed midpoints (q lies in Q, so they tile it).
-      const Vec3 q = Q.center();
-      for (int k = 0; k < 8; ++k) {
-        Cube c;
-        for (int a = 0; a < 3; ++a) {
-          const bool upper = (k >> a) & 1;
-          c.box.lo[a] = upper ? q[a] : Q.lo[a];
-          c.box.hi[a] = upper ? Q.hi[a] : q[a];
-        }
-        c.ref = q;
-        c.ref_side = verdicts[i].side;
-        c.hint = verdicts[i].nearest;
-        next.push_back(c);
-      }
+      if (verdicts[i].what == DeepCubeVerdict::keep) cover.boxes.push_back(level[i].box);
+      if (verdicts[i].what != DeepCubeVerdict::split) continue;
+      for (const DeepCube& c : deep_cube_children(level[i], verdicts[i])) next.push_back(c);
     }
     std::swap(level, next);
   }
@@ -131,6 +133,59 @@ DeepCover build_deep_cover(const SignedDistance& fixed, double target, const Dee
     });
   }
   return cover;
+}
+
+namespace {
+constexpr std::size_t kMemoShards = 64;
+using CubeKey = std::array<double, 4>;  // lo and hi.x: one cube of the octree
+struct CubeKeyHash {
+  std::size_t operator()(const CubeKey& k) const {
+    std::uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (const double x : k) {
+      std::uint64_t b;
+      std::memcpy(&b, &x, sizeof b);
+      h ^= b + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    }
+    return static_cast<std::size_t>(h);
+  }
+};
+CubeKey cube_key(const Aabb& c) { return {c.lo[0], c.lo[1], c.lo[2], c.hi[0]}; }
+}  // namespace
+
+struct DeepCubeMemo::Shard {
+  mutable std::mutex mutex;
+  std::unordered_map<CubeKey, DeepCubeVerdict, CubeKeyHash> map;
+};
+
+DeepCubeMemo::DeepCubeMemo(double target, std::size_t max_entries)
+    : target_(target), max_per_shard_(max_entries / kMemoShards + 1), shards_(new Shard[kMemoShards]) {}
+
+DeepCubeMemo::~DeepCubeMemo() = default;
+
+bool DeepCubeMemo::find(const Aabb& cube, DeepCubeVerdict* verdict) const {
+  const CubeKey k = cube_key(cube);
+  const Shard& s = shards_[CubeKeyHash{}(k) % kMemoShards];
+  std::lock_guard<std::mutex> lock(s.mutex);
+  const auto it = s.map.find(k);
+  if (it == s.map.end()) return false;
+  *verdict = it->second;
+  return true;
+}
+
+void DeepCubeMemo::insert(const Aabb& cube, const DeepCubeVerdict& verdict) {
+  const CubeKey k = cube_key(cube);
+  Shard& s = shards_[CubeKeyHash{}(k) % kMemoShards];
+  std::lock_guard<std::mutex> lock(s.mutex);
+  if (s.map.size() < max_per_shard_) s.map.emplace(k, verdict);
+}
+
+std::size_t DeepCubeMemo::size() const {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < kMemoShards; ++i) {
+    std::lock_guard<std::mutex> lock(shards_[i].mutex);
+    n += shards_[i].map.size();
+  }
+  return n;
 }
 
 struct LazyDeepCover::State {

@@ -10,6 +10,7 @@
 // target), kept when its half-diagonal is at most `cell_size`, and split into eight otherwise.
 // The cubes' corners are the doubles computed by halving (a child's faces are its parent's or the
 // computed midpoints, shared by its siblings), so the kept and dropped cubes tile the root exactly.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -25,6 +26,55 @@ struct DeepCoverOptions {
   // Cubes evaluated at most; a cover that would need more is given up (complete = false) as soon as
   // an octree level's cubes would pass it, before they are evaluated.
   std::uint64_t max_cells = 20000;
+};
+
+// One cube of the octree and what its classification leaves its children: a point of known side
+// (its parent's centre; ref_side 0 when unknown) and a start for the nearest query.
+struct DeepCube {
+  Aabb box;
+  Vec3 ref = Vec3::Zero();
+  int ref_side = 0;
+  std::int64_t hint = -1;
+};
+
+struct DeepCubeVerdict {
+  enum Kind : signed char { drop, keep, split };
+  Kind what = drop;  // keep: inside Z, or at most cell_size
+  signed char side = 0;        // the centre's side when certain (0: not known)
+  std::uint32_t nearest = 0;   // the centre's nearest triangle
+};
+
+// A bound on |x - centre| over the cube: the half-diagonal the rules compare with cell_size.
+double deep_cube_radius(const Aabb& box);
+// The root cube: about F's bounding box (its shape only), grown to contain it.
+DeepCube deep_cover_root(const SignedDistance& fixed);
+// A cube's verdict for the zone {s <= target} (target < 0). `ids`: scratch.
+DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, double cell_size, const DeepCube& cube,
+                                   std::vector<std::uint32_t>& ids);
+// The eight children of a split cube, cut at its computed centre (they tile it exactly), child k
+// on the upper side of axis a when bit a of k is set.
+std::array<DeepCube, 8> deep_cube_children(const DeepCube& cube, const DeepCubeVerdict& verdict);
+
+// Verdicts of one zone's cubes (classified with cell_size 0: split stands for "not decided"),
+// shared by every pose and thread of a level. A verdict depends only on the cube, F and the
+// target, so what is found here is what classifying would give: sharing changes the work, not
+// the answers. Thread-safe; past max_entries nothing more is remembered.
+class DeepCubeMemo {
+ public:
+  explicit DeepCubeMemo(double target, std::size_t max_entries = 1000000);
+  ~DeepCubeMemo();
+  DeepCubeMemo(const DeepCubeMemo&) = delete;
+  DeepCubeMemo& operator=(const DeepCubeMemo&) = delete;
+  double target() const { return target_; }
+  bool find(const Aabb& cube, DeepCubeVerdict* verdict) const;
+  void insert(const Aabb& cube, const DeepCubeVerdict& verdict);
+  std::size_t size() const;
+
+ private:
+  struct Shard;
+  double target_;
+  std::size_t max_per_shard_;
+  std::unique_ptr<Shard[]> shards_;
 };
 
 struct DeepCover {

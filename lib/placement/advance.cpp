@@ -251,13 +251,12 @@ void axis_range(double p_lo, double p_hi, double b_lo, double b_hi, double w_lo,
   r.meet(lo, hi);
 }
 
-struct CoverContactPolicy {
+// The lambdas where the mover (rotated doubles moved by t0 + lambda d, exactly) can meet a box
+// of a deep-zone cover grown by `margin`.
+struct CoverGeometry {
   const MoverOrientation& o;
-  const DeepCover& cover;
   Vec3 t0, d;
   double margin;
-  double stop_at;  // a contact at or beyond it settles the query
-  double best = -std::numeric_limits<double>::infinity();
 
   // A cover's box grown by the margin, outwards.
   Aabb grown(const Aabb& B) const {
@@ -275,22 +274,16 @@ struct CoverContactPolicy {
       axis_range(round_down(A.lo[k] + t0[k]), round_up(A.hi[k] + t0[k]), G.lo[k], G.hi[k], d[k], d[k], r);
     return r;
   }
-  double bound(const Aabb& A, const Aabb& B) const {
-    const LambdaRange r = boxes(A, grown(B));
-    return r.empty() ? std::numeric_limits<double>::infinity() : -r.hi;
-  }
-  double prune_bound() const { return -best; }
-  bool done() const { return best >= stop_at; }
-  bool split_first(const Aabb& a, const Aabb& b) const { return a.extent().squaredNorm() >= b.extent().squaredNorm(); }
-  void leaf(std::uint32_t face, std::uint32_t box) {
+  // The mover's triangle `face` against the grown box G, narrowing r.
+  void triangle(std::uint32_t face, const Aabb& G, LambdaRange& r) const {
     const Face& f = (*o.faces)[face];
     const Vec3 &a0 = o.rotated[f[0]], &a1 = o.rotated[f[1]], &a2 = o.rotated[f[2]];
     Aabb tri;
     tri.extend(a0);
     tri.extend(a1);
     tri.extend(a2);
-    const Aabb G = grown(cover.boxes[box]);
-    LambdaRange r = boxes(tri, G);
+    const LambdaRange rb = boxes(tri, G);
+    r.meet(rb.lo, rb.hi);
     // The triangle's normal and its edges crossed with the axes: the separating axes of a
     // triangle and a box (any vector separates validly; the computed ones nearly as the exact).
     const std::array<Vec3, 3> edges{a1 - a0, a2 - a1, a0 - a2};
@@ -319,6 +312,33 @@ struct CoverContactPolicy {
       axis_range(p_lo, p_hi, round_down(bl.value - bl.error), round_up(bh.value + bh.error),
                  round_down(nd.value - nd.error), round_up(nd.value + nd.error), r);
     }
+  }
+};
+
+// The margin of a cover query: the exact mover at a pose fl(t0 + lambda d), |lambda| <=
+// lambda_max, lies within the transform's rounding there plus slack of the rotated doubles moved by
+// t0 + lambda d, and a double evaluation within the transform's rounding more (advance_rounding's
+// farthest pose bounds both).
+double cover_margin(const MoverOrientation& o, const Vec3& t0, const Vec3& d, double slack, double lambda_max) {
+  return round_up(round_up(2.0 * advance_rounding(o, t0, d, slack, lambda_max).farthest) + slack);
+}
+
+struct CoverContactPolicy {
+  CoverGeometry g;
+  const DeepCover& cover;
+  double stop_at;  // a contact at or beyond it settles the query
+  double best = -std::numeric_limits<double>::infinity();
+
+  double bound(const Aabb& A, const Aabb& B) const {
+    const LambdaRange r = g.boxes(A, g.grown(B));
+    return r.empty() ? std::numeric_limits<double>::infinity() : -r.hi;
+  }
+  double prune_bound() const { return -best; }
+  bool done() const { return best >= stop_at; }
+  bool split_first(const Aabb& a, const Aabb& b) const { return a.extent().squaredNorm() >= b.extent().squaredNorm(); }
+  void leaf(std::uint32_t face, std::uint32_t box) {
+    LambdaRange r;
+    g.triangle(face, g.grown(cover.boxes[box]), r);
     if (!r.empty()) best = std::max(best, r.hi);
   }
 };
@@ -329,15 +349,107 @@ double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orient
                           double slack, double lambda_max, double stop_at) {
   if (!cover.complete || cover.boxes.empty() || orientation.boxes.empty())
     return -std::numeric_limits<double>::infinity();
-  // The exact mover at a pose fl(t0 + lambda d), |lambda| <= lambda_max, lies within the
-  // transform's rounding there plus slack of the rotated doubles moved by t0 + lambda d, and a
-  // double evaluation within the transform's rounding more (advance_rounding's farthest pose
-  // bounds both).
-  const double margin =
-      round_up(round_up(2.0 * advance_rounding(orientation, t0, d, slack, lambda_max).farthest) + slack);
-  CoverContactPolicy p{orientation, cover, t0, d, margin, stop_at};
+  CoverContactPolicy p{{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max)}, cover, stop_at};
   traverse_pairs_best_first(orientation.boxes, cover.tree, p);
   return p.best;
+}
+
+DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, double cell_size,
+                                  const MoverOrientation& orientation, const Vec3& t0, const Vec3& d, double slack,
+                                  double lambda_max, double lambda_top, double stop_at, std::uint64_t max_cubes,
+                                  DeepCubeMemo* memo) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  DeepZoneContact out;
+  out.lambda = -kInf;
+  if (!(target < 0.0) || fixed.mesh().faces.empty() || orientation.boxes.empty()) {
+    out.complete = true;
+    return out;
+  }
+  const CoverGeometry g{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max)};
+  // The octree, grown on demand: a cube is classified when a pair holding it comes up, and split
+  // into eight when it is neither dropped nor kept.
+  struct Node {
+    DeepCube cube;
+    DeepCubeVerdict verdict;
+    bool classified = false;
+    bool leaf = false;              // kept: in the zone, or undecided at most cell_size
+    std::uint32_t first_child = 0;  // 0: none yet
+  };
+  std::vector<Node> nodes;
+  nodes.push_back({deep_cover_root(fixed), {}, false, false, 0});
+  std::vector<std::uint32_t> ids;
+  // Pairs (mover node, cube) by the latest lambda at which they may meet, latest first.
+  struct Pair {
+    std::uint32_t a, b;
+    double hi;
+  };
+  const auto earlier = [](const Pair& x, const Pair& y) { return x.hi < y.hi; };  // max-heap on hi
+  std::vector<Pair> heap;
+  const auto push = [&](std::uint32_t a, std::uint32_t b) {
+    LambdaRange r = g.boxes(orientation.boxes.nodes[a].bv, g.grown(nodes[b].cube.box));
+    r.meet(-kInf, lambda_top);
+    if (r.empty() || !(r.hi > out.lambda)) return;
+    heap.push_back({a, b, r.hi});
+    std::push_heap(heap.begin(), heap.end(), earlier);
+  };
+  push(0, 0);
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), earlier);
+    const Pair e = heap.back();
+    heap.pop_back();
+    if (!(e.hi > out.lambda)) break;  // no waiting pair can meet later than the best contact
+    if (out.lambda >= stop_at) break;
+    ++out.pairs;
+    Node& nb = nodes[e.b];
+    if (!nb.classified) {
+      // Every cube counts against the budget, found in the memo or not: whether it is found there
+      // depends on other threads, the answer must not.
+      if (out.cubes >= max_cubes) {
+        out.complete = false;
+        return out;
+      }
+      ++out.cubes;
+      if (!(memo && memo->find(nb.cube.box, &nb.verdict))) {
+        // Cell size 0: "split" is "not decided", the cell size applied below, so that the memo
+        // serves queries of any cell size.
+        nb.verdict = classify_deep_cube(fixed, target, 0.0, nb.cube, ids);
+        if (memo) memo->insert(nb.cube.box, nb.verdict);
+      }
+      nb.classified = true;
+      nb.leaf = nb.verdict.what == DeepCubeVerdict::keep ||
+                (nb.verdict.what == DeepCubeVerdict::split && deep_cube_radius(nb.cube.box) <= cell_size);
+    }
+    if (nb.verdict.what == DeepCubeVerdict::drop) continue;
+    const auto& na = orientation.boxes.nodes[e.a];
+    const bool cube_leaf = nb.leaf;
+    if (na.count > 0 && cube_leaf) {
+      const Aabb G = g.grown(nodes[e.b].cube.box);
+      for (std::uint32_t i = 0; i < na.count; ++i) {
+        LambdaRange r;
+        r.meet(-kInf, lambda_top);
+        g.triangle(orientation.boxes.order[na.first + i], G, r);
+        if (!r.empty()) out.lambda = std::max(out.lambda, r.hi);
+      }
+      continue;
+    }
+    // Split the larger of the two (a leaf never).
+    const bool split_mover =
+        cube_leaf || (na.count == 0 && na.bv.extent().squaredNorm() >= nodes[e.b].cube.box.extent().squaredNorm());
+    if (split_mover) {
+      push(na.first, e.b);
+      push(na.first + 1, e.b);
+      continue;
+    }
+    if (nodes[e.b].first_child == 0) {
+      const std::array<DeepCube, 8> children = deep_cube_children(nodes[e.b].cube, nodes[e.b].verdict);
+      nodes[e.b].first_child = static_cast<std::uint32_t>(nodes.size());
+      for (const DeepCube& c : children) nodes.push_back({c, {}, false, false, 0});  // (nb is stale now)
+    }
+    const std::uint32_t first = nodes[e.b].first_child;
+    for (std::uint32_t k = 0; k < 8; ++k) push(e.a, first + k);
+  }
+  out.complete = true;
+  return out;
 }
 
 HalfspaceMinimum least_halfspace_bound(const SupportPlanes& support, const MoverOrientation& orientation,

@@ -84,4 +84,24 @@ double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orient
                           double slack, double lambda_max,
                           double stop_at = std::numeric_limits<double>::infinity());
 
+// The same bound without a prebuilt cover: the octree of distance/deep_cover.h grown on demand,
+// only where the moving mover comes near it between -lambda_max and lambda_top, its cubes kept at
+// a half-diagonal of `cell_size` (doc/poses.md, "Deep-zone jumps"). lambda: the latest lambda <=
+// lambda_top at which the mover can meet a kept cube (-inf: none), with the guarantee of
+// deep_cover_contact for lambda < lambda' <= lambda_top. Costs cubes where the mover passes near
+// the zone, not over all of it: a thin shell's zone, which no budget covers whole, is refined only
+// about the contact. complete = false: `max_cubes` cubes were classified before the answer was
+// known, and nothing is claimed. `memo` (optional): verdicts shared with other queries of the
+// same zone (distance/deep_cover.h), the same answers with less work.
+struct DeepZoneContact {
+  double lambda = 0.0;
+  bool complete = false;
+  std::uint64_t cubes = 0;  // cubes classified
+  std::uint64_t pairs = 0;  // pairs expanded
+};
+DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, double cell_size,
+                                  const MoverOrientation& orientation, const Vec3& t0, const Vec3& d, double slack,
+                                  double lambda_max, double lambda_top, double stop_at, std::uint64_t max_cubes,
+                                  DeepCubeMemo* memo = nullptr);
+
 }  // namespace cdbench

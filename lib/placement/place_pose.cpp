@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 
 #include <tbb/parallel_invoke.h>
@@ -340,41 +341,36 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       last_loose = false;
       adopt(c);
     }
-    // Returns false when the line never meets the zone (c > target on all of it).
-    const auto cover_jump = [&](const DeepCover& cover) -> bool {
-      // Every pose beyond the moving mover's first contact with the deep zone's cover has its
-      // surface outside the zone: c > target there (the poses' rounding: pose_rounding_slack).
-      // Worth a jump only beyond what one two-sided step proves.
-      const double worth = out.lambda - 2.0 * std::max(0.0, c.clearance.lo - target);
-      const double lk = deep_cover_contact(cover, frame.orientation, frame.t0, dir,
-                                           pose_rounding_slack(frame, lambda_far), lambda_far, worth);
-      if (!(lk > -lambda_far)) return false;  // the line never meets the zone
-      if (lk < worth) {
-        // A jump past what one step would prove. Kept only when the certificate there is on the
-        // target or provably before the crossing (c(lk) >= target holds, but a certificate of a
-        // pose exactly at the target could straddle it).
-        const double lambda0 = out.lambda;
-        const ClearanceResult c0 = c;
-        const ClearanceFrontier f0 = frontier;
-        frontier.valid = false;
-        out.lambda = lk;
-        c = certify(out.lambda, false);
-        if (!within(c.clearance) && !(c.clearance.lo > target)) {
-          out.lambda = lambda0;
-          c = c0;
-          frontier = f0;
-          adopt(c);
-        } else {
-          ++out.cover_jumps;
-        }
+    // A jump to lk, the latest contact of the moving mover with a cover of the deep zone: every
+    // pose beyond it has its surface outside the zone, so c > target there. Kept only when the
+    // certificate there is on the target or provably before the crossing (c(lk) >= target holds,
+    // but a certificate of a pose exactly at the target could straddle it).
+    const auto jump_to = [&](double lk) {
+      const double lambda0 = out.lambda;
+      const ClearanceResult c0 = c;
+      const ClearanceFrontier f0 = frontier;
+      frontier.valid = false;
+      out.lambda = lk;
+      c = certify(out.lambda, false);
+      if (!within(c.clearance) && !(c.clearance.lo > target)) {
+        out.lambda = lambda0;
+        c = c0;
+        frontier = f0;
+        adopt(c);
+      } else {
+        ++out.cover_jumps;
       }
-      return true;
     };
     // The previous pose of the advance, for the slope of c (a heuristic: it only picks steps).
     double prev_lambda = 0.0, prev_mid = 0.0;
     bool have_prev = false;
     int flat_steps = 0;
     bool use_cover = options.deep_cover && target < 0.0 && options.deep_cover->target() == target;
+    // Where the level's cover ran out of its budget, the zone's octree about the mover's path;
+    // zone_tried: the budget of its last query that ran out (0: none yet).
+    bool use_octree = use_cover && options.deep_zone_cubes > 0;
+    std::uint64_t zone_tried = 0;
+    constexpr std::uint64_t kMinZoneCubes = 2000;
     while (!within(c.clearance) && out.steps < options.max_steps) {
       // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
       // margin; the rounding of t by the absolute one): stepping by c_lo - target cannot pass the
@@ -442,15 +438,56 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       const double slope = have_prev ? std::max(0.0, (prev_mid - mid) / (prev_lambda - out.lambda)) : 1.0;
       // A plateau: c flat (secant slope below 1/2) for two steps while still a fifth of |target|
       // or more above it. There, once per pose, a jump to the first contact with the deep zone's
-      // cover. Not before: where c falls steeply, or slowly but near the target, the crossing is
+      // cover (where the cover ran out of its budget, to the contact with its octree about the
+      // mover's path, as often as its budget allows). Not before: where c falls steeply, or slowly but near the target, the crossing is
       // a few steps away and the cover would cost more than it saves (doc/performance.md).
       flat_steps = slope < 0.5 && mid - target > 0.2 * std::abs(target) ? flat_steps + 1 : 0;
-      if (use_cover && flat_steps >= 2) {
-        use_cover = false;
-        if (const DeepCover* cover = options.deep_cover->get()) {
-          const double before = out.lambda;
-          if (!cover_jump(*cover)) return missed();
-          if (out.lambda != before) {
+      if (flat_steps >= 2 && (use_cover || use_octree)) {
+        // Worth a jump only beyond what one two-sided step proves.
+        const double worth = out.lambda - 2.0 * std::max(0.0, c.clearance.lo - target);
+        const double pose_slack = pose_rounding_slack(frame, lambda_far);
+        const DeepCover* cover = nullptr;
+        if (use_cover) {
+          use_cover = false;
+          cover = options.deep_cover->get();
+          if (cover) use_octree = false;
+        }
+        double lk = std::numeric_limits<double>::quiet_NaN();  // NaN: no contact known
+        if (cover) {
+          lk = deep_cover_contact(*cover, frame.orientation, frame.t0, dir, pose_slack, lambda_far, worth);
+        } else if (use_octree) {
+          // The cover ran out of its budget: the zone's octree about the mover's path. The
+          // mover's surface is at least the gap from the zone here (c is 1-Lipschitz in space),
+          // and kept cubes reach at most twice their half-diagonal beyond it: at a quarter of the
+          // gap the search clears this pose and stops where the mover comes within about half the
+          // gap of the zone. Its budget is the pose's own work so far
+          // (PoseOptions::deep_zone_cubes_per_cell), tried again once that has doubled: a query
+          // that runs out costs at most a few times the advance it could have spared, and a long
+          // plateau soon pays for one.
+          const double by_work = options.deep_zone_cubes_per_cell * static_cast<double>(out.clearance_cells);
+          const std::uint64_t budget =
+              by_work >= static_cast<double>(options.deep_zone_cubes) ? options.deep_zone_cubes
+                                                                      : static_cast<std::uint64_t>(by_work);
+          if (budget >= kMinZoneCubes && budget >= 2 * zone_tried) {
+            const DeepZoneContact z =
+                deep_zone_contact(*setup.fixed, target, 0.25 * gap, frame.orientation, frame.t0, dir, pose_slack,
+                                  lambda_far, out.lambda, worth, budget,
+                                  options.deep_zone_memo && options.deep_zone_memo->target() == target
+                                      ? options.deep_zone_memo
+                                      : nullptr);
+            out.zone_cubes += z.cubes;
+            if (z.complete) {
+              lk = z.lambda;
+              if (!(lk < worth)) use_octree = false;  // the zone is within two gaps: no more tries
+            } else {
+              zone_tried = budget;
+            }
+          }
+        }
+        if (!std::isnan(lk)) {
+          if (!(lk > -lambda_far)) return missed();  // the line never meets the zone
+          if (lk < worth) {
+            jump_to(lk);
             have_prev = false;
             flat_steps = 0;
             continue;

@@ -117,6 +117,18 @@ struct PoseOptions {
   // (doc/poses.md, "Deep-zone jumps"), to which the advance jumps when it lies beyond its own
   // pose. Null: no jumps.
   const LazyDeepCover* deep_cover = nullptr;
+  // Where deep_cover runs out of its budget (a zone too large to cover whole: thin shells): the
+  // jump's contact from the zone's octree grown about the mover's path (advance.h,
+  // deep_zone_contact), at most min(this, deep_zone_cubes_per_cell x the pose's certificate cells
+  // so far) cubes per query (and at least 2,000), tried again once that has doubled. 0: none.
+  std::uint64_t deep_zone_cubes = 400000;
+  // A cube costs about what a certificate's cell does: at 4, a query that runs out costs at most
+  // about four times the advance it could have spared, and a long plateau soon pays for one
+  // (doc/performance.md, "Thin shells").
+  double deep_zone_cubes_per_cell = 4.0;
+  // The level's cube verdicts shared by its poses' octree queries (optional; the same poses either
+  // way, less work).
+  DeepCubeMemo* deep_zone_memo = nullptr;
 };
 
 // The deep-zone cover a penetrating level uses (PoseOptions::deep_cover): cubes of half-diagonal
@@ -140,6 +152,7 @@ struct PoseOutcome {
   int two_sided_tries = 0;  // long steps tried where c is flat (each accepted one is a step)
   bool continued = false;   // the advance continued from a higher target's pose (ApproachMemo)
   int cover_jumps = 0;      // jumps to the deep zone's cover taken
+  std::uint64_t zone_cubes = 0;  // cubes of the zone's octree classified (deep_zone_contact)
   std::string reason;      // why not certified / not on target
   std::uint64_t sphere_tests = 0, triangle_sweeps = 0, clearance_cells = 0;
 };

@@ -161,10 +161,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // start. Absent otherwise, so that other runs still resume.
   if (near_surface_starts) run_key["near_surface_start_bands"] = kNearSurfaceBands;
   // Levels deep enough for the deep zone's cover jump across plateaus (since 2026-11-27, session
-  // 29): their poses may differ within the tolerance from earlier binaries', whose journals must
-  // therefore not be resumed or merged with them. Absent otherwise, so that other runs still resume.
+  // 29: 1), and to its octree about the mover's path where the cover runs out of its budget (since
+  // 2026-11-28, session 30: 2): their poses may differ within the tolerance from earlier binaries',
+  // whose journals must therefore not be resumed or merged with them. Absent otherwise, so that
+  // other runs still resume.
   const auto covered = [&](double x) { return polish && deep_cover_wanted(x, mp.depth.lo); };
-  if (std::any_of(targets.begin(), targets.end(), covered)) run_key["deep_zone_jumps"] = 1;
+  if (std::any_of(targets.begin(), targets.end(), covered)) run_key["deep_zone_jumps"] = 2;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 
@@ -240,10 +242,15 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
 
   // Penetrating levels: the deep zone's cover, built by the first pose that finds c flat
   // (PoseOptions::deep_cover; deterministic, so the poses do not depend on which pose that is).
+  // Where a cover runs out of its budget, the zone's octree about each pose's path, its verdicts
+  // shared by the level's poses (DeepCubeMemo: the same poses, less work).
   std::vector<std::unique_ptr<LazyDeepCover>> covers(L);
-  for (std::size_t l = 0; l < L; ++l)
+  std::vector<std::unique_ptr<DeepCubeMemo>> zone_memos(L);
+  for (std::size_t l = 0; l < L; ++l) {
     if (covered(targets[l]))
       covers[l] = std::make_unique<LazyDeepCover>(sdf, targets[l], deep_cover_options(targets[l]));
+    if (covers[l]) zone_memos[l] = std::make_unique<DeepCubeMemo>(targets[l]);
+  }
 
   // Pending approaches in order; an orientation's frame is built by the first thread that needs it
   // and freed after its last approach.
@@ -262,6 +269,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   for (std::uint64_t a : pending) ++frames[a / N].left;
   Progress progress("poses", pending.size() * L);
   std::vector<std::atomic<std::uint64_t>> level_ns(L);  // thread time per level
+  // Per level: deep-zone jumps taken, and cubes of the zone's octree classified for them.
+  std::vector<std::atomic<std::uint64_t>> level_jumps(L), level_zone_cubes(L);
   Timer t_poses;
   std::mutex journal_mutex;
   // Levels in descending target order within an approach (place_pose's memo).
@@ -300,9 +309,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
         PoseOptions level_po = po;
         level_po.start = start[l];
         level_po.deep_cover = covers[l].get();
+        level_po.deep_zone_memo = zone_memos[l].get();
         Timer t_pose;
         const PoseOutcome p = place_pose(setup, frame, swept_against, dir, targets[l], level_po, &memo);
         level_ns[l] += static_cast<std::uint64_t>(t_pose.seconds() * 1e9);
+        level_jumps[l] += static_cast<std::uint64_t>(p.cover_jumps);
+        level_zone_cubes[l] += p.zone_cubes;
         if (!p.contact) {
           unplaced(PoseStatus::NoContact);
         } else {
@@ -408,7 +420,9 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     level_timings.push_back({{"spec", specs[l].text},
                              {"thread_seconds", sec},
                              {"poses_per_thread_second", sec > 0 ? n / sec : 0.0},
-                             {"deep_cover", cover}});
+                             {"deep_cover", cover},
+                             {"deep_zone_jumps", level_jumps[l].load()},
+                             {"deep_zone_octree_cubes", level_zone_cubes[l].load()}});
   }
   ps["timings"] = {{"max_penetration", seconds_mp},
                    {"levels", level_timings},

@@ -1,11 +1,13 @@
-// Deep-zone jumps (PoseOptions::deep_cover, deep_cover_contact; doc/poses.md, "Deep-zone jumps"):
-// beyond the mover's first contact with the cover its clearance is above the target (checked by
-// certificates), and a jump never passes the first crossing (poses with and without jumps agree
-// within the tolerance), while it crosses a plateau in one step.
+// Deep-zone jumps (PoseOptions::deep_cover and deep_zone_cubes, deep_cover_contact,
+// deep_zone_contact; doc/poses.md, "Deep-zone jumps"): beyond the mover's first contact with the
+// cover its clearance is above the target (checked by certificates), the octree grown about the
+// mover's path finds the built cover's contact, and a jump never passes the first crossing (poses
+// with and without jumps agree within the tolerance), while it crosses a plateau in one step.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <iomanip>
+#include <limits>
 #include <random>
 
 #include "distance/deep_cover.h"
@@ -38,10 +40,28 @@ TEST(DeepJumps, CrossThePlateauInOneJump) {
   PoseOptions opt;
   opt.tolerance = 1e-7;
   opt.start = PoseStart::Surface;
+  opt.deep_zone_cubes = 0;  // no jumps
   const Vec3 dir(-1, 0, 0);
   const PoseOutcome plain = place_pose(setup, frame, &w.surface, dir, target, opt);
   opt.deep_cover = &cover;
   const PoseOutcome jumped = place_pose(setup, frame, &w.surface, dir, target, opt);
+  // With a cover over its budget, the octree about the mover's path (a budget of its own, not
+  // tied to the pose's certificates on so small a mesh).
+  DeepCoverOptions tiny = deep_cover_options(target);
+  tiny.max_cells = 10;
+  const LazyDeepCover over_budget(w.fixed, target, tiny);
+  PoseOptions grown = opt;
+  grown.deep_cover = &over_budget;
+  grown.deep_zone_cubes = 100000;
+  grown.deep_zone_cubes_per_cell = 1e9;
+  const PoseOutcome lazy = place_pose(setup, frame, &w.surface, dir, target, grown);
+  ASSERT_TRUE(lazy.contact && lazy.on_target && lazy.certified);
+  ASSERT_NE(over_budget.peek(), nullptr);
+  EXPECT_FALSE(over_budget.peek()->complete);
+  EXPECT_GT(lazy.zone_cubes, 0u);
+  EXPECT_NEAR(lazy.lambda, plain.lambda, 4 * opt.tolerance);
+  EXPECT_GE(lazy.cover_jumps, 1);
+  EXPECT_LT(lazy.steps + 10, plain.steps) << "plain " << plain.steps << " lazy " << lazy.steps;
   ASSERT_TRUE(plain.contact && plain.on_target && plain.certified);
   ASSERT_TRUE(jumped.contact && jumped.on_target && jumped.certified);
   // In the block, not in the plate: the sphere's front 0.05 inside x = 1.2 (its facets within 0.01).
@@ -62,9 +82,12 @@ TEST(DeepJumps, CrossThePlateauInOneJump) {
   const PoseOutcome p1 = place_pose(setup, beside, &w.surface, slanted, target, opt);
   opt.deep_cover = &cover;
   const PoseOutcome p2 = place_pose(setup, beside, &w.surface, slanted, target, opt);
+  const PoseOutcome p3 = place_pose(setup, beside, &w.surface, slanted, target, grown);
   EXPECT_EQ(p1.contact, p2.contact);
+  EXPECT_EQ(p1.contact, p3.contact);
   if (p1.contact) {
     EXPECT_NEAR(p1.lambda, p2.lambda, 4 * opt.tolerance);
+    EXPECT_NEAR(p1.lambda, p3.lambda, 4 * opt.tolerance);
   }
 }
 
@@ -105,10 +128,13 @@ TEST(DeepJumps, SameFirstCrossingAsWithout) {
   ApproachSetup setup = w.attached();
   const double target = -0.05;
   const LazyDeepCover cover(w.fixed, target, deep_cover_options(target));
+  DeepCoverOptions tiny = deep_cover_options(target);
+  tiny.max_cells = 10;
+  const LazyDeepCover over_budget(w.fixed, target, tiny);
   std::mt19937_64 rng(5);
   std::normal_distribution<double> g;
   std::uniform_real_distribution<double> u(-0.3, 0.3);
-  int jumps = 0, compared = 0;
+  int jumps = 0, lazy_jumps = 0, compared = 0;
   for (int i = 0; i < 16; ++i) {
     // Lines near the plate's mid-plane, mostly along it.
     setup.fixed_ref = Vec3(0.5, u(rng), 0.005 * g(rng));
@@ -117,18 +143,91 @@ TEST(DeepJumps, SameFirstCrossingAsWithout) {
     PoseOptions opt;
     opt.tolerance = 1e-7;
     opt.start = PoseStart::Surface;
+    opt.deep_zone_cubes = 0;
     const PoseOutcome a = place_pose(setup, frame, &w.surface, dir, target, opt);
     opt.deep_cover = &cover;
     const PoseOutcome b = place_pose(setup, frame, &w.surface, dir, target, opt);
+    opt.deep_cover = &over_budget;
+    opt.deep_zone_cubes = 100000;
+    opt.deep_zone_cubes_per_cell = 1e9;
+    const PoseOutcome z = place_pose(setup, frame, &w.surface, dir, target, opt);
     ASSERT_EQ(a.contact, b.contact) << "approach " << i;
+    ASSERT_EQ(a.contact, z.contact) << "approach " << i;
     if (!a.contact) continue;
-    ASSERT_TRUE(a.on_target && b.on_target) << "approach " << i;
+    ASSERT_TRUE(a.on_target && b.on_target && z.on_target) << "approach " << i;
     EXPECT_NEAR(a.lambda, b.lambda, 1e-5) << "approach " << i;
+    EXPECT_NEAR(a.lambda, z.lambda, 1e-5) << "approach " << i;
     jumps += b.cover_jumps;
+    lazy_jumps += z.cover_jumps;
     ++compared;
   }
   EXPECT_GT(compared, 8);
   EXPECT_GT(jumps, 3);
+  EXPECT_GT(lazy_jumps, 3);
+}
+
+// The octree grown about the mover's path keeps the same cubes near it as the built cover (the
+// same classification), so the latest contact is the same double; below a lambda_top, the latest
+// one below it, beyond which certificates leave room above the target. A budget too small claims
+// nothing.
+TEST(DeepJumps, GrownOctreeFindsTheCoversContact) {
+  for (int shape = 0; shape < 2; ++shape) {
+    const Scene w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
+    const double target = shape == 0 ? -0.05 : -0.12;
+    const DeepCoverOptions co = deep_cover_options(target);
+    const LazyDeepCover cover(w.fixed, target, co);
+    ASSERT_NE(cover.get(), nullptr);
+    DeepCubeMemo memo(target);
+    std::mt19937_64 rng(23 + shape);
+    int met = 0, checked = 0;
+    for (int i = 0; i < 12; ++i) {
+      const OrientationFrame frame = make_orientation_frame(w.setup, random_rotation(rng));
+      const Vec3 dir = random_direction(rng);
+      const double lambda_far = w.setup.fixed_radius + w.setup.mover_radius + 1.0;
+      constexpr double kInf = std::numeric_limits<double>::infinity();
+      const double lk = deep_cover_contact(*cover.get(), frame.orientation, frame.t0, dir, 1e-12, lambda_far);
+      const DeepZoneContact z = deep_zone_contact(w.fixed, target, co.cell_size, frame.orientation, frame.t0, dir,
+                                                  1e-12, lambda_far, kInf, kInf, 1000000);
+      ASSERT_TRUE(z.complete);
+      EXPECT_EQ(z.lambda, lk) << std::setprecision(17) << "shape " << shape << " dir " << dir.transpose();
+      EXPECT_LE(z.cubes, cover.get()->cells);  // only where the mover passes
+      // Through a memo shared by queries (of other cell sizes too): the same answers and counts.
+      for (const double cell : {0.1 * std::abs(target), co.cell_size, co.cell_size}) {
+        const DeepZoneContact m = deep_zone_contact(w.fixed, target, cell, frame.orientation, frame.t0, dir, 1e-12,
+                                                    lambda_far, kInf, kInf, 1000000, &memo);
+        const DeepZoneContact n = deep_zone_contact(w.fixed, target, cell, frame.orientation, frame.t0, dir, 1e-12,
+                                                    lambda_far, kInf, kInf, 1000000);
+        EXPECT_EQ(m.lambda, n.lambda);
+        EXPECT_EQ(m.cubes, n.cubes);
+      }
+      if (!(lk > -lambda_far)) continue;
+      ++met;
+      // Below lambda_top = that contact, a finer octree (cubes a tenth of |target|): its contact is
+      // at or below it, and certificates between the two leave room above the target.
+      const double top = lk;
+      const DeepZoneContact y = deep_zone_contact(w.fixed, target, 0.1 * std::abs(target), frame.orientation, frame.t0,
+                                                  dir, 1e-12, lambda_far, top, kInf, 1000000);
+      ASSERT_TRUE(y.complete);
+      EXPECT_LE(y.lambda, top);
+      if (!(y.lambda > -lambda_far) || !(y.lambda < top)) continue;
+      ClearanceOptions copt;
+      copt.tolerance = 1e-6;
+      for (int k = 1; k <= 6; ++k) {
+        const double lambda = y.lambda + (top - y.lambda) * k / 6.0 + 1e-9;
+        const Vec3 t = pose_translation(frame, dir, lambda);
+        const ClearanceResult c = certify_clearance(w.fixed, w.mover, w.setup.components, frame.orientation, t, copt);
+        EXPECT_GT(c.clearance.hi, target) << std::setprecision(17) << "shape " << shape << " lambda " << lambda
+                                          << " contact " << y.lambda << " dir " << dir.transpose();
+        ++checked;
+      }
+      const DeepZoneContact tiny = deep_zone_contact(w.fixed, target, co.cell_size, frame.orientation, frame.t0, dir,
+                                                     1e-12, lambda_far, kInf, kInf, 3);
+      EXPECT_FALSE(tiny.complete);
+    }
+    EXPECT_GT(met, 3);
+    EXPECT_GT(checked, 10);
+    EXPECT_GT(memo.size(), 100u);
+  }
 }
 
 }  // namespace
