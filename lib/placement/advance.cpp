@@ -399,7 +399,6 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     heap.pop_back();
     if (!(e.hi > out.lambda)) break;  // no waiting pair can meet later than the best contact
     if (out.lambda >= stop_at) break;
-    ++out.pairs;
     Node& nb = nodes[e.b];
     if (!nb.classified) {
       // Every cube counts against the budget, found in the memo or not: whether it is found there

@@ -97,7 +97,6 @@ struct DeepZoneContact {
   double lambda = 0.0;
   bool complete = false;
   std::uint64_t cubes = 0;  // cubes classified
-  std::uint64_t pairs = 0;  // pairs expanded
 };
 DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, double cell_size,
                                   const MoverOrientation& orientation, const Vec3& t0, const Vec3& d, double slack,
