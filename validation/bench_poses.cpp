@@ -132,14 +132,10 @@ static int run(int argc, char** argv) {
   const std::vector<std::size_t> descending = descending_target_order(level_target);
   // The penetrating levels' deep-zone covers, built when a pose first needs one, as in `cdbench
   // poses` (their build time is reported apart, with the other setup).
-  std::vector<std::unique_ptr<LazyDeepCover>> level_cover(L);
-  std::vector<std::unique_ptr<DeepCubeMemo>> level_memo(L);
+  std::vector<LevelDeepZone> level_zone;
   const double max_penetration = ps["max_penetration"]["interval"][0].get<double>();
-  for (std::size_t l = 0; l < L; ++l) {
-    if (deep_covers && po.polish && deep_cover_wanted(level_target[l], max_penetration))
-      level_cover[l] = std::make_unique<LazyDeepCover>(fixed, level_target[l], deep_cover_options(level_target[l]));
-    if (level_cover[l]) level_memo[l] = std::make_unique<DeepCubeMemo>(level_target[l]);
-  }
+  for (std::size_t l = 0; l < L; ++l)
+    level_zone.push_back(make_level_deep_zone(fixed, level_target[l], max_penetration, deep_covers && po.polish));
   double t_exact = 0.0, t_fcl = 0.0, max_over = 0.0, max_under = 0.0;
   std::uint64_t node_tests = 0, leaf_sweeps = 0;  // the exact first contact's work
   std::size_t differ = 0, overshoot = 0, both = 0, fcl_miss = 0;
@@ -180,10 +176,8 @@ static int run(int argc, char** argv) {
     for (const std::size_t l : descending) {
       const SweepMesh* swept = level_start[l] == PoseStart::Surface ? &level0 : level_offset[l].get();
       if (level_start[l] == PoseStart::Offset && !swept) continue;  // the level had no offset
-      PoseOptions lpo = po;
+      PoseOptions lpo = level_zone[l].options(po);
       lpo.start = level_start[l];
-      lpo.deep_cover = level_cover[l].get();
-      lpo.deep_zone_memo = level_memo[l].get();
       t0 = Clock::now();
       const PoseOutcome p = place_pose(setup, *frame, swept, d, level_target[l], lpo, &memo);
       level_seconds[l] += seconds_since(t0);
@@ -240,7 +234,7 @@ static int run(int argc, char** argv) {
               (1.0 / pps) / (t_fcl / M));
   // A level's cover is built inside the first pose that needs it: setup, reported apart.
   for (std::size_t l = 0; l < L; ++l)
-    if (level_cover[l]) level_seconds[l] = std::max(0.0, level_seconds[l] - level_cover[l]->seconds());
+    if (level_zone[l].cover) level_seconds[l] = std::max(0.0, level_seconds[l] - level_zone[l].cover->seconds());
   std::printf("\ncertified polished pose per approach, same %zu approaches, same run, one thread:\n", M);
   std::printf("%-12s %-8s %12s %12s %14s %14s %14s\n", "level", "start", "ms/pose", "poses/s", "certified", "mean steps",
               "pose / FCL CA");
@@ -254,13 +248,13 @@ static int run(int argc, char** argv) {
   std::printf("%-12s %-8s %12.3f %12.1f %14s %14s %14.2f\n", "all", "", 1e3 * all / (M * L), M * L / all, "", "",
               (all / (M * L)) / (t_fcl / M));
   for (std::size_t l = 0; l < L; ++l) {
-    if (!level_cover[l]) continue;
+    if (!level_zone[l].cover) continue;
     const std::string spec = ps["levels"][l]["spec"].get<std::string>();
     std::printf("deep-zone jumps %s: %zu; octree cubes %zu (in ms/pose)", spec.c_str(), level_jumps[l], level_zone_cubes[l]);
-    if (const DeepCover* k = level_cover[l]->peek())
+    if (const DeepCover* k = level_zone[l].cover->peek())
       std::printf("; built cover (setup, not in ms/pose): %s, %llu cubes, %zu boxes, %.3f s\n",
                   k->complete ? "complete" : "budget exhausted, not used", static_cast<unsigned long long>(k->cells),
-                  k->boxes.size(), level_cover[l]->seconds());
+                  k->boxes.size(), level_zone[l].cover->seconds());
     else
       std::printf("; built cover not needed (no pose found c flat)\n");
   }

@@ -92,6 +92,67 @@ double median_edge_length(const TriangleMesh& m) {
   return len[len.size() / 2];
 }
 
+// Where a pose may jump across a plateau (PoseOptions::deep_cover): the level's cover, asked once
+// per pose; where that ran out of its budget, the zone's octree about the mover's path, as often as
+// its budget allows.
+class DeepZoneJumps {
+ public:
+  DeepZoneJumps(const PoseOptions& o, double target)
+      : options_(o),
+        target_(target),
+        use_cover_(o.deep_cover && target < 0.0 && o.deep_cover->target() == target),
+        use_octree_(use_cover_ && o.deep_zone_cubes > 0),
+        memo_(o.deep_zone_memo && o.deep_zone_memo->target() == target ? o.deep_zone_memo : nullptr) {}
+
+  bool active() const { return use_cover_ || use_octree_; }
+
+  // The latest contact lambda of the mover moving along -dir with the deep zone, at or below
+  // `lambda` (NaN: none known). worth: contacts at or above it are not worth a jump; gap: the
+  // certified clearance minus the target at lambda; cells: the pose's certificate cells so far;
+  // the octree's cubes are added to *zone_cubes.
+  double contact(const ApproachSetup& setup, const OrientationFrame& frame, const Vec3& dir, double lambda,
+                 double gap, double worth, double lambda_far, std::uint64_t cells, std::uint64_t* zone_cubes) {
+    const double pose_slack = pose_rounding_slack(frame, lambda_far);
+    if (use_cover_) {
+      use_cover_ = false;
+      if (const DeepCover* cover = options_.deep_cover->get()) {
+        use_octree_ = false;
+        return deep_cover_contact(*cover, frame.orientation, frame.t0, dir, pose_slack, lambda_far, worth);
+      }
+    }
+    if (!use_octree_) return std::numeric_limits<double>::quiet_NaN();
+    // The cover ran out of its budget: the zone's octree about the mover's path. The mover's
+    // surface is at least the gap from the zone here (c is 1-Lipschitz in space), and kept cubes
+    // reach at most twice their half-diagonal beyond it: at a quarter of the gap the search clears
+    // this pose and stops where the mover comes within about half the gap of the zone. Its budget
+    // is the pose's own work so far (PoseOptions::deep_zone_cubes_per_cell), tried again once that
+    // has doubled: a query that runs out costs at most a few times the advance it could have
+    // spared, and a long plateau soon pays for one.
+    constexpr std::uint64_t kMinZoneCubes = 2000;
+    const double by_work = options_.deep_zone_cubes_per_cell * static_cast<double>(cells);
+    const std::uint64_t budget = by_work >= static_cast<double>(options_.deep_zone_cubes)
+                                     ? options_.deep_zone_cubes
+                                     : static_cast<std::uint64_t>(by_work);
+    if (budget < kMinZoneCubes || budget < 2 * tried_) return std::numeric_limits<double>::quiet_NaN();
+    const DeepZoneContact z = deep_zone_contact(*setup.fixed, target_, 0.25 * gap, frame.orientation, frame.t0, dir,
+                                                pose_slack, lambda_far, lambda, worth, budget, memo_);
+    *zone_cubes += z.cubes;
+    if (!z.complete) {
+      tried_ = budget;
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    if (!(z.lambda < worth)) use_octree_ = false;  // the zone is within two gaps: no more tries
+    return z.lambda;
+  }
+
+ private:
+  const PoseOptions& options_;
+  double target_;
+  bool use_cover_, use_octree_;
+  DeepCubeMemo* memo_;
+  std::uint64_t tried_ = 0;  // the budget of the octree's last query that ran out (0: none yet)
+};
+
 }  // namespace
 
 bool deep_cover_wanted(double target, double max_penetration) {
@@ -102,6 +163,22 @@ DeepCoverOptions deep_cover_options(double target) {
   DeepCoverOptions o;
   o.cell_size = 0.5 * std::abs(target);
   o.max_cells = 150000;
+  return o;
+}
+
+LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, double max_penetration, bool polish) {
+  LevelDeepZone z;
+  if (polish && deep_cover_wanted(target, max_penetration)) {
+    z.cover = std::make_unique<LazyDeepCover>(fixed, target, deep_cover_options(target));
+    z.memo = std::make_unique<DeepCubeMemo>(target);
+  }
+  return z;
+}
+
+PoseOptions LevelDeepZone::options(const PoseOptions& base) const {
+  PoseOptions o = base;
+  o.deep_cover = cover.get();
+  o.deep_zone_memo = memo.get();
   return o;
 }
 
@@ -365,12 +442,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     double prev_lambda = 0.0, prev_mid = 0.0;
     bool have_prev = false;
     int flat_steps = 0;
-    bool use_cover = options.deep_cover && target < 0.0 && options.deep_cover->target() == target;
-    // Where the level's cover ran out of its budget, the zone's octree about the mover's path;
-    // zone_tried: the budget of its last query that ran out (0: none yet).
-    bool use_octree = use_cover && options.deep_zone_cubes > 0;
-    std::uint64_t zone_tried = 0;
-    constexpr std::uint64_t kMinZoneCubes = 2000;
+    DeepZoneJumps jumps(options, target);
     while (!within(c.clearance) && out.steps < options.max_steps) {
       // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
       // margin; the rounding of t by the absolute one): stepping by c_lo - target cannot pass the
@@ -442,48 +514,11 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // mover's path, as often as its budget allows). Not before: where c falls steeply, or slowly but near the target, the crossing is
       // a few steps away and the cover would cost more than it saves (doc/performance.md).
       flat_steps = slope < 0.5 && mid - target > 0.2 * std::abs(target) ? flat_steps + 1 : 0;
-      if (flat_steps >= 2 && (use_cover || use_octree)) {
+      if (flat_steps >= 2 && jumps.active()) {
         // Worth a jump only beyond what one two-sided step proves.
         const double worth = out.lambda - 2.0 * std::max(0.0, c.clearance.lo - target);
-        const double pose_slack = pose_rounding_slack(frame, lambda_far);
-        const DeepCover* cover = nullptr;
-        if (use_cover) {
-          use_cover = false;
-          cover = options.deep_cover->get();
-          if (cover) use_octree = false;
-        }
-        double lk = std::numeric_limits<double>::quiet_NaN();  // NaN: no contact known
-        if (cover) {
-          lk = deep_cover_contact(*cover, frame.orientation, frame.t0, dir, pose_slack, lambda_far, worth);
-        } else if (use_octree) {
-          // The cover ran out of its budget: the zone's octree about the mover's path. The
-          // mover's surface is at least the gap from the zone here (c is 1-Lipschitz in space),
-          // and kept cubes reach at most twice their half-diagonal beyond it: at a quarter of the
-          // gap the search clears this pose and stops where the mover comes within about half the
-          // gap of the zone. Its budget is the pose's own work so far
-          // (PoseOptions::deep_zone_cubes_per_cell), tried again once that has doubled: a query
-          // that runs out costs at most a few times the advance it could have spared, and a long
-          // plateau soon pays for one.
-          const double by_work = options.deep_zone_cubes_per_cell * static_cast<double>(out.clearance_cells);
-          const std::uint64_t budget =
-              by_work >= static_cast<double>(options.deep_zone_cubes) ? options.deep_zone_cubes
-                                                                      : static_cast<std::uint64_t>(by_work);
-          if (budget >= kMinZoneCubes && budget >= 2 * zone_tried) {
-            const DeepZoneContact z =
-                deep_zone_contact(*setup.fixed, target, 0.25 * gap, frame.orientation, frame.t0, dir, pose_slack,
-                                  lambda_far, out.lambda, worth, budget,
-                                  options.deep_zone_memo && options.deep_zone_memo->target() == target
-                                      ? options.deep_zone_memo
-                                      : nullptr);
-            out.zone_cubes += z.cubes;
-            if (z.complete) {
-              lk = z.lambda;
-              if (!(lk < worth)) use_octree = false;  // the zone is within two gaps: no more tries
-            } else {
-              zone_tried = budget;
-            }
-          }
-        }
+        const double lk =
+            jumps.contact(setup, frame, dir, out.lambda, gap, worth, lambda_far, out.clearance_cells, &out.zone_cubes);
         if (!std::isnan(lk)) {
           if (!(lk > -lambda_far)) return missed();  // the line never meets the zone
           if (lk < worth) {

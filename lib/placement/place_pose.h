@@ -141,6 +141,18 @@ DeepCoverOptions deep_cover_options(double target);
 // no gain; rotor and spool -10 %: over the budget).
 bool deep_cover_wanted(double target, double max_penetration);
 
+// A level's deep-zone state, shared by its poses: the cover (built by the first pose that asks)
+// and the memo of its octree's cube verdicts. Both null where the level gets none
+// (deep_cover_wanted, or polishing off). Deterministic: the poses do not depend on which pose
+// builds the cover nor on the order the memo fills in.
+struct LevelDeepZone {
+  std::unique_ptr<LazyDeepCover> cover;
+  std::unique_ptr<DeepCubeMemo> memo;
+  // The options for this level's poses: `base` with its cover and memo.
+  PoseOptions options(const PoseOptions& base) const;
+};
+LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, double max_penetration, bool polish);
+
 struct PoseOutcome {
   bool contact = false;  // the approach line met the offset surface
   double lambda_raw = 0.0, lambda = 0.0;  // translation along d from the reference placement

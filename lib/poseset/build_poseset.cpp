@@ -239,18 +239,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   po.polish = polish;
   po.max_steps = opt.max_steps;
 
-
   // Penetrating levels: the deep zone's cover, built by the first pose that finds c flat
   // (PoseOptions::deep_cover; deterministic, so the poses do not depend on which pose that is).
   // Where a cover runs out of its budget, the zone's octree about each pose's path, its verdicts
   // shared by the level's poses (DeepCubeMemo: the same poses, less work).
-  std::vector<std::unique_ptr<LazyDeepCover>> covers(L);
-  std::vector<std::unique_ptr<DeepCubeMemo>> zone_memos(L);
-  for (std::size_t l = 0; l < L; ++l) {
-    if (covered(targets[l]))
-      covers[l] = std::make_unique<LazyDeepCover>(sdf, targets[l], deep_cover_options(targets[l]));
-    if (covers[l]) zone_memos[l] = std::make_unique<DeepCubeMemo>(targets[l]);
-  }
+  std::vector<LevelDeepZone> zones;
+  for (std::size_t l = 0; l < L; ++l) zones.push_back(make_level_deep_zone(sdf, targets[l], mp.depth.lo, polish));
 
   // Pending approaches in order; an orientation's frame is built by the first thread that needs it
   // and freed after its last approach.
@@ -306,10 +300,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
         const OffsetStatus offset = offsets.levels[static_cast<std::size_t>(offset_of[l])].status;
         unplaced(offset == OffsetStatus::Empty ? PoseStatus::OffsetEmpty : PoseStatus::OffsetFailed);
       } else {
-        PoseOptions level_po = po;
+        PoseOptions level_po = zones[l].options(po);
         level_po.start = start[l];
-        level_po.deep_cover = covers[l].get();
-        level_po.deep_zone_memo = zone_memos[l].get();
         Timer t_pose;
         const PoseOutcome p = place_pose(setup, frame, swept_against, dir, targets[l], level_po, &memo);
         level_ns[l] += static_cast<std::uint64_t>(t_pose.seconds() * 1e9);
@@ -410,12 +402,13 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     const double sec = 1e-9 * static_cast<double>(level_ns[l].load());
     const double n = static_cast<double>(pending.size());
     nlohmann::json cover;  // null: not built (no pose of the level found c flat)
-    if (const DeepCover* k = covers[l] ? covers[l]->peek() : nullptr) {
+    const LazyDeepCover* lazy = zones[l].cover.get();
+    if (const DeepCover* k = lazy ? lazy->peek() : nullptr) {
       cover = {{"complete", k->complete}, {"cubes", k->cells}, {"boxes", k->boxes.size()},
-               {"seconds", covers[l]->seconds()}};
+               {"seconds", lazy->seconds()}};
       std::cerr << "cdbench poses: level " << specs[l].text << ": deep-zone cover "
                 << (k->complete ? "built" : "not used (its budget ran out)") << ", " << k->cells << " cubes, "
-                << k->boxes.size() << " boxes, " << covers[l]->seconds() << " s" << std::endl;
+                << k->boxes.size() << " boxes, " << lazy->seconds() << " s" << std::endl;
     }
     level_timings.push_back({{"spec", specs[l].text},
                              {"thread_seconds", sec},
