@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -84,6 +85,33 @@ CheckedOptions check_options(const PoseSetRequest& opt) {
   if (opt.parallel_mesher && opt.start != StartPolicy::Offsets && !opt.no_polish)
     throw InputError("--parallel-mesher: offsets are meshed only with --start offset (or --no-polish)");
   return c;
+}
+
+// The spread of the approaches' costs and what it allows on more threads than this machine has:
+// the poses phase's modelled speed-up on T threads: the same hand-out (dynamic_makespan), each
+// approach costing what it did here, and the orientations' frames, which threads that wait for one
+// help to build, as if built by all T at once. A model, not a measurement (doc/performance.md).
+nlohmann::json approach_timings(const std::vector<double>& seconds, const std::vector<double>& frame_seconds) {
+  nlohmann::json j = nlohmann::json::object();
+  if (seconds.empty()) return j;
+  std::vector<double> sorted = seconds;
+  std::sort(sorted.begin(), sorted.end());
+  const double frames = std::accumulate(frame_seconds.begin(), frame_seconds.end(), 0.0);
+  const double sum = std::accumulate(sorted.begin(), sorted.end(), 0.0);
+  const auto quantile = [&](double q) { return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))]; };
+  j["count"] = seconds.size();
+  j["thread_seconds"] = sum;  // without the frames
+  j["frame_thread_seconds"] = frames;
+  j["median"] = quantile(0.5);
+  j["p99"] = quantile(0.99);
+  j["max"] = sorted.back();
+  nlohmann::json model = nlohmann::json::array();
+  for (int t : {2, 4, 8, 16, 32, 64}) {
+    const double makespan = dynamic_makespan(seconds, t) + frames / t;
+    model.push_back({{"threads", t}, {"speedup", makespan > 0.0 ? (sum + frames) / makespan : 0.0}});
+  }
+  j["modelled_speedup"] = model;
+  return j;
 }
 
 }  // namespace
@@ -265,15 +293,23 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   std::vector<std::atomic<std::uint64_t>> level_ns(L);  // thread time per level
   // Per level: deep-zone jumps taken, and cubes of the zone's octree classified for them.
   std::vector<std::atomic<std::uint64_t>> level_jumps(L), level_zone_cubes(L);
+  // Thread time per approach, without the frame it built, and per orientation's frame (the scaling
+  // model, approach_timings).
+  std::vector<double> approach_seconds(pending.size()), frame_seconds(K, 0.0);
   Timer t_poses;
   std::mutex journal_mutex;
   // Levels in descending target order within an approach (place_pose's memo).
   const std::vector<std::size_t> descending_levels = descending_target_order(targets);
   parallel_for_dynamic(pending.size(), [&](std::size_t i) {
     const std::uint64_t a = pending[i], o = a / N;
+    Timer t_approach;
+    bool built_frame = false;
     LazyFrame& lazy = frames[o];
     tbb::collaborative_call_once(lazy.once, [&] {
+      Timer t_frame;
       lazy.frame = std::make_unique<OrientationFrame>(make_orientation_frame(setup, rots[o].toRotationMatrix()));
+      frame_seconds[o] = t_frame.seconds();
+      built_frame = true;
     });
     const OrientationFrame& frame = *lazy.frame;
     const Vec3& dir = dirs[a % N];
@@ -325,6 +361,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
       progress.advance();
     }
     if (--lazy.left == 0) lazy.frame.reset();
+    approach_seconds[i] = std::max(0.0, t_approach.seconds() - (built_frame ? frame_seconds[o] : 0.0));
     // One write and flush per approach: an interruption loses at most the approaches in flight.
     journal.append(lines);
     std::lock_guard<std::mutex> lock(journal_mutex);
@@ -417,7 +454,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
                              {"deep_zone_jumps", level_jumps[l].load()},
                              {"deep_zone_octree_cubes", level_zone_cubes[l].load()}});
   }
-  ps["timings"] = {{"max_penetration", seconds_mp},
+  ps["timings"] = {{"approaches", approach_timings(approach_seconds, frame_seconds)},
+                   {"max_penetration", seconds_mp},
                    {"levels", level_timings},
                    {"offsets", seconds_offsets},
                    {"poses", seconds_poses},

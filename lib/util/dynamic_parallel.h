@@ -11,6 +11,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <functional>
+#include <queue>
+#include <vector>
 
 namespace cdbench {
 
@@ -35,6 +38,23 @@ void parallel_for_dynamic(std::size_t n, const Body& body) {
         }
       },
       tbb::simple_partitioner());
+}
+
+// The wall time parallel_for_dynamic would take on `workers` threads for items of the given costs
+// (seconds, in index order), were each item's cost the same on any thread: each item goes to the
+// thread that frees up first. A model of the hand-out alone (no memory contention, no shared
+// setup), for estimating thread scaling from a run on fewer cores (doc/performance.md).
+inline double dynamic_makespan(const std::vector<double>& costs, int workers) {
+  std::priority_queue<double, std::vector<double>, std::greater<double>> free_at;
+  for (int w = 0; w < std::max(1, workers); ++w) free_at.push(0.0);
+  double end = 0.0;
+  for (double c : costs) {
+    const double t = free_at.top() + c;
+    free_at.pop();
+    free_at.push(t);
+    end = std::max(end, t);
+  }
+  return end;
 }
 
 }  // namespace cdbench

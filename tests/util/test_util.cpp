@@ -12,6 +12,7 @@
 
 #include "core/interval.h"
 #include "util/atomic_file.h"
+#include "util/dynamic_parallel.h"
 #include "util/error.h"
 #include "util/gnuplot.h"
 #include "util/large_pages.h"
@@ -133,6 +134,34 @@ TEST(ThreadScratch, KeptBetweenUsesOwnWhenNestedAndPerThread) {
     other = &t.get();
   }).join();
   EXPECT_NE(other, first);
+}
+
+TEST(DynamicMakespan, ItemsGoToTheThreadThatFreesUpFirst) {
+  // A long first item holds one thread while the other takes the rest; a long last item starts
+  // only when a thread frees up.
+  EXPECT_EQ(dynamic_makespan({4, 1, 1, 1, 1}, 2), 4.0);
+  EXPECT_EQ(dynamic_makespan({1, 1, 4}, 2), 5.0);
+  EXPECT_EQ(dynamic_makespan({1, 1, 4}, 3), 4.0);
+  EXPECT_EQ(dynamic_makespan({}, 4), 0.0);
+  EXPECT_EQ(dynamic_makespan({2, 3}, 0), 5.0);  // at least one thread
+  // Against a tick-by-tick simulation of the hand-out (integer costs).
+  std::mt19937 rng(7);
+  for (int round = 0; round < 200; ++round) {
+    const int workers = 1 + static_cast<int>(rng() % 6);
+    std::vector<double> costs(rng() % 40);
+    for (double& c : costs) c = static_cast<double>(1 + rng() % 9);
+    std::vector<int> left(static_cast<std::size_t>(workers), 0);
+    std::size_t next = 0;
+    int tick = 0;
+    for (;;) {
+      for (int& w : left)
+        if (w == 0 && next < costs.size()) w = static_cast<int>(costs[next++]);
+      if (next == costs.size() && std::all_of(left.begin(), left.end(), [](int w) { return w == 0; })) break;
+      for (int& w : left) w = std::max(0, w - 1);
+      ++tick;
+    }
+    EXPECT_EQ(dynamic_makespan(costs, workers), static_cast<double>(tick)) << "round " << round;
+  }
 }
 
 TEST(Sha256, KnownVectors) {
