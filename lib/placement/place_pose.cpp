@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include "core/interval.h"
@@ -83,11 +85,13 @@ ClearanceResult touching_certificate(const OrientationFrame& frame, const Vec3& 
 
 // The median of a mesh's edge lengths (each face's three edges; 0 for an empty mesh).
 double median_edge_length(const TriangleMesh& m) {
-  std::vector<double> len;
-  len.reserve(3 * m.faces.size());
-  for (const Face& f : m.faces)
-    for (int k = 0; k < 3; ++k) len.push_back((m.vertices[f[k]] - m.vertices[f[(k + 1) % 3]]).norm());
-  if (len.empty()) return 0.0;
+  if (m.faces.empty()) return 0.0;
+  std::vector<double> len(3 * m.faces.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m.faces.size(), 4096), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i)
+      for (int k = 0; k < 3; ++k)
+        len[3 * i + k] = (m.vertices[m.faces[i][k]] - m.vertices[m.faces[i][(k + 1) % 3]]).norm();
+  });
   std::nth_element(len.begin(), len.begin() + static_cast<std::ptrdiff_t>(len.size() / 2), len.end());
   return len[len.size() / 2];
 }
@@ -211,7 +215,9 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
     // across (R a curvature radius, here the smaller diagonal), holding some R tau / e^2 triangles
     // of median edge e: the advance pays while tau/e is at most 12 and (tau/e)(D/e) at most 1650
     // (measured on armadillo and its subdivisions and bunny00: doc/poses.md).
-    const double e = std::min(median_edge_length(fixed.mesh()), median_edge_length(mover));
+    const double e_fixed = median_edge_length(fixed.mesh());
+    const bool same = mover.vertices == fixed.mesh().vertices && mover.faces == fixed.mesh().faces;
+    const double e = same ? e_fixed : std::min(e_fixed, median_edge_length(mover));
     const double D = std::min(fixed.bbox().diagonal(), mover_box.diagonal());
     s.advance_target_limit = D > 0.0 ? std::min(12.0 * e, 1650.0 * e * e / D) : 0.0;
   }
