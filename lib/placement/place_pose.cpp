@@ -137,7 +137,9 @@ class DeepZoneJumps {
     const std::uint64_t budget = by_work >= static_cast<double>(options_.deep_zone_cubes)
                                      ? options_.deep_zone_cubes
                                      : static_cast<std::uint64_t>(by_work);
-    if (budget < kMinZoneCubes || budget < 2 * tried_) return std::numeric_limits<double>::quiet_NaN();
+    // Once the budget reaches its cap, one last query at the cap even if that is less than double.
+    const bool last_at_cap = budget == options_.deep_zone_cubes && tried_ < budget;
+    if (budget < kMinZoneCubes || (budget < 2 * tried_ && !last_at_cap)) return std::numeric_limits<double>::quiet_NaN();
     const DeepZoneContact z = deep_zone_contact(*setup.fixed, target_, 0.25 * gap, frame.orientation, frame.t0, dir,
                                                 pose_slack, lambda_far, lambda, worth, budget, memo_);
     *zone_cubes += z.cubes;
