@@ -132,14 +132,8 @@ class DeepZoneJumps {
     // is the pose's own work so far (PoseOptions::deep_zone_cubes_per_cell), tried again once that
     // has doubled: a query that runs out costs at most a few times the advance it could have
     // spared, and a long plateau soon pays for one.
-    constexpr std::uint64_t kMinZoneCubes = 2000;
-    const double by_work = options_.deep_zone_cubes_per_cell * static_cast<double>(cells);
-    const std::uint64_t budget = by_work >= static_cast<double>(options_.deep_zone_cubes)
-                                     ? options_.deep_zone_cubes
-                                     : static_cast<std::uint64_t>(by_work);
-    // Once the budget reaches its cap, one last query at the cap even if that is less than double.
-    const bool last_at_cap = budget == options_.deep_zone_cubes && tried_ < budget;
-    if (budget < kMinZoneCubes || (budget < 2 * tried_ && !last_at_cap)) return std::numeric_limits<double>::quiet_NaN();
+    const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_);
+    if (budget == 0) return std::numeric_limits<double>::quiet_NaN();
     const DeepZoneContact z = deep_zone_contact(*setup.fixed, target_, 0.25 * gap, frame.orientation, frame.t0, dir,
                                                 pose_slack, lambda_far, lambda, worth, budget, memo_);
     *zone_cubes += z.cubes;
@@ -179,6 +173,18 @@ LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, d
     z.memo = std::make_unique<DeepCubeMemo>(target);
   }
   return z;
+}
+
+std::uint64_t deep_zone_query_budget(const PoseOptions& options, std::uint64_t cells, std::uint64_t tried) {
+  constexpr std::uint64_t kMinZoneCubes = 2000;
+  const double by_work = options.deep_zone_cubes_per_cell * static_cast<double>(cells);
+  const std::uint64_t budget = by_work >= static_cast<double>(options.deep_zone_cubes)
+                                   ? options.deep_zone_cubes
+                                   : static_cast<std::uint64_t>(by_work);
+  // Once the budget reaches its cap, one last query at the cap even if that is less than double.
+  const bool last_at_cap = budget == options.deep_zone_cubes && tried < budget;
+  if (budget < kMinZoneCubes || (budget < 2 * tried && !last_at_cap)) return 0;
+  return budget;
 }
 
 PoseOptions LevelDeepZone::options(const PoseOptions& base) const {

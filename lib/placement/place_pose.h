@@ -144,6 +144,12 @@ DeepCoverOptions deep_cover_options(double target);
 // no gain; rotor and spool -10 %: over the budget).
 bool deep_cover_wanted(double target, double max_penetration);
 
+// The cube budget of a pose's next octree query (PoseOptions::deep_zone_cubes): cells is the
+// pose's certificate cells so far, tried the budget of its last query that ran out (0: none).
+// 0: no query is due (below 2,000 cubes, or not yet double the last one, unless it is the first at
+// the cap).
+std::uint64_t deep_zone_query_budget(const PoseOptions& options, std::uint64_t cells, std::uint64_t tried);
+
 // A level's deep-zone state, shared by its poses: the cover (built by the first pose that asks)
 // and the memo of its octree's cube verdicts. Both null where the level gets none
 // (deep_cover_wanted, or polishing off). Deterministic: the poses do not depend on which pose

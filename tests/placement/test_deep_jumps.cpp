@@ -30,6 +30,22 @@ using testing::random_direction;
 using testing::random_rotation;
 using testing::Scene;
 
+TEST(DeepJumps, OctreeBudgetDoublesAndTriesTheCapOnce) {
+  PoseOptions o;
+  o.deep_zone_cubes = 4000000;
+  o.deep_zone_cubes_per_cell = 4.0;
+  EXPECT_EQ(deep_zone_query_budget(o, 400, 0), 0u);        // 1,600 cubes: below the least query
+  EXPECT_EQ(deep_zone_query_budget(o, 1000, 0), 4000u);    // the first: 4 x the cells
+  EXPECT_EQ(deep_zone_query_budget(o, 1500, 4000), 0u);    // 6,000: not yet double the last
+  EXPECT_EQ(deep_zone_query_budget(o, 2000, 4000), 8000u);  // double: tried again
+  // The doubling would skip the cap (2.15 M ran out; 4.3 M is above it): one last query at it.
+  EXPECT_EQ(deep_zone_query_budget(o, 1000000, 2150000), 4000000u);
+  EXPECT_EQ(deep_zone_query_budget(o, 3000000, 4000000), 0u);  // that ran out too: none more
+  EXPECT_EQ(deep_zone_query_budget(o, 600000, 2150000), 0u);   // 2.4 M: not double, not the cap
+  o.deep_zone_cubes = 0;
+  EXPECT_EQ(deep_zone_query_budget(o, 1000000, 0), 0u);  // no octree
+}
+
 TEST(DeepJumps, CrossThePlateauInOneJump) {
   const Scene w(plate_and_block(), make_icosphere(0.1, 1));
   ApproachSetup setup = w.attached();
