@@ -188,13 +188,19 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // offset for them): recorded, so that such a journal is never resumed or merged with the other
   // start. Absent otherwise, so that other runs still resume.
   if (near_surface_starts) run_key["near_surface_start_bands"] = kNearSurfaceBands;
-  // Levels deep enough for the deep zone's cover jump across plateaus (since 2026-11-27, session
-  // 29: 1), and to its octree about the mover's path where the cover runs out of its budget (since
-  // 2026-11-28, session 30: 2): their poses may differ within the tolerance from earlier binaries',
-  // whose journals must therefore not be resumed or merged with them. Absent otherwise, so that
-  // other runs still resume.
-  const auto covered = [&](double x) { return polish && deep_cover_wanted(x, mp.depth.lo); };
-  if (std::any_of(targets.begin(), targets.end(), covered)) run_key["deep_zone_jumps"] = 2;
+  // Penetrating levels: the deep zone's cover, built by the first pose that finds c flat
+  // (PoseOptions::deep_cover; deterministic, so the poses do not depend on which pose that is).
+  // Where a cover runs out of its budget, the zone's octree about each pose's path, its verdicts
+  // shared by the level's poses (DeepCubeMemo: the same poses, less work).
+  std::vector<LevelDeepZone> zones;
+  for (std::size_t l = 0; l < L; ++l) zones.push_back(make_level_deep_zone(sdf, targets[l], mp.depth.lo, polish));
+  // Levels with a cover jump across plateaus (since 2026-11-27, session 29: 1), and to its octree
+  // about the mover's path where the cover runs out of its budget (since 2026-11-28, session 30:
+  // 2): their poses may differ within the tolerance from earlier binaries', whose journals must
+  // therefore not be resumed or merged with them. Absent otherwise, so that other runs still
+  // resume.
+  if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
+    run_key["deep_zone_jumps"] = 2;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 
@@ -266,13 +272,6 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   po.tolerance = tol;
   po.polish = polish;
   po.max_steps = opt.max_steps;
-
-  // Penetrating levels: the deep zone's cover, built by the first pose that finds c flat
-  // (PoseOptions::deep_cover; deterministic, so the poses do not depend on which pose that is).
-  // Where a cover runs out of its budget, the zone's octree about each pose's path, its verdicts
-  // shared by the level's poses (DeepCubeMemo: the same poses, less work).
-  std::vector<LevelDeepZone> zones;
-  for (std::size_t l = 0; l < L; ++l) zones.push_back(make_level_deep_zone(sdf, targets[l], mp.depth.lo, polish));
 
   // Pending approaches in order; an orientation's frame is built by the first thread that needs it
   // and freed after its last approach.
