@@ -84,9 +84,6 @@ FloatPoseSetResult build_float_poseset(const FloatPoseSetRequest& opt) {
   const TriangleMesh& mover = mover_is_fixed ? fixed : *opt.mover.mesh;
   const std::string fixed_sha = sha256_file(opt.fixed.path);
   const std::string mover_sha = mover_is_fixed ? fixed_sha : sha256_file(opt.mover.path);
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out, ec);
-  if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");
 
   FloatPoseSetResult res;
   const double diag = fixed.bbox().diagonal();
@@ -128,6 +125,10 @@ FloatPoseSetResult build_float_poseset(const FloatPoseSetRequest& opt) {
   std::vector<std::unique_ptr<SweepMesh>> level_mesh(L);
   std::vector<double> level_seconds(L);
   std::vector<std::string> level_files(L);
+  // The output folder only once the grid exists: a request that fails before leaves nothing.
+  std::error_code ec;
+  std::filesystem::create_directories(opt.out, ec);
+  if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");
   if (opt.keep_offsets) std::filesystem::create_directories(opt.out + "/offsets", ec);
   Timer t_iso;
   tbb::parallel_for(std::size_t(0), L, [&](std::size_t l) {

@@ -1,93 +1,103 @@
 #include "floatpipe/grid_offsets.h"
 
-#include <openvdb/openvdb.h>
-#include <openvdb/tools/MeshToVolume.h>
-#include <openvdb/tools/VolumeToMesh.h>
+#include <dlfcn.h>
+#include <unistd.h>
 
-#include <algorithm>
 #include <cmath>
-#include <limits>
+#include <cstdlib>
 #include <stdexcept>
+#include <string>
+
+#include "floatpipe/grid_module.h"
+#include "util/error.h"
 
 namespace cdbench {
+namespace {
 
-struct GridSdf::Impl {
-  openvdb::FloatGrid::Ptr grid;
-  double voxel = 0.0, depth = 0.0;
+// The directory of the program or library that holds this code (for an installed layout).
+std::string own_directory() {
+  Dl_info info{};
+  std::string path;
+  if (dladdr(reinterpret_cast<void*>(&voxel_for_grid), &info) != 0 && info.dli_fname && info.dli_fname[0] == '/')
+    path = info.dli_fname;
+  if (path.empty()) {  // the main program: dladdr may give its name as typed
+    char buf[4096];
+    const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+    if (n > 0) path.assign(buf, static_cast<std::size_t>(n));
+  }
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string() : path.substr(0, slash);
+}
+
+struct LoadedModule {
+  const GridModule* module = nullptr;
+  std::string error;  // why no candidate could be used
 };
 
-GridSdf::GridSdf(const TriangleMesh& mesh, const GridSdfOptions& options) : impl_(std::make_unique<Impl>()) {
+// One candidate: loaded and checked, or the reason it is not used.
+const GridModule* try_load(const std::string& path, std::string& why) {
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle) {
+    why = dlerror();
+    return nullptr;
+  }
+  const auto entry = reinterpret_cast<const GridModule* (*)()>(dlsym(handle, "cdbench_grid_module"));
+  const GridModule* m = entry ? entry() : nullptr;
+  if (!m || m->abi != kGridModuleAbi || std::string(m->version) != CDBENCH_VERSION || !m->make) {
+    why = !m ? std::string("not a cdbench grid module")
+             : "built for cdbench " + std::string(m->version) + " (grid ABI " + std::to_string(m->abi) + "), this is " +
+                   CDBENCH_VERSION + " (ABI " + std::to_string(kGridModuleAbi) + ")";
+    dlclose(handle);
+    return nullptr;
+  }
+  return m;  // stays loaded for the life of the process
+}
+
+LoadedModule load_module() {
+  LoadedModule out;
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("CDBENCH_GRID_MODULE"); env && *env) {
+    candidates.push_back(env);  // asked for: nothing else is tried
+  } else {
+    const std::string own = own_directory();
+    if (!own.empty()) candidates.push_back(own + "/" CDBENCH_GRID_MODULE_RELDIR "/" + kGridModuleFile);
+    candidates.push_back(CDBENCH_GRID_MODULE_INSTALLDIR "/" + std::string(kGridModuleFile));
+    candidates.push_back(CDBENCH_GRID_MODULE_BUILD);
+  }
+  for (const std::string& path : candidates) {
+    std::string why;
+    if ((out.module = try_load(path, why))) return out;
+    out.error += "\n  " + path + ": " + why;
+  }
+  out.error = "the float pipeline needs its OpenVDB module " + std::string(kGridModuleFile) +
+              " (built and installed with cdbench), and none could be loaded:" + out.error +
+              "\n  (set CDBENCH_GRID_MODULE to the module's path)";
+  return out;
+}
+
+const GridModule& grid_module() {
+  static const LoadedModule loaded = load_module();  // once, thread-safe
+  if (!loaded.module) throw SetupError(loaded.error);
+  return *loaded.module;
+}
+
+}  // namespace
+
+GridSdf::GridSdf(const TriangleMesh& mesh, const GridSdfOptions& options) {
   if (!(options.voxel > 0.0) || !std::isfinite(options.voxel)) throw std::invalid_argument("GridSdf: voxel must be > 0");
-  openvdb::initialize();
-  std::vector<openvdb::Vec3s> points;
-  points.reserve(mesh.vertices.size());
-  for (const Vec3& p : mesh.vertices)
-    points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-  std::vector<openvdb::Vec3I> triangles;
-  triangles.reserve(mesh.faces.size());
-  for (const Face& f : mesh.faces) triangles.emplace_back(f[0], f[1], f[2]);
-  const std::vector<openvdb::Vec4I> quads;
-  // Inside, the band reaches as deep as asked (the whole interior: no interior point is farther
-  // than half the bounding box's smallest side from the surface). Outside, as far as asked. Both
-  // plus 2 voxels so that marching cubes sees the sign change of the outermost levels.
-  const Vec3 ext = mesh.bbox().hi - mesh.bbox().lo;
-  const double h = options.voxel;
-  const double in_reach = std::min(options.interior_reach, 0.5 * ext.minCoeff());
-  const float in_band = static_cast<float>(std::ceil(std::max(0.0, in_reach) / h) + 2.0);
-  const float ex_band = static_cast<float>(std::ceil(options.exterior_reach / h) + 2.0);
-  const openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(h);
-  impl_->grid = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(*xform, points, triangles, quads,
-                                                                                  ex_band, in_band);
-  impl_->voxel = h;
-  float lo = std::numeric_limits<float>::infinity();
-  for (auto it = impl_->grid->cbeginValueOn(); it; ++it) lo = std::min(lo, *it);
-  impl_->depth = std::isfinite(lo) ? std::max(0.0, -static_cast<double>(lo)) : 0.0;
+  field_.reset(grid_module().make(mesh, options));
 }
 
 GridSdf::~GridSdf() = default;
 GridSdf::GridSdf(GridSdf&&) noexcept = default;
 GridSdf& GridSdf::operator=(GridSdf&&) noexcept = default;
 
-double GridSdf::voxel() const { return impl_->voxel; }
-std::size_t GridSdf::active_voxels() const { return static_cast<std::size_t>(impl_->grid->activeVoxelCount()); }
-double GridSdf::max_depth() const { return impl_->depth; }
-
-TriangleMesh GridSdf::isosurface(double iso) const {
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> triangles;
-  std::vector<openvdb::Vec4I> quads;
-  openvdb::tools::volumeToMesh(*impl_->grid, points, triangles, quads, iso, 0.0);
-  TriangleMesh m;
-  m.vertices.reserve(points.size());
-  for (const auto& p : points) m.vertices.emplace_back(p.x(), p.y(), p.z());
-  m.faces.reserve(triangles.size() + 2 * quads.size());
-  // OpenVDB's polygons wind the other way round from our outward convention; the sweeps do not
-  // care, but files written for inspection should look right.
-  for (const auto& t : triangles) m.faces.push_back({t[0], t[2], t[1]});
-  for (const auto& q : quads) {
-    m.faces.push_back({q[0], q[2], q[1]});
-    m.faces.push_back({q[0], q[3], q[2]});
-  }
-  return m;
-}
-
+double GridSdf::voxel() const { return field_->voxel(); }
+std::size_t GridSdf::active_voxels() const { return field_->active_voxels(); }
+double GridSdf::max_depth() const { return field_->max_depth(); }
+TriangleMesh GridSdf::isosurface(double iso) const { return field_->isosurface(iso); }
 std::vector<Vec3> GridSdf::deepest_samples(double margin, std::size_t max_count) const {
-  const float cut = static_cast<float>(-(impl_->depth - margin));
-  std::vector<std::pair<float, openvdb::Coord>> hits;
-  for (auto it = impl_->grid->cbeginValueOn(); it; ++it)
-    if (*it <= cut) hits.emplace_back(*it, it.getCoord());
-  // Deepest first; ties by coordinate so that the order never depends on the tree's iteration.
-  std::sort(hits.begin(), hits.end(), [](const auto& a, const auto& b) {
-    return a.first < b.first || (a.first == b.first && a.second < b.second);
-  });
-  if (hits.size() > max_count) hits.resize(max_count);
-  std::vector<Vec3> out;
-  out.reserve(hits.size());
-  for (const auto& [v, c] : hits) {
-    const openvdb::Vec3d w = impl_->grid->indexToWorld(c);
-    out.emplace_back(w.x(), w.y(), w.z());
-  }
-  return out;
+  return field_->deepest_samples(margin, max_count);
 }
 
 double voxel_for_grid(const TriangleMesh& mesh, int cells) {

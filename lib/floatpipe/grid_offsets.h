@@ -3,7 +3,8 @@
 // narrow-band mesh-to-volume, float32 values) and iso-surfaces of it by marching cubes (OpenVDB's
 // volume-to-mesh, adaptivity 0, quads split into two triangles). Nothing here is certified: the
 // surfaces are within about a voxel of the true level sets, which `cdbench validate` measures
-// (doc/float-pipeline.md). OpenVDB stays inside grid_offsets.cpp.
+// (doc/float-pipeline.md). OpenVDB stays inside the module grid_vdb.cpp, loaded on first use
+// (grid_module.h).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -23,8 +24,10 @@ struct GridSdfOptions {
 };
 
 // The sampled field; movable, not copyable.
+class GridField;
 class GridSdf {
  public:
+  // Throws SetupError (util/error.h) naming the paths tried when the OpenVDB module cannot be loaded.
   GridSdf(const TriangleMesh& mesh, const GridSdfOptions& options);
   ~GridSdf();
   GridSdf(GridSdf&&) noexcept;
@@ -44,8 +47,7 @@ class GridSdf {
   TriangleMesh isosurface(double iso) const;
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<GridField> field_;
 };
 
 // The deepest point of the fine lattice {i h : i integer} (the sample points of a grid of voxel h)

@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
   using namespace cdbench::cli;
   CLI::App app{"cdbench " CDBENCH_VERSION
                " - certified benchmark pose sets for static collision detection.\n"
-               "Exit codes: 0 success, 1 the mesh is not a valid closed solid, 2 bad input or option, 3 internal error, "
+               "Exit codes: 0 success, 1 the mesh is not a valid closed solid, 2 bad input or option, 3 internal error or incomplete installation, "
                "130/143 interrupted (SIGINT/SIGTERM)."};
   cdbench::install_interrupt_handlers(
       "Run the same command with --resume to continue (poses, certify: certified work is journaled); "
@@ -42,6 +42,9 @@ int main(int argc, char** argv) {
   } catch (const cdbench::InputError& e) {
     std::cerr << "cdbench: error: " << e.what() << "\n";
     return kExitBadInput;
+  } catch (const cdbench::SetupError& e) {
+    std::cerr << "cdbench: error: " << e.what() << "\n";
+    return kExitInternal;
   } catch (const std::bad_alloc&) {
     std::cerr << "cdbench: error: out of memory\n";
     return kExitInternal;

@@ -85,5 +85,15 @@ set +e
 [ $? -eq 2 ] && grep -q -- "--grid" "$work/e.txt" || fail "--grid 3 must be refused"
 "$cdbench" validate "$work" -o "$work/bad" > "$work/e.txt" 2>&1
 [ $? -eq 2 ] && grep -q "poseset.json" "$work/e.txt" || fail "validate of a folder without a pose set"
+# The OpenVDB module (lib/floatpipe/grid_module.h) missing or not a module: exit 3, the path and
+# the reason named, nothing written. The certified pipeline never loads it.
+CDBENCH_GRID_MODULE="$work/none.so" "$cdbench" poses "$mesh" "${req[@]}" --pipeline float -o "$work/nomod" > "$work/e.txt" 2>&1
+[ $? -eq 3 ] && grep -q "OpenVDB module" "$work/e.txt" && grep -q "$work/none.so" "$work/e.txt" && [ ! -e "$work/nomod" ] ||
+  { cat "$work/e.txt"; fail "a missing grid module must be named, exit 3, nothing written"; }
+echo "not a library" > "$work/fake.so"
+CDBENCH_GRID_MODULE="$work/fake.so" "$cdbench" poses "$mesh" "${req[@]}" --pipeline float -o "$work/nomod" > "$work/e.txt" 2>&1
+[ $? -eq 3 ] && grep -q "fake.so" "$work/e.txt" && [ ! -e "$work/nomod" ] || { cat "$work/e.txt"; fail "a file that is not a module"; }
+CDBENCH_GRID_MODULE="$work/none.so" "$cdbench" poses "$mesh" --levels=0 --directions 2 --orientations 1 -o "$work/cmod" > "$work/e.txt" 2>&1
+[ $? -eq 0 ] || { cat "$work/e.txt"; fail "the certified pipeline must not need the grid module"; }
 set -e
 echo "float pipeline and validate: ok"

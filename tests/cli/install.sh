@@ -21,6 +21,13 @@ build_failed() {
 cmake --install "$build" --prefix "$work/prefix" > /dev/null || fail "cmake --install"
 cdbench="$work/prefix/bin/cdbench"
 [ -f "$work/prefix/include/cdbench/plugin.h" ] || fail "plugin.h not installed"
+# The float pipeline's OpenVDB module is installed and found next to the installed program
+# (lib/floatpipe/grid_module.h), not in the build tree.
+LD_DEBUG=files "$cdbench" poses "$meshes/sphere.off" --pipeline float --levels=0 --directions 2 --orientations 1 --grid 32 \
+  -o "$work/float" > "$work/float.txt" 2>&1 || { tail -n 20 "$work/float.txt"; fail "float pipeline of the installed program"; }
+grep -q "file=$work/prefix/bin/.*libcdbench_grid_vdb.so .*dynamically loaded" "$work/float.txt" ||
+  { grep grid_vdb "$work/float.txt"; fail "the installed program must load the installed grid module"; }
+! ldd "$cdbench" | grep -q openvdb || fail "the program must not link OpenVDB (it is loaded with the float pipeline)"
 # The library: no compile flags of ours leak into the consumer (only link options).
 cmake -S "$src/examples/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON > "$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure the consumer"; }
