@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include "mesh/alpha_wrap.h"
 #include "mesh/shapes.h"
@@ -45,6 +46,26 @@ TEST(Validate, InwardMeshIsReversedWithANotice) {
   bool noticed = false;
   for (const auto& n : v.report.notices) noticed |= n.find("inward-oriented") != std::string::npos;
   EXPECT_TRUE(noticed);
+}
+
+TEST(Validate, OneThreadAndAllGiveTheSameMeshAndBits) {
+  // 20,480 faces: several blocks of the volume's sum and of the parallel passes. Inward, so that
+  // the one-shell orientation (by the volume's sign) reverses every face.
+  TriangleMesh m = make_icosphere(1.0, 5);
+  for (Face& f : m.faces) std::swap(f[1], f[2]);
+  ValidatedMesh one;
+  tbb::task_arena(1).execute([&] { one = validate_mesh(m); });
+  const ValidatedMesh all = validate_mesh(m);
+  ASSERT_TRUE(all.report.valid());
+  EXPECT_EQ(one.report.volume_lo, all.report.volume_lo);
+  EXPECT_EQ(one.report.volume_hi, all.report.volume_hi);
+  EXPECT_EQ(one.mesh.faces, all.mesh.faces);
+  EXPECT_GT(all.report.volume_lo, 0.0);
+  const double ball = 4.0 / 3.0 * M_PI;
+  EXPECT_LT(all.report.volume_hi, ball);
+  EXPECT_GT(all.report.volume_lo, 0.99 * ball);
+  for (std::size_t i = 0; i < m.faces.size(); ++i)
+    ASSERT_EQ(all.mesh.faces[i], (Face{m.faces[i][0], m.faces[i][2], m.faces[i][1]})) << i;
 }
 
 TEST(Validate, HollowBallKeepsTheInnerShellInward) {
