@@ -186,15 +186,15 @@ ValidatedMesh validate_mesh(const TriangleMesh& mesh, const ValidateOptions& opt
   soup.points = mesh.vertices;
   soup.polygons.reserve(mesh.faces.size());
   for (const Face& f : mesh.faces) soup.polygons.push_back({f[0], f[1], f[2]});
-  return validate_mesh(soup, options);
+  return validate_mesh(std::move(soup), options);
 }
 
-ValidatedMesh validate_mesh(const PolygonSoup& input, const ValidateOptions& options) {
+ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
   ValidatedMesh out;
   MeshReport& report = out.report;
-  report.input_vertices = input.points.size();
-  report.input_polygons = input.polygons.size();
-  report.notices = input.notices;
+  report.input_vertices = soup.points.size();
+  report.input_polygons = soup.polygons.size();
+  report.notices = soup.notices;
 
   // Scale: the certified kernels form products of several lengths (squared norms of cross products,
   // the terms of the triangle distances and depth bounds), which must stay within the normal double
@@ -204,12 +204,12 @@ ValidatedMesh validate_mesh(const PolygonSoup& input, const ValidateOptions& opt
   {
     double largest = 0.0;
     Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
-    for (const Vec3& p : input.points) {
+    for (const Vec3& p : soup.points) {
       largest = std::max(largest, p.cwiseAbs().maxCoeff());
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
     }
-    const double diagonal = input.points.empty() ? 0.0 : (hi - lo).norm();
+    const double diagonal = soup.points.empty() ? 0.0 : (hi - lo).norm();
     std::ostringstream os;
     os.precision(3);
     if (largest > kMaxCoordinate) {
@@ -225,7 +225,6 @@ ValidatedMesh validate_mesh(const PolygonSoup& input, const ValidateOptions& opt
   }
 
   // 0. Weld vertices at equal positions (seams of textured exports, soups); nothing moves by default.
-  PolygonSoup soup = input;
   if (options.weld) {
     const WeldResult w = weld_vertices(soup, options.weld_tolerance);
     if (w.merged() > 0 && options.weld_tolerance == 0.0) {
