@@ -14,7 +14,8 @@
 #   TOLERANCE (cdbench poses --tolerance; its default when unset), POSES_ARGS (more options for
 #   cdbench poses, e.g. "--direction-sampling grid": axis-aligned approach directions), BENCH
 #   (approaches: also time validation/bench_poses on that many approaches, one thread, and print
-#   a certified polished pose's time over FCL's conservative advancement, all levels; empty: not),
+#   a certified polished pose's time over FCL's conservative advancement, all levels, and the
+#   largest of one level with that level, e.g. 27.2@-20%; empty: not),
 #   REPAIR (1: a mesh that `cdbench check` rejects is first made a closed solid by `cdbench repair`
 #   into OUT, as a user would, and run on that (faces: the repaired solid's); its note says so with
 #   the repair's seconds; empty: such meshes are skipped).
@@ -47,9 +48,9 @@ fi
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //');" \
      "levels $levels; $directions directions x $orientations orientations; at most $max_faces faces;" \
      "mover ${MOVER:-each mesh itself}; tolerance ${TOLERANCE:-default}; ${POSES_ARGS:-}${bench:+; bench_poses on $bench approaches}"
-printf '%-28s %8s %8s %11s %8s %10s %9s %9s %s\n' mesh faces seconds certified failed confirmed max-steps pose/FCL note
+printf '%-28s %8s %8s %11s %8s %10s %9s %9s %12s %s\n' mesh faces seconds certified failed confirmed max-steps pose/FCL level/FCL note
 tried=0 skipped=0 repaired_count=0 repair_failed=0 too_big=0 failed_levels=0 poses=0 certified=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
-worst_ratio=0 worst_name=-
+worst_ratio=0 worst_name=- worst_level_ratio=0 worst_level=-
 for mesh in "${meshes[@]}"; do
   name=$(basename "$mesh")
   name=${name//./_}  # keeps the extension: CGAL's data has sphere.off and sphere.obj
@@ -89,7 +90,7 @@ for mesh in "${meshes[@]}"; do
   [ -n "$repaired" ] && note="repaired ($repaired s)"
   [ $rc -eq 124 ] && note="$note time limit"
   [ $rc -ne 0 ] && [ $rc -ne 124 ] && note="$note exit $rc"
-  n=0 c=0 f=0 ok="-" most=0 ratio="-"
+  n=0 c=0 f=0 ok="-" most=0 ratio="-" level_ratio="-"
   if [ -f "$dir/poses.csv" ]; then
     # Poses, certified poses, and the most polishing steps one pose took (long plateaus).
     read -r n c most < <(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "status") s = i; if ($i == "polish_steps") p = i }; next }
@@ -111,8 +112,17 @@ print(sum(1 for l in levels if l['certified'] + l['no_contact'] < l['poses']
       note="$note checker: ${line:0:60}"
     fi
     if [ -n "$bench" ]; then
-      # The "all" row of bench_poses' per-level table: its last column is pose / FCL CA.
-      ratio=$(timeout "$limit" "$bencher" "$dir" --approaches "$bench" 2>&1 | awk '$1 == "all" { r = $NF } END { print r }')
+      # bench_poses' per-level table: its last column is pose / FCL CA, in the "all" row over all
+      # levels; the largest of the level rows (first word a level: 0, 5%, -0.01, ...) apart.
+      table=$(timeout "$limit" "$bencher" "$dir" --approaches "$bench" 2>&1)
+      ratio=$(echo "$table" | awk '$1 == "all" { r = $NF } END { print r }')
+      level_ratio=$(echo "$table" | awk '/^level / { on = 1; next } on && $1 ~ /^[-+]?[0-9.]+(e[-+]?[0-9]+)?%?$/ && $NF + 0 > m { m = $NF + 0; l = $1 }
+                                        $1 == "all" { on = 0 } END { if (l != "") print m "@" l }')
+      [ -z "$level_ratio" ] && level_ratio="-"
+      if [ "$level_ratio" != "-" ] && python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "${level_ratio%@*}" "$worst_level_ratio"; then
+        worst_level_ratio=${level_ratio%@*}
+        worst_level="$name ${level_ratio#*@}"
+      fi
       if [ -z "$ratio" ]; then
         ratio="-"
         note="$note bench_poses failed"
@@ -129,11 +139,13 @@ print(sum(1 for l in levels if l['certified'] + l['no_contact'] < l['poses']
     slowest=$secs
     slowest_name=$name
   fi
-  printf '%-28s %8s %8s %11s %8s %10s %9s %9s %s\n' "$name" "$faces" "$secs" "$c/$n" "$f" "$ok" "$most" "$ratio" "$note"
+  printf '%-28s %8s %8s %11s %8s %10s %9s %9s %12s %s\n' "$name" "$faces" "$secs" "$c/$n" "$f" "$ok" "$most" "$ratio" "$level_ratio" "$note"
 done
 echo
 echo "meshes run: $tried (repaired first: $repaired_count; repair failed: $repair_failed; not closed solids:" \
      "$skipped; more than $max_faces faces: $too_big)"
 echo "failed levels: $failed_levels; certified poses: $certified/$poses;" \
      "sampled certificates confirmed: $confirmed/$sampled; slowest: $slowest_name $slowest s"
-if [ -n "$bench" ]; then echo "largest certified pose / FCL CA (all levels): $worst_name $worst_ratio"; fi
+if [ -n "$bench" ]; then
+  echo "largest certified pose / FCL CA (all levels): $worst_name $worst_ratio; on one level: $worst_level $worst_level_ratio"
+fi
