@@ -401,7 +401,11 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
   const bool manifold = !report.has("non-manifold-edge") && !report.has("non-manifold-vertex") &&
                         !report.has("untriangulable-polygon");
   // 7. Orientability: make the two faces at every edge run it in opposite directions (flip by BFS).
-  if (manifold && !faces.empty()) {
+  // Nothing to do when they all do already (the usual case): no flip is then consistent. (The
+  // search's random reads were a third of validation's serial time on 832K faces.)
+  const bool consistent = std::none_of(adjacency.begin(), adjacency.end(),
+                                       [](const Adjacent& a) { return a.same_direction; });
+  if (manifold && !faces.empty() && !consistent) {
     // Neighbours in one array (at most three per face here: every edge is manifold), in the order
     // of `adjacency`, as separate lists per face had them.
     std::vector<std::uint32_t> first(faces.size() + 1, 0);

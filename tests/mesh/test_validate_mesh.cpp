@@ -68,6 +68,20 @@ TEST(Validate, OneThreadAndAllGiveTheSameMeshAndBits) {
     ASSERT_EQ(all.mesh.faces[i], (Face{m.faces[i][0], m.faces[i][2], m.faces[i][1]})) << i;
 }
 
+TEST(Validate, InconsistentFacesAreFlippedToAgree) {
+  // Every third face reversed: the breadth-first flip must make them agree with their
+  // neighbours (then the volume's sign keeps the whole shell outward): the original faces.
+  const TriangleMesh m = make_icosphere(1.0, 3);
+  TriangleMesh mixed = m;
+  for (std::size_t i = 0; i < mixed.faces.size(); i += 3) std::swap(mixed.faces[i][1], mixed.faces[i][2]);
+  const ValidatedMesh v = validate_mesh(mixed);
+  ASSERT_TRUE(v.report.valid());
+  EXPECT_EQ(v.mesh.faces, m.faces);
+  bool noticed = false;  // the count is of the faces that disagreed with face 0
+  for (const auto& n : v.report.notices) noticed |= n.find("faces were flipped to make the orientation consistent") != std::string::npos;
+  EXPECT_TRUE(noticed);
+}
+
 TEST(Validate, HollowBallKeepsTheInnerShellInward) {
   // An outer sphere and a smaller inner sphere: the solid between them. Whatever the input
   // orientation, the inner shell must face the cavity (volume = outer - inner).
