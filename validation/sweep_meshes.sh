@@ -51,6 +51,7 @@ echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -
 printf '%-28s %8s %8s %11s %8s %10s %9s %9s %12s %s\n' mesh faces seconds certified failed confirmed max-steps pose/FCL level/FCL note
 tried=0 skipped=0 repaired_count=0 repair_failed=0 too_big=0 failed_levels=0 poses=0 certified=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
 worst_ratio=0 worst_name=- worst_level_ratio=0 worst_level=-
+greater() { python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "$1" "$2"; }  # A > B, as numbers
 for mesh in "${meshes[@]}"; do
   name=$(basename "$mesh")
   name=${name//./_}  # keeps the extension: CGAL's data has sphere.off and sphere.obj
@@ -119,14 +120,14 @@ print(sum(1 for l in levels if l['certified'] + l['no_contact'] < l['poses']
       level_ratio=$(echo "$table" | awk '/^level / { on = 1; next } on && $1 ~ /^[-+]?[0-9.]+(e[-+]?[0-9]+)?%?$/ && $NF + 0 > m { m = $NF + 0; l = $1 }
                                         $1 == "all" { on = 0 } END { if (l != "") print m "@" l }')
       [ -z "$level_ratio" ] && level_ratio="-"
-      if [ "$level_ratio" != "-" ] && python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "${level_ratio%@*}" "$worst_level_ratio"; then
+      if [ "$level_ratio" != "-" ] && greater "${level_ratio%@*}" "$worst_level_ratio"; then
         worst_level_ratio=${level_ratio%@*}
         worst_level="$name ${level_ratio#*@}"
       fi
       if [ -z "$ratio" ]; then
         ratio="-"
         note="$note bench_poses failed"
-      elif python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "$ratio" "$worst_ratio"; then
+      elif greater "$ratio" "$worst_ratio"; then
         worst_ratio=$ratio
         worst_name=$name
       fi
@@ -135,7 +136,7 @@ print(sum(1 for l in levels if l['certified'] + l['no_contact'] < l['poses']
   poses=$((poses + n))
   certified=$((certified + c))
   if [ "$f" = "?" ]; then note="$note poseset.json unreadable"; failed_levels=$((failed_levels + 1)); else failed_levels=$((failed_levels + f)); fi
-  if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "$secs" "$slowest"; then
+  if greater "$secs" "$slowest"; then
     slowest=$secs
     slowest_name=$name
   fi
