@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <mutex>
 #include <unordered_map>
 
@@ -14,6 +15,7 @@
 #include <tbb/task_arena.h>
 
 #include "distance/depth_bound.h"
+#include "distance/point_triangle_distance.h"
 
 namespace cdbench {
 double deep_cube_radius(const Aabb& Q) {
@@ -34,6 +36,58 @@ DeepCube deep_cover_root(const SignedDistance& fixed) {
   }
   return root;
 }
+
+namespace {
+
+// The cube's clips (DeepClip) from its nearest triangles `ids` (nearest first): the distance d_j
+// to a triangle is convex, so an affine function at least d_j at the cube's eight corners is at
+// least d_j on the whole cube; the zone's points there have d_j >= dist(x, F) >= depth, hence lie
+// where that function is at least depth. False when one of them proves the cube shallower than
+// depth everywhere. The function: d_j's least-squares fit over the corners, raised by its largest
+// shortfall there (exact where d_j is affine over the cube: the triangle's plane).
+bool clip_deep_cube(const SignedDistance& fixed, double depth, const Aabb& Q, const std::array<Vec3, 8>& corners,
+                    const std::vector<std::uint32_t>& ids, DeepCubeVerdict& v) {
+  const TriangleMesh& m = fixed.mesh();
+  const Vec3 ext = Q.hi - Q.lo;
+  if (!(ext.minCoeff() > 0.0)) return true;
+  // The four nearest: more clips cost more per contact test than they save (rotor: 4, 8, 16 alike).
+  const std::size_t n = std::min<std::size_t>(ids.size(), v.clips.size());
+  for (std::size_t j = 0; j < n && v.n_clips < static_cast<signed char>(v.clips.size()); ++j) {
+    std::array<double, 8> f;
+    for (int k = 0; k < 8; ++k) f[k] = point_triangle_distance_upper(corners[k], m, ids[j]);
+    // The least-squares gradient over the corners (only tightness depends on it); corner k is on
+    // the upper side of axis a when bit a of k is set (Aabb::corners).
+    Vec3 a = Vec3::Zero();
+    for (int k = 0; k < 8; ++k)
+      for (int ax = 0; ax < 3; ++ax) a[ax] += ((k >> ax) & 1 ? f[k] : -f[k]);
+    for (int ax = 0; ax < 3; ++ax) a[ax] /= 4.0 * ext[ax];
+    // b with the exact a.x + b >= f at every corner (the dot product's error bounded).
+    double b = -std::numeric_limits<double>::infinity(), top = b;
+    for (int k = 0; k < 8; ++k) {
+      const PlaneOffset o = plane_offset(a, 0.0, corners[k]);
+      b = std::max(b, round_up(f[k] - round_down(o.value - o.error)));
+    }
+    for (int k = 0; k < 8; ++k) {
+      const PlaneOffset o = plane_offset(a, 0.0, corners[k]);
+      top = std::max(top, round_up(round_up(o.value + o.error) + b));
+    }
+    if (top < depth) return false;  // d_j < depth on the whole cube
+    // Zone points: a.x + b >= depth, i.e. -a.x <= b - depth.
+    DeepClip& c = v.clips[v.n_clips];
+    c.n = -a;
+    c.off = round_up(b - depth);
+    // Worth keeping only when it cuts the cube: some corner beyond it.
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 8; ++k) {
+      const PlaneOffset o = plane_offset(a, 0.0, corners[k]);
+      lowest = std::min(lowest, round_down(round_down(o.value - o.error) + b));
+    }
+    if (lowest < depth) ++v.n_clips;
+  }
+  return true;
+}
+
+}  // namespace
 
 DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, double cell_size, const DeepCube& cube,
                                    std::vector<std::uint32_t>& ids) {
@@ -58,6 +112,7 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
   const double bound = depth_upper_bound(fixed, q, round_up(ud.hi + 2 * r), corners.data(), 8, ids, nullptr, nullptr,
                                          nullptr, nullptr, 0.0, DepthWeights::sparse);
   if (bound < depth) return v;  // s >= -dist >= -bound > target on the cube
+  if (!clip_deep_cube(fixed, depth, Q, corners, ids, v)) return v;  // a clip's function proves it shallow
   v.what = r <= cell_size ? DeepCubeVerdict::keep : DeepCubeVerdict::split;
   return v;
 }

@@ -37,11 +37,24 @@ struct DeepCube {
   std::int64_t hint = -1;
 };
 
+// A half-space {x : n.x <= off} (exact arithmetic on the stored doubles) holding the zone's part
+// of a cube. From one of F's triangles near the cube: the distance d_j to it is convex, so an affine
+// function at least d_j at the cube's corners is at least d_j on the cube, and a point of the zone
+// there (d_j >= dist(x, F) >= |target|) lies where that function is at least |target|. Exact where
+// the cube projects into the triangle: a thin wall's two faces then hold the zone's sheet between
+// them whatever the cube's size (doc/distance.md, "Clips"; doc/poses.md, "Clipped cubes").
+struct DeepClip {
+  Vec3 n = Vec3::Zero();
+  double off = 0.0;
+};
+
 struct DeepCubeVerdict {
   enum Kind : signed char { drop, keep, split };
   Kind what = drop;  // keep: inside Z, or at most cell_size
   signed char side = 0;        // the centre's side when certain (0: not known)
+  signed char n_clips = 0;     // clips[0, n_clips): Z's part of the cube lies in each (keep, split)
   std::uint32_t nearest = 0;   // the centre's nearest triangle
+  std::array<DeepClip, 4> clips;
 };
 
 // A bound on |x - centre| over the cube: the half-diagonal the rules compare with cell_size.

@@ -274,8 +274,35 @@ struct CoverGeometry {
       axis_range(round_down(A.lo[k] + t0[k]), round_up(A.hi[k] + t0[k]), G.lo[k], G.hi[k], d[k], d[k], r);
     return r;
   }
-  // The mover's triangle `face` against the grown box G, narrowing r.
-  void triangle(std::uint32_t face, const Aabb& G, LambdaRange& r) const {
+  // An upper bound of max m.x over x in G with n.x <= off (Lagrange: for any mu >= 0 it is at most
+  // mu off + max over G of (m - mu n).x; the best mu is 0 or where a coordinate of m - mu n changes
+  // sign). The computed m - mu n is within a few ulps of the exact; the error term covers that and
+  // the sums' rounding.
+  static double support(const Vec3& m, const Aabb& G, const Vec3& n, double off) {
+    const auto value = [&](double mu) {
+      double v = mu == 0.0 ? 0.0 : mu * off, abs_sum = mu == 0.0 ? 0.0 : std::abs(v);
+      for (int k = 0; k < 3; ++k) {
+        const double c = m[k] - mu * n[k];
+        const double x = c >= 0.0 ? G.hi[k] : G.lo[k];
+        v += c * x;
+        abs_sum += (std::abs(m[k]) + mu * std::abs(n[k])) * std::max(std::abs(G.lo[k]), std::abs(G.hi[k]));
+      }
+      return round_up(v + 1e-14 * abs_sum + 1e-300);
+    };
+    double best = value(0.0);
+    for (int k = 0; k < 3; ++k) {
+      if (n[k] == 0.0) continue;
+      const double mu = m[k] / n[k];
+      if (mu > 0.0 && std::isfinite(mu)) best = std::min(best, value(mu));
+    }
+    return best;
+  }
+  // The moving triangle `face` against the grown box G, and, with v, against the zone's part of the
+  // cube (G with each of v's clips grown by the margin): the separating axes of a triangle and a
+  // polytope (its face normals, the triangle's, and edges crossed with edges), the polytope's
+  // extent along each bounded through support(). The box's 13 axes first, as without clips: most
+  // pairs part there, and the clipped extents cost more. Narrows r.
+  void triangle(std::uint32_t face, const Aabb& G, LambdaRange& r, const DeepCubeVerdict* v = nullptr) const {
     const Face& f = (*o.faces)[face];
     const Vec3 &a0 = o.rotated[f[0]], &a1 = o.rotated[f[1]], &a2 = o.rotated[f[2]];
     Aabb tri;
@@ -284,33 +311,110 @@ struct CoverGeometry {
     tri.extend(a2);
     const LambdaRange rb = boxes(tri, G);
     r.meet(rb.lo, rb.hi);
-    // The triangle's normal and its edges crossed with the axes: the separating axes of a
-    // triangle and a box (any vector separates validly; the computed ones nearly as the exact).
+    if (v) clips(face, *v, r);  // cheap, and often decisive
+    if (r.empty()) return;
+    // The moving triangle's extent along an axis n (moved by t0; plus lambda n.d).
+    const auto moving = [&](const Vec3& n, double& p_lo, double& p_hi, double& w_lo, double& w_hi) {
+      p_lo = std::numeric_limits<double>::infinity();
+      p_hi = -p_lo;
+      for (const Vec3* a : {&a0, &a1, &a2}) {
+        const PlaneOffset pv = plane_offset(n, 0.0, *a);
+        p_lo = std::min(p_lo, round_down(pv.value - pv.error));
+        p_hi = std::max(p_hi, round_up(pv.value + pv.error));
+      }
+      const PlaneOffset nt = plane_offset(n, 0.0, t0), nd = plane_offset(n, 0.0, d);
+      p_lo = round_down(p_lo + round_down(nt.value - nt.error));
+      p_hi = round_up(p_hi + round_up(nt.value + nt.error));
+      w_lo = round_down(nd.value - nd.error);
+      w_hi = round_up(nd.value + nd.error);
+    };
+    // The triangle's normal and its edges crossed with the axes: any vector separates validly; the
+    // computed ones nearly as the exact.
     const std::array<Vec3, 3> edges{a1 - a0, a2 - a1, a0 - a2};
     std::array<Vec3, 10> axes;
     axes[0] = edges[0].cross(a2 - a0);
     for (int e = 0; e < 3; ++e)
       for (int k = 0; k < 3; ++k) axes[1 + 3 * e + k] = edges[e].cross(Vec3::Unit(k));
     for (const Vec3& n : axes) {
-      if (r.empty()) break;
+      if (r.empty()) return;
       if (!(n.cwiseAbs().maxCoeff() > 0.0)) continue;
-      double p_lo = std::numeric_limits<double>::infinity(), p_hi = -p_lo;
-      for (const Vec3* a : {&a0, &a1, &a2}) {
-        const PlaneOffset v = plane_offset(n, 0.0, *a);
-        p_lo = std::min(p_lo, round_down(v.value - v.error));
-        p_hi = std::max(p_hi, round_up(v.value + v.error));
-      }
-      const PlaneOffset nt = plane_offset(n, 0.0, t0), nd = plane_offset(n, 0.0, d);
-      p_lo = round_down(p_lo + round_down(nt.value - nt.error));
-      p_hi = round_up(p_hi + round_up(nt.value + nt.error));
+      double p_lo, p_hi, w_lo, w_hi;
+      moving(n, p_lo, p_hi, w_lo, w_hi);
       Vec3 lo_corner, hi_corner;
       for (int k = 0; k < 3; ++k) {
         lo_corner[k] = n[k] >= 0.0 ? G.lo[k] : G.hi[k];
         hi_corner[k] = n[k] >= 0.0 ? G.hi[k] : G.lo[k];
       }
       const PlaneOffset bl = plane_offset(n, 0.0, lo_corner), bh = plane_offset(n, 0.0, hi_corner);
-      axis_range(p_lo, p_hi, round_down(bl.value - bl.error), round_up(bh.value + bh.error),
-                 round_down(nd.value - nd.error), round_up(nd.value + nd.error), r);
+      axis_range(p_lo, p_hi, round_down(bl.value - bl.error), round_up(bh.value + bh.error), w_lo, w_hi, r);
+    }
+    const int n_clips = v ? v->n_clips : 0;
+    if (n_clips == 0 || r.empty()) return;
+    // Against the clipped cube: the same axes with its smaller extents, and the triangle's edges
+    // crossed with the clip planes' edges on the box (n x axis).
+    std::array<Vec3, 4> cn;
+    std::array<double, 4> coff;
+    for (int i = 0; i < n_clips; ++i) {
+      cn[i] = v->clips[i].n;
+      coff[i] = grown_off(v->clips[i]);
+    }
+    const auto clipped = [&](const Vec3& n) {
+      if (!(n.cwiseAbs().maxCoeff() > 0.0)) return;
+      double p_lo, p_hi, w_lo, w_hi;
+      moving(n, p_lo, p_hi, w_lo, w_hi);
+      double b_lo = -std::numeric_limits<double>::infinity(), b_hi = -b_lo;
+      for (int i = 0; i < n_clips; ++i) {
+        b_hi = std::min(b_hi, support(n, G, cn[i], coff[i]));
+        b_lo = std::max(b_lo, -support(-n, G, cn[i], coff[i]));
+      }
+      axis_range(p_lo, p_hi, b_lo, b_hi, w_lo, w_hi, r);
+    };
+    for (const Vec3& n : axes) {
+      if (r.empty()) return;
+      clipped(n);
+    }
+    for (int i = 0; i < n_clips; ++i)
+      for (int e = 0; e < 3; ++e)
+        for (int k = 0; k < 3; ++k) {
+          if (r.empty()) return;
+          clipped(edges[e].cross(cn[i].cross(Vec3::Unit(k))));
+        }
+  }
+  // A clip {n.x <= off} grown by the margin: the margin ball reaches at most margin |n|_1 along n.
+  double grown_off(const DeepClip& c) const {
+    return round_up(c.off + round_up(margin * c.n.cwiseAbs().sum() * (1.0 + 1e-15)));
+  }
+  // The moving points whose n-range (rotated coordinates) is [p_lo, p_hi], moved by t0 + lambda d,
+  // against a cube's clip {n.x <= off} grown by the margin, narrowing r.
+  void clip(double p_lo, double p_hi, const DeepClip& c, LambdaRange& r) const {
+    const PlaneOffset nt = plane_offset(c.n, 0.0, t0), nd = plane_offset(c.n, 0.0, d);
+    p_lo = round_down(p_lo + round_down(nt.value - nt.error));
+    p_hi = round_up(p_hi + round_up(nt.value + nt.error));
+    axis_range(p_lo, p_hi, -std::numeric_limits<double>::infinity(), grown_off(c), round_down(nd.value - nd.error),
+               round_up(nd.value + nd.error), r);
+  }
+  void clips(const Aabb& A, const DeepCubeVerdict& v, LambdaRange& r) const {
+    for (int i = 0; i < v.n_clips && !r.empty(); ++i) {
+      const DeepClip& c = v.clips[i];
+      Vec3 lo_corner, hi_corner;
+      for (int k = 0; k < 3; ++k) {
+        lo_corner[k] = c.n[k] >= 0.0 ? A.lo[k] : A.hi[k];
+        hi_corner[k] = c.n[k] >= 0.0 ? A.hi[k] : A.lo[k];
+      }
+      const PlaneOffset bl = plane_offset(c.n, 0.0, lo_corner), bh = plane_offset(c.n, 0.0, hi_corner);
+      clip(round_down(bl.value - bl.error), round_up(bh.value + bh.error), c, r);
+    }
+  }
+  void clips(std::uint32_t face, const DeepCubeVerdict& v, LambdaRange& r) const {
+    const Face& f = (*o.faces)[face];
+    for (int i = 0; i < v.n_clips && !r.empty(); ++i) {
+      double p_lo = std::numeric_limits<double>::infinity(), p_hi = -p_lo;
+      for (int q = 0; q < 3; ++q) {
+        const PlaneOffset a = plane_offset(v.clips[i].n, 0.0, o.rotated[f[q]]);
+        p_lo = std::min(p_lo, round_down(a.value - a.error));
+        p_hi = std::max(p_hi, round_up(a.value + a.error));
+      }
+      clip(p_lo, p_hi, v.clips[i], r);
     }
   }
 };
@@ -357,8 +461,9 @@ double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orient
 DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, double cell_size,
                                   const MoverOrientation& orientation, const Vec3& t0, const Vec3& d, double slack,
                                   double lambda_max, double lambda_top, double stop_at, std::uint64_t max_cubes,
-                                  DeepCubeMemo* memo) {
+                                  DeepCubeMemo* memo, double clipped_cell_size) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double kPresplitLeaves = 8.0;
   DeepZoneContact out;
   out.lambda = -kInf;
   if (!(target < 0.0) || fixed.mesh().faces.empty() || orientation.boxes.empty()) {
@@ -372,7 +477,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     DeepCube cube;
     DeepCubeVerdict verdict;
     bool classified = false;
-    bool leaf = false;              // kept: in the zone, or undecided at most cell_size
+    bool leaf = false;              // kept: in the zone, or undecided at most the leaf size
     std::uint32_t first_child = 0;  // 0: none yet
   };
   std::vector<Node> nodes;
@@ -415,18 +520,42 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
         if (memo) memo->insert(nb.cube.box, nb.verdict);
       }
       nb.classified = true;
+      const double leaf_size = nb.verdict.n_clips > 0 ? std::max(cell_size, clipped_cell_size) : cell_size;
       nb.leaf = nb.verdict.what == DeepCubeVerdict::keep ||
-                (nb.verdict.what == DeepCubeVerdict::split && deep_cube_radius(nb.cube.box) <= cell_size);
+                (nb.verdict.what == DeepCubeVerdict::split && deep_cube_radius(nb.cube.box) <= leaf_size);
     }
     if (nb.verdict.what == DeepCubeVerdict::drop) continue;
     const auto& na = orientation.boxes.nodes[e.a];
+    if (nodes[e.b].verdict.n_clips > 0) {  // the pair again, against the zone's part of the cube
+      LambdaRange r;
+      r.meet(-kInf, e.hi);
+      g.clips(na.bv, nodes[e.b].verdict, r);
+      if (r.empty() || !(r.hi > out.lambda)) continue;
+    }
     const bool cube_leaf = nb.leaf;
+    if (na.count > 0 && !cube_leaf && nodes[e.b].verdict.n_clips > 0 &&
+        deep_cube_radius(nodes[e.b].cube.box) <= kPresplitLeaves * std::max(cell_size, clipped_cell_size)) {
+      // The mover's triangles against the zone's part of the cube before splitting it: where the
+      // clips hold the zone, a cube the triangles miss needs no children. Only near the leaves'
+      // size: larger cubes' clips seldom part them from whole triangles, and testing every level
+      // doubled a thin shell's queries (repaired lion -20 %).
+      const Aabb G = g.grown(nodes[e.b].cube.box);
+      bool meets = false;
+      for (std::uint32_t i = 0; i < na.count && !meets; ++i) {
+        LambdaRange r;
+        r.meet(-kInf, lambda_top);
+        g.triangle(orientation.boxes.order[na.first + i], G, r, &nodes[e.b].verdict);
+        meets = !r.empty() && r.hi > out.lambda;
+      }
+      if (!meets) continue;
+    }
     if (na.count > 0 && cube_leaf) {
       const Aabb G = g.grown(nodes[e.b].cube.box);
       for (std::uint32_t i = 0; i < na.count; ++i) {
         LambdaRange r;
         r.meet(-kInf, lambda_top);
-        g.triangle(orientation.boxes.order[na.first + i], G, r);
+        const std::uint32_t face = orientation.boxes.order[na.first + i];
+        g.triangle(face, G, r, &nodes[e.b].verdict);
         if (!r.empty()) out.lambda = std::max(out.lambda, r.hi);
       }
       continue;

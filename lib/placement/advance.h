@@ -86,7 +86,8 @@ double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orient
 
 // The same bound without a prebuilt cover: the octree of distance/deep_cover.h grown on demand,
 // only where the moving mover comes near it between -lambda_max and lambda_top, its cubes kept at
-// a half-diagonal of `cell_size` (doc/poses.md, "Deep-zone jumps"). lambda: the latest lambda <=
+// a half-diagonal of `cell_size`, or of `clipped_cell_size` when larger and the cube has clips
+// (DeepClip: they hold the zone's part of it; doc/poses.md, "Deep-zone jumps"). lambda: the latest lambda <=
 // lambda_top at which the mover can meet a kept cube (-inf: none), with the guarantee of
 // deep_cover_contact for lambda < lambda' <= lambda_top. Costs cubes where the mover passes near
 // the zone, not over all of it: a thin shell's zone, which no budget covers whole, is refined only
@@ -101,6 +102,6 @@ struct DeepZoneContact {
 DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, double cell_size,
                                   const MoverOrientation& orientation, const Vec3& t0, const Vec3& d, double slack,
                                   double lambda_max, double lambda_top, double stop_at, std::uint64_t max_cubes,
-                                  DeepCubeMemo* memo = nullptr);
+                                  DeepCubeMemo* memo = nullptr, double clipped_cell_size = 0.0);
 
 }  // namespace cdbench

@@ -112,38 +112,56 @@ class DeepZoneJumps {
 
   // The latest contact lambda of the mover moving along -dir with the deep zone, at or below
   // `lambda` (NaN: none known). worth: contacts at or above it are not worth a jump; gap: the
-  // certified clearance minus the target at lambda; cells: the pose's certificate cells so far;
-  // the octree's cubes are added to *zone_cubes.
+  // certified clearance minus the target at lambda; flat: the steps c has been flat for; cells:
+  // the pose's certificate cells so far; the octree's cubes are added to *zone_cubes.
   double contact(const ApproachSetup& setup, const OrientationFrame& frame, const Vec3& dir, double lambda,
-                 double gap, double worth, double lambda_far, std::uint64_t cells, std::uint64_t* zone_cubes) {
+                 double gap, int flat, double worth, double lambda_far, std::uint64_t cells,
+                 std::uint64_t* zone_cubes) {
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     const double pose_slack = pose_rounding_slack(frame, lambda_far);
     if (use_cover_) {
-      use_cover_ = false;
       if (const DeepCover* cover = options_.deep_cover->get()) {
-        use_octree_ = false;
+        use_cover_ = use_octree_ = false;
         return deep_cover_contact(*cover, frame.orientation, frame.t0, dir, pose_slack, lambda_far, worth);
       }
+      use_cover_ = false;
     }
-    if (!use_octree_) return std::numeric_limits<double>::quiet_NaN();
+    if (!use_octree_) return kNaN;
     // The cover ran out of its budget: the zone's octree about the mover's path. The mover's
-    // surface is at least the gap from the zone here (c is 1-Lipschitz in space), and kept cubes
-    // reach at most twice their half-diagonal beyond it: at a quarter of the gap the search clears
-    // this pose and stops where the mover comes within about half the gap of the zone. Its budget
-    // is the pose's own work so far (PoseOptions::deep_zone_cubes_per_cell), tried again once that
-    // has doubled: a query that runs out costs at most a few times the advance it could have
-    // spared, and a long plateau soon pays for one.
-    const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_);
-    if (budget == 0) return std::numeric_limits<double>::quiet_NaN();
-    const DeepZoneContact z = deep_zone_contact(*setup.fixed, target_, 0.25 * gap, frame.orientation, frame.t0, dir,
-                                                pose_slack, lambda_far, lambda, worth, budget, memo_);
+    // surface is at least the gap from the zone here (c is 1-Lipschitz in space), and a kept cube
+    // reaches at most twice its half-diagonal beyond it: with leaves of a quarter of the gap the
+    // search clears this pose and stops where the mover comes within about half the gap of the
+    // zone. A cube with clips (DeepClip) is held to the zone's part of it, tight where F is flat
+    // across it, so its leaves are three gaps: on thin machined parts' plateaus the search then
+    // stops about where the mover really comes near the zone at a fraction of the cubes
+    // (doc/performance.md, "Clipped cubes"). Its budget is the pose's own work so far
+    // (PoseOptions::deep_zone_cubes_per_cell), tried again once that has doubled: a query that
+    // runs out costs at most a few times the advance it could have spared. A pose flat for
+    // kPlateauSteps steps is on a plateau that pays for a query before that
+    // (PoseOptions::deep_zone_min_cubes).
+    const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_, flat >= kPlateauSteps);
+    if (budget == 0) return kNaN;
+    const double fine = kFineLeafGaps * gap;
+    DeepZoneContact z = deep_zone_contact(*setup.fixed, target_, fine, frame.orientation, frame.t0, dir, pose_slack,
+                                          lambda_far, lambda, worth, budget, memo_, kClippedLeafGaps * gap);
     *zone_cubes += z.cubes;
+    if (z.complete && !(z.lambda < worth)) {
+      // Clipped leaves of three gaps found the zone within two: their clips may be loose (a curved
+      // wall: thin shells). Asked again with every leaf a quarter of the gap before giving up.
+      z = deep_zone_contact(*setup.fixed, target_, fine, frame.orientation, frame.t0, dir, pose_slack, lambda_far,
+                            lambda, worth, budget, memo_);
+      *zone_cubes += z.cubes;
+    }
     if (!z.complete) {
       tried_ = budget;
-      return std::numeric_limits<double>::quiet_NaN();
+      return kNaN;
     }
     if (!(z.lambda < worth)) use_octree_ = false;  // the zone is within two gaps: no more tries
     return z.lambda;
   }
+
+  static constexpr double kFineLeafGaps = 0.25, kClippedLeafGaps = 3.0;
+  static constexpr int kPlateauSteps = 8;
 
  private:
   const PoseOptions& options_;
@@ -175,15 +193,17 @@ LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, d
   return z;
 }
 
-std::uint64_t deep_zone_query_budget(const PoseOptions& options, std::uint64_t cells, std::uint64_t tried) {
-  constexpr std::uint64_t kMinZoneCubes = 2000;
-  const double by_work = options.deep_zone_cubes_per_cell * static_cast<double>(cells);
+std::uint64_t deep_zone_query_budget(const PoseOptions& options, std::uint64_t cells, std::uint64_t tried,
+                                     bool plateau) {
+  const std::uint64_t least = std::max<std::uint64_t>(options.deep_zone_min_cubes, 1);
+  double by_work = options.deep_zone_cubes_per_cell * static_cast<double>(cells);
+  if (plateau) by_work = std::max(by_work, static_cast<double>(least));
   const std::uint64_t budget = by_work >= static_cast<double>(options.deep_zone_cubes)
                                    ? options.deep_zone_cubes
                                    : static_cast<std::uint64_t>(by_work);
   // Once the budget reaches its cap, one last query at the cap even if that is less than double.
   const bool last_at_cap = budget == options.deep_zone_cubes && tried < budget;
-  if (budget < kMinZoneCubes || (budget < 2 * tried && !last_at_cap)) return 0;
+  if (budget < least || (budget < 2 * tried && !last_at_cap)) return 0;
   return budget;
 }
 
@@ -522,17 +542,19 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       }
       const double mid = 0.5 * (c.clearance.lo + c.clearance.hi);
       const double slope = have_prev ? std::max(0.0, (prev_mid - mid) / (prev_lambda - out.lambda)) : 1.0;
-      // A plateau: c flat (secant slope below 1/2) for two steps while still a fifth of |target|
+      // A plateau: c flat (secant slope below 1/2) for two steps while still a tenth of |target|
       // or more above it. There, once per pose, a jump to the first contact with the deep zone's
       // cover (where the cover ran out of its budget, to the contact with its octree about the
-      // mover's path, as often as its budget allows). Not before: where c falls steeply, or slowly but near the target, the crossing is
-      // a few steps away and the cover would cost more than it saves (doc/performance.md).
-      flat_steps = slope < 0.5 && mid - target > 0.2 * std::abs(target) ? flat_steps + 1 : 0;
+      // mover's path, as often as its budget allows). Not before: where c falls steeply, or slowly
+      // but near the target, the crossing is a few steps away and a query would cost more than it
+      // saves (doc/performance.md). Thin parts' plateaus lie at about a tenth (rotor -20 %:
+      // 0.08-0.12 |target|; at a fifth, as before 2026-11-28, they were not crossed).
+      flat_steps = slope < 0.5 && mid - target > 0.1 * std::abs(target) ? flat_steps + 1 : 0;
       if (flat_steps >= 2 && jumps.active()) {
         // Worth a jump only beyond what one two-sided step proves.
         const double worth = out.lambda - 2.0 * std::max(0.0, c.clearance.lo - target);
-        const double lk =
-            jumps.contact(setup, frame, dir, out.lambda, gap, worth, lambda_far, out.clearance_cells, &out.zone_cubes);
+        const double lk = jumps.contact(setup, frame, dir, out.lambda, gap, flat_steps, worth, lambda_far,
+                                        out.clearance_cells, &out.zone_cubes);
         if (!std::isnan(lk)) {
           if (!(lk > -lambda_far)) return missed();  // the line never meets the zone
           if (lk < worth) {

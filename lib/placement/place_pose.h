@@ -129,6 +129,11 @@ struct PoseOptions {
   // about four times the advance it could have spared, and a long plateau soon pays for one
   // (doc/performance.md, "Thin shells").
   double deep_zone_cubes_per_cell = 4.0;
+  // A query gets at least this many cubes or none: on thin machined parts' plateaus smaller
+  // budgets ran out and were paid again, while every query completed within 11,000 (rotor -20 %;
+  // doc/performance.md, "Clipped cubes"). A pose reaches it by its own work
+  // (deep_zone_cubes_per_cell) or by a plateau: c flat for 8 steps.
+  std::uint64_t deep_zone_min_cubes = 20000;
   // The level's cube verdicts shared by its poses' octree queries (optional; the same poses either
   // way, less work).
   DeepCubeMemo* deep_zone_memo = nullptr;
@@ -145,10 +150,12 @@ DeepCoverOptions deep_cover_options(double target);
 bool deep_cover_wanted(double target, double max_penetration);
 
 // The cube budget of a pose's next octree query (PoseOptions::deep_zone_cubes): cells is the
-// pose's certificate cells so far, tried the budget of its last query that ran out (0: none).
-// 0: no query is due (below 2,000 cubes, or not yet double the last one, unless it is the first at
-// the cap).
-std::uint64_t deep_zone_query_budget(const PoseOptions& options, std::uint64_t cells, std::uint64_t tried);
+// pose's certificate cells so far, tried the budget of its last query that ran out (0: none),
+// plateau whether c has been flat long (then at least PoseOptions::deep_zone_min_cubes).
+// 0: no query is due (below deep_zone_min_cubes, or not yet double the last one, unless it is the
+// first at the cap).
+std::uint64_t deep_zone_query_budget(const PoseOptions& options, std::uint64_t cells, std::uint64_t tried,
+                                     bool plateau = false);
 
 // A level's deep-zone state, shared by its poses: the cover (built by the first pose that asks)
 // and the memo of its octree's cube verdicts. Both null where the level gets none

@@ -196,11 +196,13 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   for (std::size_t l = 0; l < L; ++l) zones.push_back(make_level_deep_zone(sdf, targets[l], mp.depth.lo, polish));
   // Levels with a cover jump across plateaus (since 2026-11-27, session 29: 1), and to its octree
   // about the mover's path where the cover runs out of its budget (since 2026-11-28, session 30:
-  // 2; with the octree's cap of 4,000,000 cubes and a last query at it since session 31: 3): their
-  // poses may differ within the tolerance from earlier binaries', whose journals must therefore
-  // not be resumed or merged with them. Absent otherwise, so that other runs still resume.
+  // 2; with the octree's cap of 4,000,000 cubes and a last query at it since session 31: 3; with
+  // clipped cubes, plateaus from a tenth of |target| and queries of at least 20,000 cubes since
+  // session 33: 4): their poses may differ within the tolerance from earlier binaries', whose
+  // journals must therefore not be resumed or merged with them. Absent otherwise, so that other
+  // runs still resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
-    run_key["deep_zone_jumps"] = 3;
+    run_key["deep_zone_jumps"] = 4;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 

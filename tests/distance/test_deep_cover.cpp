@@ -68,6 +68,61 @@ TEST(DeepCover, HoldsEveryDeepPoint) {
   expect_covers_deep_points(make_icosphere(1.0, 2), -0.3, 0.15, 3);
 }
 
+// A cube's clips (DeepClip) hold every deep point of the cube, in exact arithmetic, and a cube
+// dropped holds none: octree cubes near the zone's boundary of a flat-faced plate and block and of
+// a curved torus, each sampled at random points whose depth is decided exactly.
+void expect_clips_hold_deep_points(const TriangleMesh& m, double target, int levels, std::uint64_t seed) {
+  const SignedDistance sdf(m);
+  const CgalSide side(m);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<DeepCube> level{deep_cover_root(sdf)}, next;
+  std::vector<std::uint32_t> ids;
+  int clipped = 0, deep = 0, cut = 0;
+  for (int l = 0; l < levels; ++l) {
+    next.clear();
+    for (const DeepCube& cube : level) {
+      const DeepCubeVerdict v = classify_deep_cube(sdf, target, 0.0, cube, ids);
+      if (v.what == DeepCubeVerdict::split)
+        for (const DeepCube& c : deep_cube_children(cube, v)) next.push_back(c);
+      if (l + 3 < levels) continue;  // sampled on the last levels only
+      if (v.n_clips > 0) ++clipped;
+      for (int i = 0; i < 6; ++i) {
+        Vec3 p;
+        for (int k = 0; k < 3; ++k) p[k] = cube.box.lo[k] + u(rng) * (cube.box.hi[k] - cube.box.lo[k]);
+        if (side(p) >= 0 || testing::exact_squared_distance(p, m) < Epeck::FT(target) * target) {
+          // Shallow: count the clips that exclude it (they do cut the cube).
+          for (int c = 0; c < v.n_clips; ++c) {
+            const DeepClip& k = v.clips[c];
+            const Epeck::FT np = Epeck::FT(k.n.x()) * p.x() + Epeck::FT(k.n.y()) * p.y() + Epeck::FT(k.n.z()) * p.z();
+            if (np > Epeck::FT(k.off)) ++cut;
+          }
+          continue;
+        }
+        ++deep;
+        ASSERT_NE(v.what, DeepCubeVerdict::drop) << std::setprecision(17) << "deep point (" << p.transpose()
+                                                 << ") in a dropped cube " << cube.box.lo.transpose() << " / "
+                                                 << cube.box.hi.transpose();
+        for (int c = 0; c < v.n_clips; ++c) {
+          const DeepClip& k = v.clips[c];
+          const Epeck::FT np = Epeck::FT(k.n.x()) * p.x() + Epeck::FT(k.n.y()) * p.y() + Epeck::FT(k.n.z()) * p.z();
+          ASSERT_TRUE(np <= Epeck::FT(k.off)) << std::setprecision(17) << "deep point (" << p.transpose()
+                                              << ") beyond clip " << c << " n " << k.n.transpose() << " off " << k.off;
+        }
+      }
+    }
+    std::swap(level, next);
+  }
+  EXPECT_GT(clipped, 20);  // clips were made
+  EXPECT_GT(deep, 50);     // deep points were tested against them
+  EXPECT_GT(cut, 50);      // and they exclude shallow points of kept cubes
+}
+
+TEST(DeepCover, ClipsHoldEveryDeepPoint) {
+  expect_clips_hold_deep_points(plate_and_block(), -0.05, 7, 4);
+  expect_clips_hold_deep_points(make_torus(1.0, 0.4, 24, 12), -0.1, 7, 5);
+}
+
 TEST(DeepCover, ThePlateHasNoDeepZone) {
   // Only the block's interior is kept: no box reaches into the plate's slab beyond its boundary
   // layer (the plate's deepest points are 0.02 deep, the target 0.05).

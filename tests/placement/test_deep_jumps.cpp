@@ -34,6 +34,7 @@ TEST(DeepJumps, OctreeBudgetDoublesAndTriesTheCapOnce) {
   PoseOptions o;
   o.deep_zone_cubes = 4000000;
   o.deep_zone_cubes_per_cell = 4.0;
+  o.deep_zone_min_cubes = 2000;
   EXPECT_EQ(deep_zone_query_budget(o, 400, 0), 0u);        // 1,600 cubes: below the least query
   EXPECT_EQ(deep_zone_query_budget(o, 1000, 0), 4000u);    // the first: 4 x the cells
   EXPECT_EQ(deep_zone_query_budget(o, 1500, 4000), 0u);    // 6,000: not yet double the last
@@ -42,6 +43,12 @@ TEST(DeepJumps, OctreeBudgetDoublesAndTriesTheCapOnce) {
   EXPECT_EQ(deep_zone_query_budget(o, 1000000, 2150000), 4000000u);
   EXPECT_EQ(deep_zone_query_budget(o, 3000000, 4000000), 0u);  // that ran out too: none more
   EXPECT_EQ(deep_zone_query_budget(o, 600000, 2150000), 0u);   // 2.4 M: not double, not the cap
+  // On a plateau a pose gets the least query before its work reaches it, and more by its work.
+  o.deep_zone_min_cubes = 20000;
+  EXPECT_EQ(deep_zone_query_budget(o, 1000, 0), 0u);
+  EXPECT_EQ(deep_zone_query_budget(o, 1000, 0, true), 20000u);
+  EXPECT_EQ(deep_zone_query_budget(o, 1000, 20000, true), 0u);  // that ran out: not yet double
+  EXPECT_EQ(deep_zone_query_budget(o, 10000, 20000, true), 40000u);
   o.deep_zone_cubes = 0;
   EXPECT_EQ(deep_zone_query_budget(o, 1000000, 0), 0u);  // no octree
 }
@@ -182,10 +189,10 @@ TEST(DeepJumps, SameFirstCrossingAsWithout) {
   EXPECT_GT(lazy_jumps, 3);
 }
 
-// The octree grown about the mover's path keeps the same cubes near it as the built cover (the
-// same classification), so the latest contact is the same double; below a lambda_top, the latest
-// one below it, beyond which certificates leave room above the target. A budget too small claims
-// nothing.
+// The octree grown about the mover's path keeps the cubes near it that the built cover keeps (the
+// same classification), each held to the zone's part of it by its clips: its latest contact is at
+// or below the cover's, and certificates between the two leave room above the target; below a
+// lambda_top, the latest one below it, likewise. A budget too small claims nothing.
 TEST(DeepJumps, GrownOctreeFindsTheCoversContact) {
   for (int shape = 0; shape < 2; ++shape) {
     const Scene w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
@@ -195,7 +202,7 @@ TEST(DeepJumps, GrownOctreeFindsTheCoversContact) {
     ASSERT_NE(cover.get(), nullptr);
     DeepCubeMemo memo(target);
     std::mt19937_64 rng(23 + shape);
-    int met = 0, checked = 0;
+    int met = 0, checked = 0, tighter = 0;
     for (int i = 0; i < 12; ++i) {
       const OrientationFrame frame = make_orientation_frame(w.setup, random_rotation(rng));
       const Vec3 dir = random_direction(rng);
@@ -205,8 +212,22 @@ TEST(DeepJumps, GrownOctreeFindsTheCoversContact) {
       const DeepZoneContact z = deep_zone_contact(w.fixed, target, co.cell_size, frame.orientation, frame.t0, dir,
                                                   1e-12, lambda_far, kInf, kInf, 1000000);
       ASSERT_TRUE(z.complete);
-      EXPECT_EQ(z.lambda, lk) << std::setprecision(17) << "shape " << shape << " dir " << dir.transpose();
+      EXPECT_LE(z.lambda, lk) << std::setprecision(17) << "shape " << shape << " dir " << dir.transpose();
       EXPECT_LE(z.cubes, cover.get()->cells);  // only where the mover passes
+      if (z.lambda < lk && lk > -lambda_far) {
+        ++tighter;
+        ClearanceOptions copt;
+        copt.tolerance = 1e-6;
+        const double lo = std::max(z.lambda, -lambda_far);
+        for (int k = 1; k <= 6; ++k) {
+          const double lambda = lo + (lk - lo) * k / 6.0 + 1e-9;
+          const ClearanceResult c = certify_clearance(w.fixed, w.mover, w.setup.components, frame.orientation,
+                                                      pose_translation(frame, dir, lambda), copt);
+          EXPECT_GT(c.clearance.hi, target) << std::setprecision(17) << "shape " << shape << " lambda " << lambda
+                                            << " clipped contact " << z.lambda << " dir " << dir.transpose();
+          ++checked;
+        }
+      }
       // Through a memo shared by queries (of other cell sizes too): the same answers and counts.
       for (const double cell : {0.1 * std::abs(target), co.cell_size, co.cell_size}) {
         const DeepZoneContact m = deep_zone_contact(w.fixed, target, cell, frame.orientation, frame.t0, dir, 1e-12,
@@ -242,6 +263,7 @@ TEST(DeepJumps, GrownOctreeFindsTheCoversContact) {
     }
     EXPECT_GT(met, 3);
     EXPECT_GT(checked, 10);
+    EXPECT_GT(tighter, 2);  // the clips moved the contact
     EXPECT_GT(memo.size(), 100u);
   }
 }
