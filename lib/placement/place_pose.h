@@ -120,10 +120,11 @@ struct PoseOptions {
   // Where deep_cover runs out of its budget (a zone too large to cover whole: thin shells): the
   // jump's contact from the zone's octree grown about the mover's path (advance.h,
   // deep_zone_contact), at most min(this, deep_zone_cubes_per_cell x the pose's certificate cells
-  // so far) cubes per query (and at least 2,000), tried again once that has doubled, and once more
-  // when it reaches this cap. 0: none. A query holds about 200 bytes per cube it classifies (about
-  // 0.8 GB at the cap, per thread), reached only by poses that have spent a million certificate
-  // cells (thin shells' plateaus: doc/performance.md, "Thin shells").
+  // so far) cubes per query (and at least deep_zone_min_cubes), tried again once that has doubled,
+  // and once more when it reaches this cap. 0: none. A query holds about 330 bytes per cube it
+  // classifies (about 1.3 GB at the cap, per thread; 200 before a verdict carried its clips),
+  // reached only by poses that have spent a million certificate cells (thin shells' plateaus:
+  // doc/performance.md, "Thin shells").
   std::uint64_t deep_zone_cubes = 4000000;
   // A cube costs about what a certificate's cell does: at 4, a query that runs out costs at most
   // about four times the advance it could have spared, and a long plateau soon pays for one
