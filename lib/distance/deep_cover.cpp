@@ -61,27 +61,27 @@ bool clip_deep_cube(const SignedDistance& fixed, double depth, const Aabb& Q, co
     for (int k = 0; k < 8; ++k)
       for (int ax = 0; ax < 3; ++ax) a[ax] += ((k >> ax) & 1 ? f[k] : -f[k]);
     for (int ax = 0; ax < 3; ++ax) a[ax] /= 4.0 * ext[ax];
-    // b with the exact a.x + b >= f at every corner (the dot product's error bounded).
-    double b = -std::numeric_limits<double>::infinity(), top = b;
+    // a.v at each corner, bracketed by its error bound; b with the exact a.x + b >= f there.
+    std::array<double, 8> av_lo, av_hi;
+    double b = -std::numeric_limits<double>::infinity();
     for (int k = 0; k < 8; ++k) {
       const PlaneOffset o = plane_offset(a, 0.0, corners[k]);
-      b = std::max(b, round_up(f[k] - round_down(o.value - o.error)));
+      av_lo[k] = round_down(o.value - o.error);
+      av_hi[k] = round_up(o.value + o.error);
+      b = std::max(b, round_up(f[k] - av_lo[k]));
     }
+    // The function's largest and least values over the cube (it is affine: at corners).
+    double top = -std::numeric_limits<double>::infinity(), lowest = -top;
     for (int k = 0; k < 8; ++k) {
-      const PlaneOffset o = plane_offset(a, 0.0, corners[k]);
-      top = std::max(top, round_up(round_up(o.value + o.error) + b));
+      top = std::max(top, round_up(av_hi[k] + b));
+      lowest = std::min(lowest, round_down(av_lo[k] + b));
     }
     if (top < depth) return false;  // d_j < depth on the whole cube
-    // Zone points: a.x + b >= depth, i.e. -a.x <= b - depth.
+    // Zone points: a.x + b >= depth, i.e. -a.x <= b - depth; worth keeping only when it cuts the
+    // cube (some corner beyond it).
     DeepClip& c = v.clips[v.n_clips];
     c.n = -a;
     c.off = round_up(b - depth);
-    // Worth keeping only when it cuts the cube: some corner beyond it.
-    double lowest = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 8; ++k) {
-      const PlaneOffset o = plane_offset(a, 0.0, corners[k]);
-      lowest = std::min(lowest, round_down(round_down(o.value - o.error) + b));
-    }
     if (lowest < depth) ++v.n_clips;
   }
   return true;

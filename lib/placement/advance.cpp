@@ -297,6 +297,33 @@ struct CoverGeometry {
     }
     return best;
   }
+  // The extent along n of the box B (outwards), and of the triangle abc.
+  static void extent(const Vec3& n, const Aabb& B, double& lo, double& hi) {
+    Vec3 lo_corner, hi_corner;
+    for (int k = 0; k < 3; ++k) {
+      lo_corner[k] = n[k] >= 0.0 ? B.lo[k] : B.hi[k];
+      hi_corner[k] = n[k] >= 0.0 ? B.hi[k] : B.lo[k];
+    }
+    const PlaneOffset bl = plane_offset(n, 0.0, lo_corner), bh = plane_offset(n, 0.0, hi_corner);
+    lo = round_down(bl.value - bl.error);
+    hi = round_up(bh.value + bh.error);
+  }
+  static void extent(const Vec3& n, const Vec3& a, const Vec3& b, const Vec3& c, double& lo, double& hi) {
+    lo = std::numeric_limits<double>::infinity();
+    hi = -lo;
+    for (const Vec3* x : {&a, &b, &c}) {
+      const PlaneOffset v = plane_offset(n, 0.0, *x);
+      lo = std::min(lo, round_down(v.value - v.error));
+      hi = std::max(hi, round_up(v.value + v.error));
+    }
+  }
+  // Moving points whose extent along n is [p_lo, p_hi] in rotated coordinates, moved by
+  // t0 + lambda d, against the fixed extent [b_lo, b_hi], narrowing r.
+  void moving(const Vec3& n, double p_lo, double p_hi, double b_lo, double b_hi, LambdaRange& r) const {
+    const PlaneOffset nt = plane_offset(n, 0.0, t0), nd = plane_offset(n, 0.0, d);
+    axis_range(round_down(p_lo + round_down(nt.value - nt.error)), round_up(p_hi + round_up(nt.value + nt.error)),
+               b_lo, b_hi, round_down(nd.value - nd.error), round_up(nd.value + nd.error), r);
+  }
   // The moving triangle `face` against the grown box G, and, with v, against the zone's part of the
   // cube (G with each of v's clips grown by the margin): the separating axes of a triangle and a
   // polytope (its face normals, the triangle's, and edges crossed with edges), the polytope's
@@ -313,21 +340,6 @@ struct CoverGeometry {
     r.meet(rb.lo, rb.hi);
     if (v) clips(face, *v, r);  // cheap, and often decisive
     if (r.empty()) return;
-    // The moving triangle's extent along an axis n (moved by t0; plus lambda n.d).
-    const auto moving = [&](const Vec3& n, double& p_lo, double& p_hi, double& w_lo, double& w_hi) {
-      p_lo = std::numeric_limits<double>::infinity();
-      p_hi = -p_lo;
-      for (const Vec3* a : {&a0, &a1, &a2}) {
-        const PlaneOffset pv = plane_offset(n, 0.0, *a);
-        p_lo = std::min(p_lo, round_down(pv.value - pv.error));
-        p_hi = std::max(p_hi, round_up(pv.value + pv.error));
-      }
-      const PlaneOffset nt = plane_offset(n, 0.0, t0), nd = plane_offset(n, 0.0, d);
-      p_lo = round_down(p_lo + round_down(nt.value - nt.error));
-      p_hi = round_up(p_hi + round_up(nt.value + nt.error));
-      w_lo = round_down(nd.value - nd.error);
-      w_hi = round_up(nd.value + nd.error);
-    };
     // The triangle's normal and its edges crossed with the axes: any vector separates validly; the
     // computed ones nearly as the exact.
     const std::array<Vec3, 3> edges{a1 - a0, a2 - a1, a0 - a2};
@@ -338,15 +350,10 @@ struct CoverGeometry {
     for (const Vec3& n : axes) {
       if (r.empty()) return;
       if (!(n.cwiseAbs().maxCoeff() > 0.0)) continue;
-      double p_lo, p_hi, w_lo, w_hi;
-      moving(n, p_lo, p_hi, w_lo, w_hi);
-      Vec3 lo_corner, hi_corner;
-      for (int k = 0; k < 3; ++k) {
-        lo_corner[k] = n[k] >= 0.0 ? G.lo[k] : G.hi[k];
-        hi_corner[k] = n[k] >= 0.0 ? G.hi[k] : G.lo[k];
-      }
-      const PlaneOffset bl = plane_offset(n, 0.0, lo_corner), bh = plane_offset(n, 0.0, hi_corner);
-      axis_range(p_lo, p_hi, round_down(bl.value - bl.error), round_up(bh.value + bh.error), w_lo, w_hi, r);
+      double p_lo, p_hi, b_lo, b_hi;
+      extent(n, a0, a1, a2, p_lo, p_hi);
+      extent(n, G, b_lo, b_hi);
+      moving(n, p_lo, p_hi, b_lo, b_hi, r);
     }
     const int n_clips = v ? v->n_clips : 0;
     if (n_clips == 0 || r.empty()) return;
@@ -360,14 +367,14 @@ struct CoverGeometry {
     }
     const auto clipped = [&](const Vec3& n) {
       if (!(n.cwiseAbs().maxCoeff() > 0.0)) return;
-      double p_lo, p_hi, w_lo, w_hi;
-      moving(n, p_lo, p_hi, w_lo, w_hi);
+      double p_lo, p_hi;
+      extent(n, a0, a1, a2, p_lo, p_hi);
       double b_lo = -std::numeric_limits<double>::infinity(), b_hi = -b_lo;
       for (int i = 0; i < n_clips; ++i) {
         b_hi = std::min(b_hi, support(n, G, cn[i], coff[i]));
         b_lo = std::max(b_lo, -support(-n, G, cn[i], coff[i]));
       }
-      axis_range(p_lo, p_hi, b_lo, b_hi, w_lo, w_hi, r);
+      moving(n, p_lo, p_hi, b_lo, b_hi, r);
     };
     for (const Vec3& n : axes) {
       if (r.empty()) return;
@@ -384,37 +391,21 @@ struct CoverGeometry {
   double grown_off(const DeepClip& c) const {
     return round_up(c.off + round_up(margin * c.n.cwiseAbs().sum() * (1.0 + 1e-15)));
   }
-  // The moving points whose n-range (rotated coordinates) is [p_lo, p_hi], moved by t0 + lambda d,
-  // against a cube's clip {n.x <= off} grown by the margin, narrowing r.
-  void clip(double p_lo, double p_hi, const DeepClip& c, LambdaRange& r) const {
-    const PlaneOffset nt = plane_offset(c.n, 0.0, t0), nd = plane_offset(c.n, 0.0, d);
-    p_lo = round_down(p_lo + round_down(nt.value - nt.error));
-    p_hi = round_up(p_hi + round_up(nt.value + nt.error));
-    axis_range(p_lo, p_hi, -std::numeric_limits<double>::infinity(), grown_off(c), round_down(nd.value - nd.error),
-               round_up(nd.value + nd.error), r);
-  }
+  // The moving box A (rotated coordinates), or the mover's triangle `face`, against each of the
+  // cube's clips grown by the margin (a half-line of fixed extent), narrowing r.
   void clips(const Aabb& A, const DeepCubeVerdict& v, LambdaRange& r) const {
     for (int i = 0; i < v.n_clips && !r.empty(); ++i) {
-      const DeepClip& c = v.clips[i];
-      Vec3 lo_corner, hi_corner;
-      for (int k = 0; k < 3; ++k) {
-        lo_corner[k] = c.n[k] >= 0.0 ? A.lo[k] : A.hi[k];
-        hi_corner[k] = c.n[k] >= 0.0 ? A.hi[k] : A.lo[k];
-      }
-      const PlaneOffset bl = plane_offset(c.n, 0.0, lo_corner), bh = plane_offset(c.n, 0.0, hi_corner);
-      clip(round_down(bl.value - bl.error), round_up(bh.value + bh.error), c, r);
+      double p_lo, p_hi;
+      extent(v.clips[i].n, A, p_lo, p_hi);
+      moving(v.clips[i].n, p_lo, p_hi, -std::numeric_limits<double>::infinity(), grown_off(v.clips[i]), r);
     }
   }
   void clips(std::uint32_t face, const DeepCubeVerdict& v, LambdaRange& r) const {
     const Face& f = (*o.faces)[face];
     for (int i = 0; i < v.n_clips && !r.empty(); ++i) {
-      double p_lo = std::numeric_limits<double>::infinity(), p_hi = -p_lo;
-      for (int q = 0; q < 3; ++q) {
-        const PlaneOffset a = plane_offset(v.clips[i].n, 0.0, o.rotated[f[q]]);
-        p_lo = std::min(p_lo, round_down(a.value - a.error));
-        p_hi = std::max(p_hi, round_up(a.value + a.error));
-      }
-      clip(p_lo, p_hi, v.clips[i], r);
+      double p_lo, p_hi;
+      extent(v.clips[i].n, o.rotated[f[0]], o.rotated[f[1]], o.rotated[f[2]], p_lo, p_hi);
+      moving(v.clips[i].n, p_lo, p_hi, -std::numeric_limits<double>::infinity(), grown_off(v.clips[i]), r);
     }
   }
 };
