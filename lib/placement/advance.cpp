@@ -277,23 +277,24 @@ struct CoverGeometry {
   // An upper bound of max m.x over x in G with n.x <= off (Lagrange: for any mu >= 0 it is at most
   // mu off + max over G of (m - mu n).x; the best mu is 0 or where a coordinate of m - mu n changes
   // sign). The computed m - mu n is within a few ulps of the exact; the error term covers that and
-  // the sums' rounding.
-  static double support(const Vec3& m, const Aabb& G, const Vec3& n, double off) {
-    const auto value = [&](double mu) {
-      double v = mu == 0.0 ? 0.0 : mu * off, abs_sum = mu == 0.0 ? 0.0 : std::abs(v);
-      for (int k = 0; k < 3; ++k) {
-        const double c = m[k] - mu * n[k];
-        const double x = c >= 0.0 ? G.hi[k] : G.lo[k];
-        v += c * x;
-        abs_sum += (std::abs(m[k]) + mu * std::abs(n[k])) * std::max(std::abs(G.lo[k]), std::abs(G.hi[k]));
-      }
-      return round_up(v + 1e-14 * abs_sum + 1e-300);
-    };
-    double best = value(0.0);
+  // the sums' rounding. `at_zero`: the bound at mu = 0 (lagrange(m, G, n, off, 0.0)), the same for
+  // every clip of a cube, so computed once per axis by the caller.
+  static double lagrange(const Vec3& m, const Aabb& G, const Vec3& n, double off, double mu) {
+    double v = mu == 0.0 ? 0.0 : mu * off, abs_sum = mu == 0.0 ? 0.0 : std::abs(v);
+    for (int k = 0; k < 3; ++k) {
+      const double c = m[k] - mu * n[k];
+      const double x = c >= 0.0 ? G.hi[k] : G.lo[k];
+      v += c * x;
+      abs_sum += (std::abs(m[k]) + mu * std::abs(n[k])) * std::max(std::abs(G.lo[k]), std::abs(G.hi[k]));
+    }
+    return round_up(v + 1e-14 * abs_sum + 1e-300);
+  }
+  static double support(const Vec3& m, const Aabb& G, const Vec3& n, double off, double at_zero) {
+    double best = at_zero;
     for (int k = 0; k < 3; ++k) {
       if (n[k] == 0.0) continue;
       const double mu = m[k] / n[k];
-      if (mu > 0.0 && std::isfinite(mu)) best = std::min(best, value(mu));
+      if (mu > 0.0 && std::isfinite(mu)) best = std::min(best, lagrange(m, G, n, off, mu));
     }
     return best;
   }
@@ -369,10 +370,12 @@ struct CoverGeometry {
       if (!(n.cwiseAbs().maxCoeff() > 0.0)) return;
       double p_lo, p_hi;
       extent(n, a0, a1, a2, p_lo, p_hi);
+      const Vec3 m = -n;
+      const double top = lagrange(n, G, n, 0.0, 0.0), bottom = lagrange(m, G, n, 0.0, 0.0);
       double b_lo = -std::numeric_limits<double>::infinity(), b_hi = -b_lo;
       for (int i = 0; i < n_clips; ++i) {
-        b_hi = std::min(b_hi, support(n, G, cn[i], coff[i]));
-        b_lo = std::max(b_lo, -support(-n, G, cn[i], coff[i]));
+        b_hi = std::min(b_hi, support(n, G, cn[i], coff[i], top));
+        b_lo = std::max(b_lo, -support(m, G, cn[i], coff[i], bottom));
       }
       moving(n, p_lo, p_hi, b_lo, b_hi, r);
     };
@@ -533,8 +536,10 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       const Aabb G = g.grown(nodes[e.b].cube.box);
       bool meets = false;
       for (std::uint32_t i = 0; i < na.count && !meets; ++i) {
+        // From the best contact so far: a range narrowed below it is as good as empty, and the
+        // test stops at the first axis that shows it (the same answer as from -inf).
         LambdaRange r;
-        r.meet(-kInf, lambda_top);
+        r.meet(out.lambda, lambda_top);
         g.triangle(orientation.boxes.order[na.first + i], G, r, &nodes[e.b].verdict);
         meets = !r.empty() && r.hi > out.lambda;
       }
@@ -544,7 +549,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       const Aabb G = g.grown(nodes[e.b].cube.box);
       for (std::uint32_t i = 0; i < na.count; ++i) {
         LambdaRange r;
-        r.meet(-kInf, lambda_top);
+        r.meet(out.lambda, lambda_top);  // as above: only a later contact matters
         const std::uint32_t face = orientation.boxes.order[na.first + i];
         g.triangle(face, G, r, &nodes[e.b].verdict);
         if (!r.empty()) out.lambda = std::max(out.lambda, r.hi);

@@ -319,6 +319,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   ClearanceOptions copt;
   copt.tolerance = 0.5 * options.tolerance;  // leaves room for the target band below
   copt.max_cells = options.max_cells;
+  copt.try_distance_path = target >= 0.0;  // see adopt() below
   ClearanceFrontier frontier;  // the previous certificate's search, a warm start for the next pose
   copt.frontier = &frontier;
   // Separated targets: the pair traversals (separated advance, pair-distance path) on the sweep
@@ -352,8 +353,10 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     }
     // Once the mover certainly penetrates, the next poses of the advance (deeper along the line)
     // almost surely do too: the pair-distance path would search long for an intersecting pair
-    // only to hand over to the branch and bound, which decides every case on its own.
-    copt.try_distance_path = !(r.clearance.hi < 0.0);
+    // only to hand over to the branch and bound, which decides every case on its own. So for every
+    // pose of a penetrating target: its first certificate follows a step of |target| from the
+    // touching pose (or starts from an offset at the target), deep inside.
+    copt.try_distance_path = target >= 0.0 && !(r.clearance.hi < 0.0);
   };
   const auto certify = [&](double lambda, bool loose) {
     copt.relative_tolerance = loose ? kStepRelativeTolerance : 0.0;
