@@ -230,8 +230,50 @@ bool minimax_weights(const double* D, int K, int M, std::vector<double>& lambda)
 }
 
 
+namespace {
+// The four largest positive weights of lambda (members ids, in order), largest first, ties by
+// position; weights that round to 0 in float are left out.
+void keep_witness(const std::vector<std::uint32_t>& ids, const std::vector<double>& lambda, std::size_t n,
+                  DepthWitness* w) {
+  if (!w) return;
+  w->n = 0;
+  std::array<std::size_t, 4> best{};
+  int k = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    if (!(lambda[j] > 0.0)) continue;
+    int at = k < 4 ? k++ : 4;
+    while (at > 0 && lambda[best[at - 1]] < lambda[j]) {
+      if (at < 4) best[at] = best[at - 1];
+      --at;
+    }
+    if (at < 4) best[at] = j;
+  }
+  for (int i = 0; i < k; ++i) {
+    const float x = static_cast<float>(lambda[best[i]]);
+    if (!(x > 0.0f)) continue;
+    w->face[w->n] = ids[best[i]];
+    w->weight[w->n] = x;
+    ++w->n;
+  }
+}
+}  // namespace
+
+double witness_depth_bound(const SignedDistance& sdf, const DepthWitness& w, const Vec3* corners, int n_corners) {
+  if (w.n == 0) return std::numeric_limits<double>::infinity();
+  const TriangleMesh& m = sdf.mesh();
+  double weights = 0.0;
+  for (int j = 0; j < w.n; ++j) weights += w.weight[j];
+  double worst = 0.0;
+  for (int k = 0; k < n_corners; ++k) {
+    double sum = 0.0;
+    for (int j = 0; j < w.n; ++j) sum += w.weight[j] * point_triangle_distance_upper(corners[k], m, w.face[j]);
+    worst = std::max(worst, weighted_mean_up(sum, weights));
+  }
+  return round_up(worst);
+}
+
 double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uint32_t>& ids, const Vec3* corners,
-                           int n_corners, std::size_t max_members) {
+                           int n_corners, std::size_t max_members, DepthWitness* witness) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const std::size_t M = std::min({ids.size(), max_members, std::size_t{16}});
   if (M == 0 || n_corners <= 0 || n_corners > 16) return kInf;
@@ -243,6 +285,7 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
   for (int k = 0; k < n_corners; ++k)
     for (std::size_t j = 0; j < M; ++j) D[k * M + j] = point_triangle_distance_upper(corners[k], m, ids[j]);
   if (!minimax_weights(D.data(), n_corners, static_cast<int>(M), lambda)) return kInf;
+  keep_witness(ids, lambda, M, witness);
   double worst = 0.0;
   for (int k = 0; k < n_corners; ++k) {
     double sum = 0.0, weights = 0.0;
@@ -260,18 +303,20 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
 
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
                          std::vector<std::uint32_t>& ids, Vec3* candidate, const Vec3* plane_normal, int* worst_corner,
-                         TranslatedDepthBound* moments, double coplanar_slack, DepthWeights weights) {
+                         TranslatedDepthBound* moments, double coplanar_slack, DepthWeights weights,
+                         DepthWitness* witness) {
   sdf.triangles_within(c, radius, max_triangles(weights) - 1, ids);  // stops after max_triangles
   return depth_upper_bound_among(sdf, c, ids, corners, n_corners, candidate, plane_normal, worst_corner, moments,
-                                 coplanar_slack, weights);
+                                 coplanar_slack, weights, witness);
 }
 
 double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids,
                                const Vec3* corners, int n_corners, Vec3* candidate, const Vec3* plane_normal,
                                int* worst_corner, TranslatedDepthBound* moments, double coplanar_slack,
-                               DepthWeights weights) {
+                               DepthWeights weights, DepthWitness* witness) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   if (moments) moments->n = 0;
+  if (witness) witness->n = 0;
   if (ids.empty()) return kInf;
   const TriangleMesh& m = sdf.mesh();
   std::size_t n = ids.size();
@@ -309,6 +354,7 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
   if (plane_normal)
     for (Vec3& x : g) x -= x.dot(*plane_normal) * *plane_normal;
   min_norm_combination(g, lambda, 100, weights_gap(weights));
+  keep_witness(ids, lambda, n, witness);
   if (candidate) {
     *candidate = Vec3::Zero();
     for (std::size_t j = 0; j < n; ++j) *candidate += lambda[j] * nearest[j];

@@ -35,6 +35,20 @@ struct TranslatedDepthBound {
 // real translation differs adds the difference: the bound is 1-Lipschitz in D). +inf when n = 0.
 double translated_depth(const TranslatedDepthBound& b, const Vec3& D);
 
+// The weights of a convexity bound, kept to evaluate it again on the same cell moved a little
+// (a warm start's stale cells: placement/clearance.cpp): up to four triangles of F with positive
+// weights. Any weights give a valid bound (above), so the four largest of a bound's weights are as
+// valid as all of them; the bound from them is exact where F is flat across the cell as before.
+struct DepthWitness {
+  std::array<std::uint32_t, 4> face{};
+  std::array<float, 4> weight{};
+  int n = 0;
+};
+// sum_j w_j d_j(v) / sum_j w_j at the worst of the corners v (certified upper ends of the
+// distances, the mean rounded up): a certified upper bound of dist(x, F) on their convex hull.
+// +inf when w is empty.
+double witness_depth_bound(const SignedDistance& sdf, const DepthWitness& w, const Vec3* corners, int n_corners);
+
 // How far the weights are optimised (only the bound's tightness and cost depend on it).
 // `converged`: Frank-Wolfe to the min-norm point (up to 100 steps): the tightest on plateaus and
 // seams, for the maximum penetration's cubes. `sparse`: stopped once the duality gap is at most
@@ -54,7 +68,7 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
                          std::vector<std::uint32_t>& scratch, Vec3* candidate = nullptr,
                          const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
                          TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0,
-                         DepthWeights weights = DepthWeights::converged);
+                         DepthWeights weights = DepthWeights::converged, DepthWitness* witness = nullptr);
 // The same bound from the triangles `ids` (any set; it should hold the nearest ones of the cell's
 // points to be tight), of which the nearest 49 to c are kept (16 with sparse weights): `ids` is
 // reordered nearest first and cut to those used. depth_upper_bound is triangles_within then this.
@@ -62,7 +76,7 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
                                const Vec3* corners, int n_corners, Vec3* candidate = nullptr,
                                const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
                                TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0,
-                               DepthWeights weights = DepthWeights::converged);
+                               DepthWeights weights = DepthWeights::converged, DepthWitness* witness = nullptr);
 // The same bound with the weights that minimise its largest corner value (a linear program over
 // the first max_members triangles of `ids`, e.g. the nearest ones as depth_upper_bound_among leaves
 // them): tighter than the min-norm weights where the nearest feature changes across the cell, as
@@ -70,13 +84,14 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
 // The program only picks the weights (any weights are valid); the bound is evaluated rigorously at
 // the corners. +inf when `ids` is empty.
 double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uint32_t>& ids, const Vec3* corners,
-                           int n_corners, std::size_t max_members = 12);
+                           int n_corners, std::size_t max_members = 12, DepthWitness* witness = nullptr);
 // coplanar_slack > 0 (flat cells of at most 3 corners, or the 8 corners of an axis-aligned box):
 // triangles within that distance of a
 // common plane that provably cover the cell's projection form one member, a planar patch
 // (distance/planar_patch.h), whose bound is exact on its plane across the triangles' shared edges.
 // The result is the smaller of the bounds with and without patches; moments and candidate come
 // from the triangle-wise bound.
+// witness (optional) receives the triangle-wise bound's four largest weights (DepthWitness).
 // worst_corner (optional) receives the corner attaining the bound: where the true depth is likely
 // largest, worth certifying as a candidate (a lower bound on the maximum depth). moments (optional,
 // at most 8 corners) receives the translated form of the same bound, with the same weights.

@@ -161,6 +161,7 @@ struct Cell {
   std::int32_t depth = -1;  // its translated depth bound (index into BranchAndBound::depth_), if any
   double ud_hi = std::numeric_limits<double>::infinity();  // upper end of dist(centre, F) when evaluated
   std::int64_t near_face = -1;  // a triangle of F at that upper end
+  DepthWitness witness = {};  // the weights of its depth bound, when it had one (restale)
 };
 
 // Triangles of F listed once for the four children of a split cell: every triangle within `radius`
@@ -253,6 +254,7 @@ class BranchAndBound {
         if (w.depth >= 0) lower = std::max(lower, translated_lower(depth_[w.depth], t_, rounding));
         Cell c{lower, 0, w.is_node, w.id, w.level, w.bary, true, w.ball, w.depth};
         c.near_face = w.near_face;
+        c.witness = w.witness;
         push(c, false);
       }
       std::make_heap(heap_.begin(), heap_.end(), CellOrder());
@@ -276,6 +278,7 @@ class BranchAndBound {
         Cell e = c.is_node ? evaluate_node(c.id, &c.ball, c.near_face)
                            : evaluate_face(hinted(Cell{0, 0, false, c.id, c.level, c.bary}, c), &c.ball);
         if (q.lower > e.lower) e.lower = q.lower;  // both valid at this pose
+        if (e.witness.n == 0) e.witness = c.witness;  // still valid weights for a later pose
         push(e);
         continue;
       }
@@ -358,7 +361,7 @@ class BranchAndBound {
         }
         d = renumber[c.depth];
       }
-      f.cells.push_back({c.lower, c.is_node, c.id, c.level, c.bary, c.ball, d, c.near_face});
+      f.cells.push_back({c.lower, c.is_node, c.id, c.level, c.bary, c.ball, d, c.near_face, c.witness});
     };
     for (const Cell& c : discarded_) keep(c);
     f.cells.reserve(f.cells.size() + heap_.size());
@@ -448,7 +451,7 @@ class BranchAndBound {
       const std::array<Vec3, 8> corners = box.corners();
       TranslatedDepthBound moments;
       const double depth = depth_upper_bound(fixed_, centre, up(ud.hi + 2 * r), corners.data(), 8, ids_, nullptr,
-                                             nullptr, nullptr, &moments, 0.0, DepthWeights::sparse);
+                                             nullptr, nullptr, &moments, 0.0, DepthWeights::sparse, &c.witness);
       lower = std::max(lower, -depth);
       c.depth = keep_depth(moments, 0.0);
     }
@@ -630,9 +633,9 @@ class BranchAndBound {
         TranslatedDepthBound moments;
         const double depth =
             listed ? depth_upper_bound_among(fixed_, m, ids_, v.data(), 3, nullptr, len > 0.0 ? &normal : nullptr,
-                                             &corner, &moments, coplanar_slack(), DepthWeights::sparse)
+                                             &corner, &moments, coplanar_slack(), DepthWeights::sparse, &c.witness)
                    : depth_upper_bound(fixed_, m, reach, v.data(), 3, ids_, nullptr, len > 0.0 ? &normal : nullptr,
-                                       &corner, &moments, coplanar_slack(), DepthWeights::sparse);
+                                       &corner, &moments, coplanar_slack(), DepthWeights::sparse, &c.witness);
         c.depth = keep_depth(moments, eta);
         // The deepest point of a cell is often a corner (a mover vertex or edge): certify it, so
         // that the upper end meets the convexity bound without subdividing towards that corner.
@@ -648,8 +651,14 @@ class BranchAndBound {
         lower = std::max(lower, down(-depth - eta));
         // Still not set aside: the weights that minimise the bound over the corners, among the four
         // nearest triangles (doc/poses.md; four measured cheapest, 6 and 12 no tighter where it pays).
-        if (lower < threshold() && depth < kInf)
-          lower = std::max(lower, down(-minimax_depth_bound(fixed_, ids_, v.data(), 3, 4) - eta));
+        if (lower < threshold() && depth < kInf) {
+          DepthWitness w;
+          const double mm = down(-minimax_depth_bound(fixed_, ids_, v.data(), 3, 4, &w) - eta);
+          if (mm > lower) {
+            lower = mm;
+            if (w.n > 0) c.witness = w;
+          }
+        }
       }
     }
     c.lower = lower;
@@ -764,14 +773,21 @@ class BranchAndBound {
     if (c.near_face < 0) return q;
     const auto f = static_cast<std::uint32_t>(c.near_face);
     const auto dist_hi = [&](const Vec3& x) { return sqrt_interval(fixed_.face_squared_distance(x, f)).hi; };
+    q.witness = c.witness;
     if (c.is_node) {
       const Aabb box = moved(o_.boxes.nodes[c.id].bv, t_);
       const double r = up(up(0.5 * box.diagonal()) * (1.0 + 1e-12));
       const std::array<Vec3, 8> corners = box.corners();
       q.lower = std::max(down(-dist_hi(box.center()) - r), face_corner_lower(f, corners.data(), 8, 0.0));
+      if (q.lower < threshold() && c.witness.n > 0)
+        q.lower = std::max(q.lower, down(-witness_depth_bound(fixed_, c.witness, corners.data(), 8)));
     } else {
       const FaceGeometry geo = geometry(c);
       q.lower = std::max(down(down(-dist_hi(geo.m) - geo.r) - geo.eta_m), face_corner_lower(f, geo.v.data(), 3, geo.eta));
+      // The weights of its last depth bound, at the corners where it is now: on a wall between
+      // two faces of F (a plateau, a slide) as tight as a fresh evaluation, without its queries.
+      if (q.lower < threshold() && c.witness.n > 0)
+        q.lower = std::max(q.lower, down(-up(witness_depth_bound(fixed_, c.witness, geo.v.data(), 3) + geo.eta)));
     }
     return q;
   }

@@ -58,6 +58,7 @@ struct ClearanceFrontier {
     SideBall ball;  // at the frontier's pose: a ball free of F around the cell's centre, and its side
     std::int32_t depth = -1;  // index into `depth`, or -1 (no translated depth bound)
     std::int64_t near_face = -1;  // a triangle of F nearest to its centre when evaluated, or -1
+    DepthWitness witness = {};  // the weights of its last depth bound, if any (re-evaluated when stale)
   };
   bool valid = false;
   Vec3 t = Vec3::Zero();

@@ -204,10 +204,11 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
     run_key["deep_zone_jumps"] = 4;
   // Penetrating levels' certificates since 2026-11-28 (session 34: no pair-distance path, leaves
-  // of one face and hopeless boxes split unevaluated): their intervals, and so the polished poses,
-  // may differ within the tolerance from earlier binaries'. Absent otherwise.
+  // of one face and hopeless boxes split unevaluated, 2; stale cells re-bounded by their last depth
+  // bound's weights, 3): their intervals, and so the polished poses, may differ within the
+  // tolerance from earlier binaries'. Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
-    run_key["penetrating_certificates"] = 2;
+    run_key["penetrating_certificates"] = 3;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 

@@ -229,6 +229,95 @@ TEST(DepthWeights, SparseWeightsKeepAThinWallsPlateauExact) {
   EXPECT_LT(sparse, converged + 0.03);
 }
 
+// The witness of a depth bound (its four largest weights), evaluated at a cell's corners moved by
+// a random D: every sampled point of the moved cell lies within that bound of the surface (exact
+// rationals). `stale`: the witness evaluated at the unmoved corners instead (a wrong bound for the
+// moved cell, which must be caught). Minimax weights are checked as well as min-norm ones.
+Checked check_witness(const TriangleMesh& m, std::uint64_t seed, int cells, bool stale) {
+  const SignedDistance sdf(m);
+  const Aabb box = m.bbox();
+  const double diag = box.diagonal();
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
+  std::vector<std::uint32_t> ids;
+  Checked r;
+  while (r.cells < cells) {
+    const Vec3 c = box.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent());
+    const double size = diag * (0.002 + 0.05 * u(rng));
+    std::array<Vec3, 3> v;
+    for (Vec3& x : v) x = c + size * Vec3(s(rng), s(rng), s(rng));
+    const Vec3 centre = (v[0] + v[1] + v[2]) / 3.0;
+    double radius = 0;
+    for (const Vec3& x : v) radius = std::max(radius, (x - centre).norm());
+    const Interval ud = sdf.unsigned_distance(centre);
+    DepthWitness w, mm;
+    const double depth = depth_upper_bound(sdf, centre, ud.hi + 2 * radius, v.data(), 3, ids, nullptr, nullptr, nullptr,
+                                           nullptr, 0.0, DepthWeights::sparse, &w);
+    if (!(depth < HUGE_VAL) || w.n == 0) continue;
+    minimax_depth_bound(sdf, ids, v.data(), 3, 4, &mm);
+    ++r.cells;
+    for (int k = 0; k < 4; ++k) {
+      const Vec3 D = std::pow(10.0, -4.0 + 3.0 * u(rng)) * diag * Vec3(s(rng), s(rng), s(rng)).normalized();
+      std::array<Vec3, 3> moved;
+      for (int j = 0; j < 3; ++j) moved[j] = v[j] + D;
+      for (const DepthWitness* x : {&w, &mm}) {
+        if (x->n == 0) continue;
+        const double bound = witness_depth_bound(sdf, *x, stale ? v.data() : moved.data(), 3);
+        for (const Vec3& p : samples(moved)) {
+          ++r.points;
+          if (!within(exact_squared_distance(p, m), bound)) {
+            ++r.violations;
+            if (!stale)
+              ADD_FAILURE() << std::setprecision(17) << "point (" << p.x() << ", " << p.y() << ", " << p.z()
+                            << ") is farther than the witness bound " << bound;
+          }
+        }
+      }
+    }
+  }
+  return r;
+}
+
+TEST(DepthWitness, BoundsEveryPointOfTheMovedCellExactly) {
+  for (const auto& [name, m] : std::vector<std::pair<std::string, TriangleMesh>>{
+           {"torus", make_torus(2.0, 0.6, 24, 12)},
+           {"sphere", make_icosphere(1.0, 2)},
+           {"box", make_box(Vec3(0, 0, 0), Vec3(2, 1, 0.5))}}) {
+    SCOPED_TRACE(name);
+    const Checked r = check_witness(m, 7, 200, false);
+    EXPECT_EQ(r.cells, 200);
+    EXPECT_EQ(r.violations, 0) << "of " << r.points;
+  }
+}
+
+TEST(DepthWitness, AStaleBoundIsCaught) {
+  // The witness at the corners where the cell was, for the cell moved: must fail somewhere.
+  const Checked r = check_witness(make_torus(2.0, 0.6, 24, 12), 7, 60, true);
+  EXPECT_GT(r.violations, 0);
+}
+
+TEST(DepthWitness, ExactOnAThinWallsPlateauWhereverTheCellSlides) {
+  // A cell across the mid-plane of a plate 0.2 thick: its witness weighs the two faces, so the
+  // bound is the half-thickness wherever the cell slides along them (one face alone: 0.125).
+  const TriangleMesh m = make_box(Vec3(0, 0, 0), Vec3(4, 4, 0.2));
+  const SignedDistance sdf(m);
+  std::vector<std::uint32_t> ids;
+  const std::array<Vec3, 3> v{Vec3(1.7, 1.2, 0.075), Vec3(2.2, 1.3, 0.1), Vec3(1.9, 1.8, 0.125)};
+  const Vec3 centre = (v[0] + v[1] + v[2]) / 3.0;
+  DepthWitness w;
+  const double depth = depth_upper_bound(sdf, centre, 1.0, v.data(), 3, ids, nullptr, nullptr, nullptr, nullptr, 0.0,
+                                         DepthWeights::sparse, &w);
+  EXPECT_NEAR(depth, 0.1, 1e-12);
+  ASSERT_GE(w.n, 2);
+  // Slides that keep the cell over the same two triangles (each face is split along x + y = 4):
+  // beyond them the old triangles' distances grow and the bound with them (valid, not exact).
+  for (const Vec3& D : {Vec3(0.3, 0, 0), Vec3(-0.5, 0.4, 0), Vec3(-1.0, -0.8, 0)}) {
+    std::array<Vec3, 3> moved;
+    for (int j = 0; j < 3; ++j) moved[j] = v[j] + D;
+    EXPECT_NEAR(witness_depth_bound(sdf, w, moved.data(), 3), 0.1, 1e-6);
+  }
+}
+
 Eigen::Matrix3d some_rotation() {
   return (Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()) * Eigen::AngleAxisd(0.3, Vec3(0, 1, 0))).toRotationMatrix();
 }
