@@ -37,48 +37,71 @@ struct Checked {
   int cells = 0, points = 0, violations = 0;
 };
 
+// Random small triangles (cells) in and around a mesh's box, with the reach of their depth
+// candidates (dist(centre, F) + 2 radius), and random moves of them (10^-4 to 10^-1 of the
+// diagonal, any direction): the inputs of the moved-cell checks below.
+struct RandomCells {
+  RandomCells(const TriangleMesh& m, std::uint64_t seed) : box(m.bbox()), diag(box.diagonal()), rng(seed) {}
+  struct Cell {
+    std::array<Vec3, 3> v;
+    Vec3 centre;
+    double reach;
+  };
+  Cell next(const SignedDistance& sdf) {
+    Cell k;
+    const Vec3 c = box.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent());
+    const double size = diag * (0.002 + 0.05 * u(rng));
+    for (Vec3& x : k.v) x = c + size * Vec3(s(rng), s(rng), s(rng));
+    k.centre = (k.v[0] + k.v[1] + k.v[2]) / 3.0;
+    double radius = 0;
+    for (const Vec3& x : k.v) radius = std::max(radius, (x - k.centre).norm());
+    k.reach = sdf.unsigned_distance(k.centre).hi + 2 * radius;
+    return k;
+  }
+  Vec3 move() { return std::pow(10.0, -4.0 + 3.0 * u(rng)) * diag * Vec3(s(rng), s(rng), s(rng)).normalized(); }
+  Aabb box;
+  double diag;
+  std::mt19937_64 rng;
+  std::uniform_real_distribution<double> u{0.0, 1.0}, s{-1.0, 1.0};
+};
+
+// Counts the sampled points of the moved cell (corners v moved by D) farther from m's surface than
+// `bound` (exact rationals); reported as failures unless `expected` (a control).
+void check_points(const TriangleMesh& m, const std::array<Vec3, 3>& v, const Vec3& D, double bound, bool expected,
+                  Checked& r) {
+  std::array<Vec3, 3> moved;
+  for (int j = 0; j < 3; ++j) moved[j] = v[j] + D;
+  for (const Vec3& p : samples(moved)) {
+    ++r.points;
+    if (within(exact_squared_distance(p, m), bound)) continue;
+    ++r.violations;
+    if (!expected)
+      ADD_FAILURE() << std::setprecision(17) << "point (" << p.x() << ", " << p.y() << ", " << p.z()
+                    << ") is farther than the bound " << bound;
+  }
+}
+
 // Random small triangles (cells) around a mesh, each with its bound from depth_upper_bound, then
 // translated by random D; every sampled point of the translated cell must be within the bound of
 // the surface. `flip` evaluates the bound at -D instead (a wrong bound, which must be caught).
 Checked check_mesh(const TriangleMesh& m, std::uint64_t seed, int cells, bool flip,
                    DepthWeights weights = DepthWeights::converged) {
   const SignedDistance sdf(m);
-  const Aabb box = m.bbox();
-  const double diag = box.diagonal();
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
+  RandomCells gen(m, seed);
   std::vector<std::uint32_t> scratch;
   Checked r;
   while (r.cells < cells) {
-    const Vec3 c = box.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent());
-    const double size = diag * (0.002 + 0.05 * u(rng));
-    std::array<Vec3, 3> v;
-    for (Vec3& x : v) x = c + size * Vec3(s(rng), s(rng), s(rng));
-    const Vec3 centre = (v[0] + v[1] + v[2]) / 3.0;
-    double radius = 0;
-    for (const Vec3& x : v) radius = std::max(radius, (x - centre).norm());
-    const Interval ud = sdf.unsigned_distance(centre);
+    const RandomCells::Cell k = gen.next(sdf);
     TranslatedDepthBound b;
-    const double depth = depth_upper_bound(sdf, centre, ud.hi + 2 * radius, v.data(), 3, scratch, nullptr, nullptr,
-                                           nullptr, &b, 0.0, weights);
+    const double depth = depth_upper_bound(sdf, k.centre, k.reach, k.v.data(), 3, scratch, nullptr, nullptr, nullptr,
+                                           &b, 0.0, weights);
     if (!(depth < HUGE_VAL) || b.n != 3) continue;
     ++r.cells;
     // At D = 0 the moments bound is never below the bound it extends (Jensen).
     EXPECT_GE(translated_depth(b, Vec3::Zero()), depth * (1 - 1e-9));  // up to their rounding margins
-    for (int k = 0; k < 4; ++k) {
-      // Translations from tiny to a tenth of the diagonal, any direction.
-      const Vec3 D = std::pow(10.0, -4.0 + 3.0 * u(rng)) * diag * Vec3(s(rng), s(rng), s(rng)).normalized();
-      const double bound = translated_depth(b, flip ? Vec3(-D) : D);
-      for (const Vec3& x : samples(v)) {
-        ++r.points;
-        const Vec3 p = x + D;
-        if (!within(exact_squared_distance(p, m), bound)) {
-          ++r.violations;
-          if (!flip)
-            ADD_FAILURE() << std::setprecision(17) << "point (" << p.x() << ", " << p.y() << ", " << p.z()
-                          << ") is farther than the bound " << bound;
-        }
-      }
+    for (int i = 0; i < 4; ++i) {
+      const Vec3 D = gen.move();
+      check_points(m, k.v, D, translated_depth(b, flip ? Vec3(-D) : D), flip, r);
     }
   }
   return r;
@@ -235,44 +258,23 @@ TEST(DepthWeights, SparseWeightsKeepAThinWallsPlateauExact) {
 // moved cell, which must be caught). Minimax weights are checked as well as min-norm ones.
 Checked check_witness(const TriangleMesh& m, std::uint64_t seed, int cells, bool stale) {
   const SignedDistance sdf(m);
-  const Aabb box = m.bbox();
-  const double diag = box.diagonal();
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
+  RandomCells gen(m, seed);
   std::vector<std::uint32_t> ids;
   Checked r;
   while (r.cells < cells) {
-    const Vec3 c = box.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent());
-    const double size = diag * (0.002 + 0.05 * u(rng));
-    std::array<Vec3, 3> v;
-    for (Vec3& x : v) x = c + size * Vec3(s(rng), s(rng), s(rng));
-    const Vec3 centre = (v[0] + v[1] + v[2]) / 3.0;
-    double radius = 0;
-    for (const Vec3& x : v) radius = std::max(radius, (x - centre).norm());
-    const Interval ud = sdf.unsigned_distance(centre);
+    const RandomCells::Cell k = gen.next(sdf);
     DepthWitness w, mm;
-    const double depth = depth_upper_bound(sdf, centre, ud.hi + 2 * radius, v.data(), 3, ids, nullptr, nullptr, nullptr,
+    const double depth = depth_upper_bound(sdf, k.centre, k.reach, k.v.data(), 3, ids, nullptr, nullptr, nullptr,
                                            nullptr, 0.0, DepthWeights::sparse, &w);
     if (!(depth < HUGE_VAL) || w.n == 0) continue;
-    minimax_depth_bound(sdf, ids, v.data(), 3, 4, &mm);
+    minimax_depth_bound(sdf, ids, k.v.data(), 3, 4, &mm);
     ++r.cells;
-    for (int k = 0; k < 4; ++k) {
-      const Vec3 D = std::pow(10.0, -4.0 + 3.0 * u(rng)) * diag * Vec3(s(rng), s(rng), s(rng)).normalized();
+    for (int i = 0; i < 4; ++i) {
+      const Vec3 D = gen.move();
       std::array<Vec3, 3> moved;
-      for (int j = 0; j < 3; ++j) moved[j] = v[j] + D;
-      for (const DepthWitness* x : {&w, &mm}) {
-        if (x->n == 0) continue;
-        const double bound = witness_depth_bound(sdf, *x, stale ? v.data() : moved.data(), 3);
-        for (const Vec3& p : samples(moved)) {
-          ++r.points;
-          if (!within(exact_squared_distance(p, m), bound)) {
-            ++r.violations;
-            if (!stale)
-              ADD_FAILURE() << std::setprecision(17) << "point (" << p.x() << ", " << p.y() << ", " << p.z()
-                            << ") is farther than the witness bound " << bound;
-          }
-        }
-      }
+      for (int j = 0; j < 3; ++j) moved[j] = k.v[j] + D;
+      for (const DepthWitness* x : {&w, &mm})
+        if (x->n > 0) check_points(m, k.v, D, witness_depth_bound(sdf, *x, stale ? k.v.data() : moved.data(), 3), stale, r);
     }
   }
   return r;
