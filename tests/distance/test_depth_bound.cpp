@@ -37,6 +37,13 @@ struct Checked {
   int cells = 0, points = 0, violations = 0;
 };
 
+// The solids of the moved-cell checks: curved (a torus, a sphere) and flat (a box).
+std::vector<std::pair<std::string, TriangleMesh>> three_solids() {
+  return {{"torus", make_torus(2.0, 0.6, 24, 12)},
+          {"sphere", make_icosphere(1.0, 2)},
+          {"box", make_box(Vec3(0, 0, 0), Vec3(2, 1, 0.5))}};
+}
+
 // Random small triangles (cells) in and around a mesh's box, with the reach of their depth
 // candidates (dist(centre, F) + 2 radius), and random moves of them (10^-4 to 10^-1 of the
 // diagonal, any direction): the inputs of the moved-cell checks below.
@@ -108,10 +115,7 @@ Checked check_mesh(const TriangleMesh& m, std::uint64_t seed, int cells, bool fl
 }
 
 TEST(TranslatedDepth, BoundsEveryPointOfTheTranslatedCellExactly) {
-  for (const auto& [name, m] : std::vector<std::pair<std::string, TriangleMesh>>{
-           {"torus", make_torus(2.0, 0.6, 24, 12)},
-           {"sphere", make_icosphere(1.0, 2)},
-           {"box", make_box(Vec3(0, 0, 0), Vec3(2, 1, 0.5))}}) {
+  for (const auto& [name, m] : three_solids()) {
     SCOPED_TRACE(name);
     for (const DepthWeights w : {DepthWeights::converged, DepthWeights::sparse}) {
       const Checked r = check_mesh(m, 5, 200, false, w);
@@ -281,10 +285,7 @@ Checked check_witness(const TriangleMesh& m, std::uint64_t seed, int cells, bool
 }
 
 TEST(DepthWitness, BoundsEveryPointOfTheMovedCellExactly) {
-  for (const auto& [name, m] : std::vector<std::pair<std::string, TriangleMesh>>{
-           {"torus", make_torus(2.0, 0.6, 24, 12)},
-           {"sphere", make_icosphere(1.0, 2)},
-           {"box", make_box(Vec3(0, 0, 0), Vec3(2, 1, 0.5))}}) {
+  for (const auto& [name, m] : three_solids()) {
     SCOPED_TRACE(name);
     const Checked r = check_witness(m, 7, 200, false);
     EXPECT_EQ(r.cells, 200);
