@@ -277,8 +277,8 @@ struct CoverGeometry {
   // An upper bound of max m.x over x in G with n.x <= off (Lagrange: for any mu >= 0 it is at most
   // mu off + max over G of (m - mu n).x; the best mu is 0 or where a coordinate of m - mu n changes
   // sign). The computed m - mu n is within a few ulps of the exact; the error term covers that and
-  // the sums' rounding. `at_zero`: the bound at mu = 0 (lagrange(m, G, n, off, 0.0)), the same for
-  // every clip of a cube, so computed once per axis by the caller.
+  // the sums' rounding. `at_zero`: the bound at mu = 0 (box_max(m, G)), the same for every clip of
+  // a cube, so computed once per axis by the caller.
   static double lagrange(const Vec3& m, const Aabb& G, const Vec3& n, double off, double mu) {
     double v = mu == 0.0 ? 0.0 : mu * off, abs_sum = mu == 0.0 ? 0.0 : std::abs(v);
     for (int k = 0; k < 3; ++k) {
@@ -289,6 +289,7 @@ struct CoverGeometry {
     }
     return round_up(v + 1e-14 * abs_sum + 1e-300);
   }
+  static double box_max(const Vec3& m, const Aabb& G) { return lagrange(m, G, m, 0.0, 0.0); }
   static double support(const Vec3& m, const Aabb& G, const Vec3& n, double off, double at_zero) {
     double best = at_zero;
     for (int k = 0; k < 3; ++k) {
@@ -348,13 +349,16 @@ struct CoverGeometry {
     axes[0] = edges[0].cross(a2 - a0);
     for (int e = 0; e < 3; ++e)
       for (int k = 0; k < 3; ++k) axes[1 + 3 * e + k] = edges[e].cross(Vec3::Unit(k));
-    for (const Vec3& n : axes) {
+    // The triangle's extent along each axis, kept for the clipped pass below.
+    std::array<double, 10> p_lo, p_hi;
+    for (std::size_t i = 0; i < axes.size(); ++i) {
       if (r.empty()) return;
+      const Vec3& n = axes[i];
       if (!(n.cwiseAbs().maxCoeff() > 0.0)) continue;
-      double p_lo, p_hi, b_lo, b_hi;
-      extent(n, a0, a1, a2, p_lo, p_hi);
+      double b_lo, b_hi;
+      extent(n, a0, a1, a2, p_lo[i], p_hi[i]);
       extent(n, G, b_lo, b_hi);
-      moving(n, p_lo, p_hi, b_lo, b_hi, r);
+      moving(n, p_lo[i], p_hi[i], b_lo, b_hi, r);
     }
     const int n_clips = v ? v->n_clips : 0;
     if (n_clips == 0 || r.empty()) return;
@@ -366,28 +370,30 @@ struct CoverGeometry {
       cn[i] = v->clips[i].n;
       coff[i] = grown_off(v->clips[i]);
     }
-    const auto clipped = [&](const Vec3& n) {
-      if (!(n.cwiseAbs().maxCoeff() > 0.0)) return;
-      double p_lo, p_hi;
-      extent(n, a0, a1, a2, p_lo, p_hi);
+    // The clipped cube's extent along n (the least of the clips' bounds), against the triangle's.
+    const auto clipped = [&](const Vec3& n, double t_lo, double t_hi) {
       const Vec3 m = -n;
-      const double top = lagrange(n, G, n, 0.0, 0.0), bottom = lagrange(m, G, n, 0.0, 0.0);
+      const double top = box_max(n, G), bottom = box_max(m, G);
       double b_lo = -std::numeric_limits<double>::infinity(), b_hi = -b_lo;
       for (int i = 0; i < n_clips; ++i) {
         b_hi = std::min(b_hi, support(n, G, cn[i], coff[i], top));
         b_lo = std::max(b_lo, -support(m, G, cn[i], coff[i], bottom));
       }
-      moving(n, p_lo, p_hi, b_lo, b_hi, r);
+      moving(n, t_lo, t_hi, b_lo, b_hi, r);
     };
-    for (const Vec3& n : axes) {
+    for (std::size_t i = 0; i < axes.size(); ++i) {
       if (r.empty()) return;
-      clipped(n);
+      if (axes[i].cwiseAbs().maxCoeff() > 0.0) clipped(axes[i], p_lo[i], p_hi[i]);
     }
     for (int i = 0; i < n_clips; ++i)
       for (int e = 0; e < 3; ++e)
         for (int k = 0; k < 3; ++k) {
           if (r.empty()) return;
-          clipped(edges[e].cross(cn[i].cross(Vec3::Unit(k))));
+          const Vec3 n = edges[e].cross(cn[i].cross(Vec3::Unit(k)));
+          if (!(n.cwiseAbs().maxCoeff() > 0.0)) continue;
+          double t_lo, t_hi;
+          extent(n, a0, a1, a2, t_lo, t_hi);
+          clipped(n, t_lo, t_hi);
         }
   }
   // A clip {n.x <= off} grown by the margin: the margin ball reaches at most margin |n|_1 along n.

@@ -292,25 +292,22 @@ class BranchAndBound {
               // query, a ray test, a depth bound) only to be split into that same face, whose
               // bounds are at least as tight; on CAD parts whose faces are many times |target|
               // most leaves near a penetration are split so (pinion: 280 per cold certificate).
-              Cell f{0, 0, false, o_.boxes.order[kid.first], 0, {{{0, 0}, {1, 0}, {0, 1}}}};
-              push(evaluate_face(hinted(f, c), &c.ball));
-            } else if (hopeless(c, child)) {
+              push(evaluate_face(hinted(whole_face(o_.boxes.order[kid.first]), c), &c.ball));
+            } else if (double ud_hi; hopeless(c, child, &ud_hi)) {
               // Its centre's distance bounded from this node's: it cannot be set aside by its own
               // bound, so it is split without one (this node's bound holds on it).
               Cell k{c.lower, 0, true, child, 0, {}};
               k.ball = c.ball;
               k.near_face = c.near_face;
-              k.ud_hi = hope_ud_;
+              k.ud_hi = ud_hi;
               push(k);
             } else {
               push(evaluate_node(child, &c.ball, c.near_face));
             }
           }
         } else {
-          for (std::uint32_t i = 0; i < node.count; ++i) {
-            Cell f{0, 0, false, o_.boxes.order[node.first + i], 0, {{{0, 0}, {1, 0}, {0, 1}}}};
-            push(evaluate_face(hinted(f, c), &c.ball));
-          }
+          for (std::uint32_t i = 0; i < node.count; ++i)
+            push(evaluate_face(hinted(whole_face(o_.boxes.order[node.first + i]), c), &c.ball));
         }
       } else {
         // Children by edge midpoints (dyadic, so exact in the barycentrics): a needle (one edge
@@ -417,19 +414,21 @@ class BranchAndBound {
     return c;
   }
 
+  // The cell of a whole face of the mover (level 0, its own corners).
+  static Cell whole_face(std::uint32_t face) { return Cell{0, 0, false, face, 0, {{{0, 0}, {1, 0}, {0, 1}}}}; }
+
   // Whether the node `child` of the node cell c could not be set aside by its own evaluation's
   // Lipschitz bound: s at its centre x is at most dist(x, F) <= c's distance bound + |x - c's
-  // centre|, less its half-diagonal still below the threshold. Only where c's centre is outside
-  // F (inside, a child's depth bound might set it aside). A heuristic: skipping only costs
-  // tightness. Leaves hope_ud_ (the bound on dist(x, F)).
-  bool hopeless(const Cell& c, std::uint32_t child) {
+  // centre| (*ud_hi), less its half-diagonal still below the threshold. Only where c's centre is
+  // outside F (inside, a child's depth bound might set it aside). A heuristic: skipping only costs
+  // tightness.
+  bool hopeless(const Cell& c, std::uint32_t child, double* ud_hi) {
     if (!c.is_node || c.ball.side <= 0 || !(c.ud_hi < kInf)) return false;
     const Aabb pb = moved(o_.boxes.nodes[c.id].bv, t_), kb = moved(o_.boxes.nodes[child].bv, t_);
     const double r = 0.5 * kb.diagonal();
-    hope_ud_ = up(c.ud_hi + up((kb.center() - pb.center()).norm() * (1.0 + 1e-12)));
-    return hope_ud_ - r < threshold();
+    *ud_hi = up(c.ud_hi + up((kb.center() - pb.center()).norm() * (1.0 + 1e-12)));
+    return *ud_hi - r < threshold();
   }
-  double hope_ud_ = kInf;
 
   // hint: a triangle of F likely near the node's centre (unsigned_distance's hint), or -1.
   Cell evaluate_node(std::uint32_t n, const SideBall* parent = nullptr, std::int64_t hint = -1) {
