@@ -96,10 +96,30 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
   const Aabb& Q = cube.box;
   const Vec3 q = Q.center();
   const double r = deep_cube_radius(Q);  // every point of Q within r of q
+  // What the parent left decides most cubes near the mover's path before any tree query: the
+  // distance to its centre's nearest triangle bounds dist(q, F) from above, and q inside the
+  // parent centre's free ball has that centre's side (the segment between them misses F). The
+  // verdicts are those of the queries below (a cube they drop has no children).
+  if (cube.hint >= 0) {
+    const auto hint = static_cast<std::uint32_t>(cube.hint);
+    if (round_up(point_triangle_distance_upper(q, fixed.mesh(), hint) + r) < depth) {
+      v.nearest = hint;
+      return v;  // s >= -dist(x, F) > target on Q
+    }
+  }
+  const bool in_free_ball =
+      cube.ref_side != 0 && round_up((q - cube.ref).norm() * (1.0 + 1e-12)) < cube.ref_free;
+  if (in_free_ball && cube.ref_side > 0 && round_down(-r) > target) {
+    v.side = 1;
+    return v;  // outside: s >= dist(q, F) - r >= -r > target
+  }
   const Interval ud = fixed.unsigned_distance(q, &v.nearest, cube.hint);
+  v.free = ud.lo;
   // s >= -dist(x, F) everywhere: shallow whatever q's side.
   if (round_up(ud.hi + r) < depth) return v;
-  const int side = cube.ref_side != 0 ? fixed.side(q, ud, cube.ref, cube.ref_side) : fixed.side(q, ud);
+  const int side = in_free_ball         ? cube.ref_side
+                   : cube.ref_side != 0 ? fixed.side(q, ud, cube.ref, cube.ref_side)
+                                        : fixed.side(q, ud);
   if (ud.lo > 0.0) v.side = static_cast<signed char>(side);
   if (side > 0 && round_down(ud.lo - r) > target) return v;  // outside: s >= dist(q, F) - r
   if (side < 0 && round_down(ud.lo - r) >= depth) {        // inside Z: s <= s(q) + r <= target
@@ -130,6 +150,7 @@ std::array<DeepCube, 8> deep_cube_children(const DeepCube& cube, const DeepCubeV
     }
     c.ref = q;
     c.ref_side = verdict.side;
+    c.ref_free = verdict.free;
     c.hint = verdict.nearest;
   }
   return children;

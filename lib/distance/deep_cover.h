@@ -34,6 +34,7 @@ struct DeepCube {
   Aabb box;
   Vec3 ref = Vec3::Zero();
   int ref_side = 0;
+  double ref_free = 0.0;  // the open ball of this radius about ref misses F
   std::int64_t hint = -1;
 };
 
@@ -54,6 +55,7 @@ struct DeepCubeVerdict {
   signed char side = 0;        // the centre's side when certain (0: not known)
   signed char n_clips = 0;     // clips[0, n_clips): Z's part of the cube lies in each (keep, split)
   std::uint32_t nearest = 0;   // the centre's nearest triangle
+  double free = 0.0;           // a lower bound of the centre's distance to F (0: not known)
   std::array<DeepClip, 4> clips;
 };
 

@@ -12,6 +12,7 @@
 #include "distance/point_triangle_distance.h"
 #include "distance/triangle_distance.h"
 #include "sweep/mesh_sweep.h"
+#include "util/thread_scratch.h"
 
 namespace cdbench {
 namespace {
@@ -245,11 +246,40 @@ void axis_range(double p_lo, double p_hi, double b_lo, double b_hi, double w_lo,
     return;
   }
   // p_hi + lambda w >= b_lo and p_lo + lambda w <= b_hi, for the exact w in [w_lo, w_hi] > 0.
+  // Division is monotone in any rounding mode: the smaller quotient of n1 is over the larger w
+  // when n1 >= 0, and the larger of n2 over the smaller w when n2 >= 0 (one division each).
   const double n1 = round_down(b_lo - p_hi), n2 = round_up(b_hi - p_lo);
-  const double lo = round_down(std::min(n1 / w_lo, n1 / w_hi));
-  const double hi = round_up(std::max(n2 / w_lo, n2 / w_hi));
+  const double lo = round_down(n1 >= 0.0 ? n1 / w_hi : n1 / w_lo);
+  const double hi = round_up(n2 >= 0.0 ? n2 / w_lo : n2 / w_hi);
   r.meet(lo, hi);
 }
+
+// A moving triangle's separating axes against a box (its normal, its edges crossed with the
+// coordinate axes), its extent along each, moved by t0, and the motion d along each (all outward):
+// the same for every cube a query tests it against, so made once per face and query.
+struct MovingTriangle {
+  std::array<Vec3, 3> edges;
+  std::array<Vec3, 10> axes;
+  std::array<double, 10> p_lo, p_hi;  // the triangle's extent (rotated coordinates)
+  std::array<double, 10> m_lo, m_hi;  // moved by t0
+  std::array<double, 10> w_lo, w_hi;  // d along the axis
+  std::uint16_t nonzero = 0;          // bit i: axis i is not the zero vector
+};
+// A query's moving triangles, per thread (ThreadScratch): slot[face] holds the query's stamp and
+// the triangle's index in `items` once made.
+struct MovingTriangles {
+  std::vector<std::uint64_t> slot;
+  std::vector<MovingTriangle> items;
+  std::uint32_t stamp = 0;
+  void start(std::size_t faces) {
+    if (slot.size() != faces || stamp == 0xffffffffu) {
+      slot.assign(faces, 0);
+      stamp = 0;
+    }
+    ++stamp;
+    items.clear();
+  }
+};
 
 // The lambdas where the mover (rotated doubles moved by t0 + lambda d, exactly) can meet a box
 // of a deep-zone cover grown by `margin`.
@@ -257,6 +287,7 @@ struct CoverGeometry {
   const MoverOrientation& o;
   Vec3 t0, d;
   double margin;
+  MovingTriangles* cache = nullptr;  // optional: the query's moving triangles
 
   // A cover's box grown by the margin, outwards.
   Aabb grown(const Aabb& B) const {
@@ -319,18 +350,59 @@ struct CoverGeometry {
       hi = std::max(hi, round_up(v.value + v.error));
     }
   }
+  // Points whose extent along n is [p_lo, p_hi] in rotated coordinates, moved by t0 (outward), and
+  // d along n.
+  void moved(const Vec3& n, double p_lo, double p_hi, double& m_lo, double& m_hi, double& w_lo, double& w_hi) const {
+    const PlaneOffset nt = plane_offset(n, 0.0, t0), nd = plane_offset(n, 0.0, d);
+    m_lo = round_down(p_lo + round_down(nt.value - nt.error));
+    m_hi = round_up(p_hi + round_up(nt.value + nt.error));
+    w_lo = round_down(nd.value - nd.error);
+    w_hi = round_up(nd.value + nd.error);
+  }
   // Moving points whose extent along n is [p_lo, p_hi] in rotated coordinates, moved by
   // t0 + lambda d, against the fixed extent [b_lo, b_hi], narrowing r.
   void moving(const Vec3& n, double p_lo, double p_hi, double b_lo, double b_hi, LambdaRange& r) const {
-    const PlaneOffset nt = plane_offset(n, 0.0, t0), nd = plane_offset(n, 0.0, d);
-    axis_range(round_down(p_lo + round_down(nt.value - nt.error)), round_up(p_hi + round_up(nt.value + nt.error)),
-               b_lo, b_hi, round_down(nd.value - nd.error), round_up(nd.value + nd.error), r);
+    double m_lo, m_hi, w_lo, w_hi;
+    moved(n, p_lo, p_hi, m_lo, m_hi, w_lo, w_hi);
+    axis_range(m_lo, m_hi, b_lo, b_hi, w_lo, w_hi, r);
+  }
+  // The moving triangle `face`: from the query's cache when there is one.
+  void make_moving(std::uint32_t face, MovingTriangle& t) const {
+    const Face& f = (*o.faces)[face];
+    const Vec3 &a0 = o.rotated[f[0]], &a1 = o.rotated[f[1]], &a2 = o.rotated[f[2]];
+    t.edges = {a1 - a0, a2 - a1, a0 - a2};
+    t.axes[0] = t.edges[0].cross(a2 - a0);
+    for (int e = 0; e < 3; ++e)
+      for (int k = 0; k < 3; ++k) t.axes[1 + 3 * e + k] = t.edges[e].cross(Vec3::Unit(k));
+    t.nonzero = 0;
+    for (std::size_t i = 0; i < t.axes.size(); ++i) {
+      const Vec3& n = t.axes[i];
+      if (!(n.cwiseAbs().maxCoeff() > 0.0)) continue;
+      t.nonzero = static_cast<std::uint16_t>(t.nonzero | (1u << i));
+      extent(n, a0, a1, a2, t.p_lo[i], t.p_hi[i]);
+      moved(n, t.p_lo[i], t.p_hi[i], t.m_lo[i], t.m_hi[i], t.w_lo[i], t.w_hi[i]);
+    }
+  }
+  const MovingTriangle& moving_triangle(std::uint32_t face, MovingTriangle& local) const {
+    if (!cache) {
+      make_moving(face, local);
+      return local;
+    }
+    std::uint64_t& s = cache->slot[face];
+    if (s >> 32 == cache->stamp) return cache->items[s & 0xffffffffu];
+    s = (static_cast<std::uint64_t>(cache->stamp) << 32) | cache->items.size();
+    cache->items.emplace_back();
+    make_moving(face, cache->items.back());
+    return cache->items.back();
   }
   // The moving triangle `face` against the grown box G, and, with v, against the zone's part of the
-  // cube (G with each of v's clips grown by the margin): the separating axes of a triangle and a
+  // cube (G with each of v's clips grown by the margin): separating axes of a triangle and a
   // polytope (its face normals, the triangle's, and edges crossed with edges), the polytope's
   // extent along each bounded through support(). The box's 13 axes first, as without clips: most
-  // pairs part there, and the clipped extents cost more. Narrows r.
+  // pairs part there, and the clipped extents cost more. Any set of axes is valid (a pair no axis
+  // parts may meet); the triangle's edges crossed with the clip planes' edges on the box are left
+  // out: they parted under 1 % of the pairs and cost a sixth of rotor's -20 % poses
+  // (doc/performance.md, "The octree's triangle tests"). Narrows r.
   void triangle(std::uint32_t face, const Aabb& G, LambdaRange& r, const DeepCubeVerdict* v = nullptr) const {
     const Face& f = (*o.faces)[face];
     const Vec3 &a0 = o.rotated[f[0]], &a1 = o.rotated[f[1]], &a2 = o.rotated[f[2]];
@@ -344,26 +416,19 @@ struct CoverGeometry {
     if (r.empty()) return;
     // The triangle's normal and its edges crossed with the axes: any vector separates validly; the
     // computed ones nearly as the exact.
-    const std::array<Vec3, 3> edges{a1 - a0, a2 - a1, a0 - a2};
-    std::array<Vec3, 10> axes;
-    axes[0] = edges[0].cross(a2 - a0);
-    for (int e = 0; e < 3; ++e)
-      for (int k = 0; k < 3; ++k) axes[1 + 3 * e + k] = edges[e].cross(Vec3::Unit(k));
-    // The triangle's extent along each axis, kept for the clipped pass below.
-    std::array<double, 10> p_lo, p_hi;
+    MovingTriangle local;
+    const MovingTriangle& t = moving_triangle(face, local);
+    const std::array<Vec3, 10>& axes = t.axes;
     for (std::size_t i = 0; i < axes.size(); ++i) {
       if (r.empty()) return;
-      const Vec3& n = axes[i];
-      if (!(n.cwiseAbs().maxCoeff() > 0.0)) continue;
+      if (!(t.nonzero >> i & 1u)) continue;
       double b_lo, b_hi;
-      extent(n, a0, a1, a2, p_lo[i], p_hi[i]);
-      extent(n, G, b_lo, b_hi);
-      moving(n, p_lo[i], p_hi[i], b_lo, b_hi, r);
+      extent(axes[i], G, b_lo, b_hi);
+      axis_range(t.m_lo[i], t.m_hi[i], b_lo, b_hi, t.w_lo[i], t.w_hi[i], r);
     }
     const int n_clips = v ? v->n_clips : 0;
     if (n_clips == 0 || r.empty()) return;
-    // Against the clipped cube: the same axes with its smaller extents, and the triangle's edges
-    // crossed with the clip planes' edges on the box (n x axis).
+    // Against the clipped cube: the same axes with its smaller extents.
     std::array<Vec3, 4> cn;
     std::array<double, 4> coff;
     for (int i = 0; i < n_clips; ++i) {
@@ -371,30 +436,23 @@ struct CoverGeometry {
       coff[i] = grown_off(v->clips[i]);
     }
     // The clipped cube's extent along n (the least of the clips' bounds), against the triangle's.
-    const auto clipped = [&](const Vec3& n, double t_lo, double t_hi) {
+    const auto clipped_extent = [&](const Vec3& n, double& b_lo, double& b_hi) {
       const Vec3 m = -n;
       const double top = box_max(n, G), bottom = box_max(m, G);
-      double b_lo = -std::numeric_limits<double>::infinity(), b_hi = -b_lo;
+      b_lo = -std::numeric_limits<double>::infinity();
+      b_hi = -b_lo;
       for (int i = 0; i < n_clips; ++i) {
         b_hi = std::min(b_hi, support(n, G, cn[i], coff[i], top));
         b_lo = std::max(b_lo, -support(m, G, cn[i], coff[i], bottom));
       }
-      moving(n, t_lo, t_hi, b_lo, b_hi, r);
     };
     for (std::size_t i = 0; i < axes.size(); ++i) {
       if (r.empty()) return;
-      if (axes[i].cwiseAbs().maxCoeff() > 0.0) clipped(axes[i], p_lo[i], p_hi[i]);
+      if (!(t.nonzero >> i & 1u)) continue;
+      double b_lo, b_hi;
+      clipped_extent(axes[i], b_lo, b_hi);
+      axis_range(t.m_lo[i], t.m_hi[i], b_lo, b_hi, t.w_lo[i], t.w_hi[i], r);
     }
-    for (int i = 0; i < n_clips; ++i)
-      for (int e = 0; e < 3; ++e)
-        for (int k = 0; k < 3; ++k) {
-          if (r.empty()) return;
-          const Vec3 n = edges[e].cross(cn[i].cross(Vec3::Unit(k)));
-          if (!(n.cwiseAbs().maxCoeff() > 0.0)) continue;
-          double t_lo, t_hi;
-          extent(n, a0, a1, a2, t_lo, t_hi);
-          clipped(n, t_lo, t_hi);
-        }
   }
   // A clip {n.x <= off} grown by the margin: the margin ball reaches at most margin |n|_1 along n.
   double grown_off(const DeepClip& c) const {
@@ -453,7 +511,10 @@ double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orient
                           double slack, double lambda_max, double stop_at) {
   if (!cover.complete || cover.boxes.empty() || orientation.boxes.empty())
     return -std::numeric_limits<double>::infinity();
-  CoverContactPolicy p{{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max)}, cover, stop_at};
+  ThreadScratch<MovingTriangles> moving_scratch;
+  moving_scratch.get().start(orientation.faces->size());
+  CoverContactPolicy p{{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max), &moving_scratch.get()},
+                       cover, stop_at};
   traverse_pairs_best_first(orientation.boxes, cover.tree, p);
   return p.best;
 }
@@ -470,7 +531,9 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     out.complete = true;
     return out;
   }
-  const CoverGeometry g{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max)};
+  ThreadScratch<MovingTriangles> moving_scratch;
+  moving_scratch.get().start(orientation.faces->size());
+  const CoverGeometry g{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max), &moving_scratch.get()};
   // The octree, grown on demand: a cube is classified when a pair holding it comes up, and split
   // into eight when it is neither dropped nor kept.
   struct Node {

@@ -68,6 +68,24 @@ TEST(DeepCover, HoldsEveryDeepPoint) {
   expect_covers_deep_points(make_icosphere(1.0, 2), -0.3, 0.15, 3);
 }
 
+// The octree's first `levels` levels, breadth first: f(cube, verdict, level) for each cube
+// classified (cell size 0), the split ones' children on the next level.
+template <class F>
+void walk_octree(const SignedDistance& sdf, double target, int levels, F f) {
+  std::vector<DeepCube> level{deep_cover_root(sdf)}, next;
+  std::vector<std::uint32_t> ids;
+  for (int l = 0; l < levels; ++l) {
+    next.clear();
+    for (const DeepCube& cube : level) {
+      const DeepCubeVerdict v = classify_deep_cube(sdf, target, 0.0, cube, ids);
+      if (v.what == DeepCubeVerdict::split)
+        for (const DeepCube& c : deep_cube_children(cube, v)) next.push_back(c);
+      f(cube, v, l);
+    }
+    std::swap(level, next);
+  }
+}
+
 // A cube's clips (DeepClip) hold every deep point of the cube, in exact arithmetic, and a cube
 // dropped holds none: octree cubes near the zone's boundary of a flat-faced plate and block and of
 // a curved torus, each sampled at random points whose depth is decided exactly.
@@ -76,43 +94,34 @@ void expect_clips_hold_deep_points(const TriangleMesh& m, double target, int lev
   const CgalSide side(m);
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<DeepCube> level{deep_cover_root(sdf)}, next;
-  std::vector<std::uint32_t> ids;
   int clipped = 0, deep = 0, cut = 0;
-  for (int l = 0; l < levels; ++l) {
-    next.clear();
-    for (const DeepCube& cube : level) {
-      const DeepCubeVerdict v = classify_deep_cube(sdf, target, 0.0, cube, ids);
-      if (v.what == DeepCubeVerdict::split)
-        for (const DeepCube& c : deep_cube_children(cube, v)) next.push_back(c);
-      if (l + 3 < levels) continue;  // sampled on the last levels only
-      if (v.n_clips > 0) ++clipped;
-      for (int i = 0; i < 6; ++i) {
-        Vec3 p;
-        for (int k = 0; k < 3; ++k) p[k] = cube.box.lo[k] + u(rng) * (cube.box.hi[k] - cube.box.lo[k]);
-        if (side(p) >= 0 || testing::exact_squared_distance(p, m) < Epeck::FT(target) * target) {
-          // Shallow: count the clips that exclude it (they do cut the cube).
-          for (int c = 0; c < v.n_clips; ++c) {
-            const DeepClip& k = v.clips[c];
-            const Epeck::FT np = Epeck::FT(k.n.x()) * p.x() + Epeck::FT(k.n.y()) * p.y() + Epeck::FT(k.n.z()) * p.z();
-            if (np > Epeck::FT(k.off)) ++cut;
-          }
-          continue;
-        }
-        ++deep;
-        ASSERT_NE(v.what, DeepCubeVerdict::drop) << std::setprecision(17) << "deep point (" << p.transpose()
-                                                 << ") in a dropped cube " << cube.box.lo.transpose() << " / "
-                                                 << cube.box.hi.transpose();
+  walk_octree(sdf, target, levels, [&](const DeepCube& cube, const DeepCubeVerdict& v, int l) {
+    if (l + 3 < levels) return;  // sampled on the last levels only
+    if (v.n_clips > 0) ++clipped;
+    for (int i = 0; i < 6; ++i) {
+      Vec3 p;
+      for (int k = 0; k < 3; ++k) p[k] = cube.box.lo[k] + u(rng) * (cube.box.hi[k] - cube.box.lo[k]);
+      if (side(p) >= 0 || testing::exact_squared_distance(p, m) < Epeck::FT(target) * target) {
+        // Shallow: count the clips that exclude it (they do cut the cube).
         for (int c = 0; c < v.n_clips; ++c) {
           const DeepClip& k = v.clips[c];
           const Epeck::FT np = Epeck::FT(k.n.x()) * p.x() + Epeck::FT(k.n.y()) * p.y() + Epeck::FT(k.n.z()) * p.z();
-          ASSERT_TRUE(np <= Epeck::FT(k.off)) << std::setprecision(17) << "deep point (" << p.transpose()
-                                              << ") beyond clip " << c << " n " << k.n.transpose() << " off " << k.off;
+          if (np > Epeck::FT(k.off)) ++cut;
         }
+        continue;
+      }
+      ++deep;
+      ASSERT_NE(v.what, DeepCubeVerdict::drop) << std::setprecision(17) << "deep point (" << p.transpose()
+                                               << ") in a dropped cube " << cube.box.lo.transpose() << " / "
+                                               << cube.box.hi.transpose();
+      for (int c = 0; c < v.n_clips; ++c) {
+        const DeepClip& k = v.clips[c];
+        const Epeck::FT np = Epeck::FT(k.n.x()) * p.x() + Epeck::FT(k.n.y()) * p.y() + Epeck::FT(k.n.z()) * p.z();
+        ASSERT_TRUE(np <= Epeck::FT(k.off)) << std::setprecision(17) << "deep point (" << p.transpose()
+                                            << ") beyond clip " << c << " n " << k.n.transpose() << " off " << k.off;
       }
     }
-    std::swap(level, next);
-  }
+  });
   EXPECT_GT(clipped, 20);  // clips were made
   EXPECT_GT(deep, 50);     // deep points were tested against them
   EXPECT_GT(cut, 50);      // and they exclude shallow points of kept cubes
@@ -121,6 +130,40 @@ void expect_clips_hold_deep_points(const TriangleMesh& m, double target, int lev
 TEST(DeepCover, ClipsHoldEveryDeepPoint) {
   expect_clips_hold_deep_points(plate_and_block(), -0.05, 7, 4);
   expect_clips_hold_deep_points(make_torus(1.0, 0.4, 24, 12), -0.1, 7, 5);
+}
+
+// What a parent leaves its children (its centre's nearest triangle, side and free ball) decides
+// many cubes before any tree query; it changes the work, not the verdicts: each cube of the first
+// levels classified with it and without it (no hint, no reference point) gets the same verdict,
+// and the same centre side wherever both know it (the free ball's side is the ray test's).
+void expect_parent_shortcuts_agree(const TriangleMesh& m, double target, int levels) {
+  const SignedDistance sdf(m);
+  std::vector<std::uint32_t> ids;
+  int with_parent = 0, free_ball = 0, sides = 0;
+  walk_octree(sdf, target, levels, [&](const DeepCube& cube, const DeepCubeVerdict& v, int) {
+    DeepCube bare = cube;
+    bare.hint = -1;
+    bare.ref_side = 0;
+    bare.ref_free = 0.0;
+    const DeepCubeVerdict w = classify_deep_cube(sdf, target, 0.0, bare, ids);
+    ASSERT_EQ(v.what, w.what) << std::setprecision(17) << "cube " << cube.box.lo.transpose() << " / "
+                              << cube.box.hi.transpose() << " target " << target;
+    if (v.side != 0 && w.side != 0) {
+      ASSERT_EQ(v.side, w.side) << std::setprecision(17) << "cube " << cube.box.lo.transpose();
+      ++sides;
+    }
+    if (cube.hint >= 0) ++with_parent;
+    if (cube.ref_side != 0 && (cube.box.center() - cube.ref).norm() < 0.99 * cube.ref_free) ++free_ball;
+  });
+  EXPECT_GT(with_parent, 100);  // the shortcuts had cubes to decide
+  EXPECT_GT(free_ball, 20);
+  EXPECT_GT(sides, 50);
+}
+
+TEST(DeepCover, ParentShortcutsChangeTheWorkNotTheVerdicts) {
+  expect_parent_shortcuts_agree(plate_and_block(), -0.05, 6);
+  expect_parent_shortcuts_agree(make_torus(1.0, 0.4, 24, 12), -0.1, 6);
+  expect_parent_shortcuts_agree(make_icosphere(1.0, 2), -0.3, 5);
 }
 
 TEST(DeepCover, ThePlateHasNoDeepZone) {
