@@ -135,7 +135,7 @@ static int run(int argc, char** argv) {
   std::vector<LevelDeepZone> level_zone;
   const double max_penetration = ps["max_penetration"]["interval"][0].get<double>();
   for (std::size_t l = 0; l < L; ++l)
-    level_zone.push_back(make_level_deep_zone(fixed, level_target[l], max_penetration, deep_covers && po.polish));
+    level_zone.push_back(make_level_deep_zone(fixed, level_target[l], max_penetration, deep_covers && po.polish, A));
   double t_exact = 0.0, t_fcl = 0.0, max_over = 0.0, max_under = 0.0;
   std::uint64_t node_tests = 0, leaf_sweeps = 0;  // the exact first contact's work
   std::size_t differ = 0, overshoot = 0, both = 0, fcl_miss = 0;

@@ -177,17 +177,19 @@ bool deep_cover_wanted(double target, double max_penetration) {
   return target < 0.0 && max_penetration > 0.0 && -target >= 0.2 * max_penetration;
 }
 
-DeepCoverOptions deep_cover_options(double target) {
+DeepCoverOptions deep_cover_options(double target, std::uint64_t approaches) {
+  constexpr std::uint64_t kMaxCells = 150000, kCellsPerApproach = 1000;
   DeepCoverOptions o;
   o.cell_size = 0.5 * std::abs(target);
-  o.max_cells = 150000;
+  o.max_cells = approaches >= kMaxCells / kCellsPerApproach ? kMaxCells : kCellsPerApproach * approaches;
   return o;
 }
 
-LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, double max_penetration, bool polish) {
+LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, double max_penetration, bool polish,
+                                   std::uint64_t approaches) {
   LevelDeepZone z;
   if (polish && deep_cover_wanted(target, max_penetration)) {
-    z.cover = std::make_unique<LazyDeepCover>(fixed, target, deep_cover_options(target));
+    z.cover = std::make_unique<LazyDeepCover>(fixed, target, deep_cover_options(target, approaches));
     z.memo = std::make_unique<DeepCubeMemo>(target);
   }
   return z;

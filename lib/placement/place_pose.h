@@ -7,6 +7,7 @@
 // the tolerance of the target. See doc/poses.md.
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -142,8 +143,12 @@ struct PoseOptions {
 
 // The deep-zone cover a penetrating level uses (PoseOptions::deep_cover): cubes of half-diagonal
 // at most |target| / 2 along the zone's boundary, at most 150,000 cubes evaluated (about a second;
-// beyond, the level goes without). Measured: doc/performance.md, "Deep-zone jumps".
-DeepCoverOptions deep_cover_options(double target);
+// beyond, the level goes without), and at most 1,000 per approach of the level (`approaches`: the
+// whole request's, not a shard's, so that shards make the same poses): a cover is built once per
+// level and serves its poses, and for a small request one that needs more costs more than the
+// octree about each pose's path (doc/performance.md, "Covers sized by the request").
+DeepCoverOptions deep_cover_options(double target,
+                                    std::uint64_t approaches = std::numeric_limits<std::uint64_t>::max());
 // Whether a penetrating level gets a cover at all: its target at least a fifth of the maximum
 // penetration deep. Shallower zones lie just under most of F's surface, so a jump to them is short
 // while their covers are large (about F's area over target^2; armadillo -10 %: 91,000 cubes for
@@ -168,7 +173,8 @@ struct LevelDeepZone {
   // The options for this level's poses: `base` with its cover and memo.
   PoseOptions options(const PoseOptions& base) const;
 };
-LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, double max_penetration, bool polish);
+LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, double max_penetration, bool polish,
+                                   std::uint64_t approaches);
 
 struct PoseOutcome {
   bool contact = false;  // the approach line met the offset surface

@@ -193,13 +193,15 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // Where a cover runs out of its budget, the zone's octree about each pose's path, its verdicts
   // shared by the level's poses (DeepCubeMemo: the same poses, less work).
   std::vector<LevelDeepZone> zones;
-  for (std::size_t l = 0; l < L; ++l) zones.push_back(make_level_deep_zone(sdf, targets[l], mp.depth.lo, polish));
+  const std::uint64_t request_approaches = static_cast<std::uint64_t>(opt.directions) * opt.orientations;
+  for (std::size_t l = 0; l < L; ++l)
+    zones.push_back(make_level_deep_zone(sdf, targets[l], mp.depth.lo, polish, request_approaches));
   // Levels with a cover jump across plateaus (since 2026-11-27, session 29: 1), and to its octree
   // about the mover's path where the cover runs out of its budget (since 2026-11-28, session 30:
   // 2; with the octree's cap of 4,000,000 cubes and a last query at it since session 31: 3; with
   // clipped cubes, plateaus from a tenth of |target| and queries of at least 20,000 cubes since
-  // session 33: 4; with the octree's triangle tests without the clip-edge axes since session 35:
-  // 5): their poses may differ within the tolerance from earlier binaries', whose
+  // session 33: 4; with the octree's triangle tests without the clip-edge axes and covers of at
+  // most 1,000 cubes per approach of the request since session 35: 5): their poses may differ within the tolerance from earlier binaries', whose
   // journals must therefore not be resumed or merged with them. Absent otherwise, so that other
   // runs still resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))

@@ -53,6 +53,17 @@ TEST(DeepJumps, OctreeBudgetDoublesAndTriesTheCapOnce) {
   EXPECT_EQ(deep_zone_query_budget(o, 1000000, 0), 0u);  // no octree
 }
 
+TEST(DeepJumps, CoverBudgetFollowsTheRequest) {
+  // 1,000 cubes per approach of the level, at most 150,000; without a request size, the cap.
+  EXPECT_EQ(deep_cover_options(-0.1, 40).max_cells, 40000u);
+  EXPECT_EQ(deep_cover_options(-0.1, 149).max_cells, 149000u);
+  EXPECT_EQ(deep_cover_options(-0.1, 150).max_cells, 150000u);
+  EXPECT_EQ(deep_cover_options(-0.1, 5000).max_cells, 150000u);
+  EXPECT_EQ(deep_cover_options(-0.1).max_cells, 150000u);
+  EXPECT_EQ(deep_cover_options(-0.1, 0).max_cells, 0u);
+  EXPECT_DOUBLE_EQ(deep_cover_options(-0.1, 40).cell_size, 0.05);
+}
+
 TEST(DeepJumps, CrossThePlateauInOneJump) {
   const Scene w(plate_and_block(), make_icosphere(0.1, 1));
   ApproachSetup setup = w.attached();
