@@ -5,21 +5,29 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <unistd.h>
 
 namespace cdbench::fuzz {
 
-// A private folder for readers that take a path (made once per process).
+// A private folder for readers that take a path (made once per process, removed when the
+// process exits normally; a crash leaves it, with the input that made it). Never destroyed before
+// that removal runs: the path outlives static destruction.
 inline const std::string& scratch_dir() {
-  static const std::string dir = [] {
+  static const std::string* dir = [] {
     const char* t = std::getenv("TMPDIR");
     std::string pattern = std::string(t && *t ? t : "/tmp") + "/cdbench-fuzz-XXXXXX";
     if (!mkdtemp(pattern.data())) std::abort();
-    return pattern;
+    auto* path = new std::string(pattern);
+    std::atexit([] {
+      std::error_code ec;
+      std::filesystem::remove_all(scratch_dir(), ec);
+    });
+    return path;
   }();
-  return dir;
+  return *dir;
 }
 
 inline std::string write_scratch(const std::string& name, const std::string& bytes) {
