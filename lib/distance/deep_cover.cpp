@@ -89,8 +89,19 @@ bool clip_deep_cube(const SignedDistance& fixed, double depth, const Aabb& Q, co
 
 }  // namespace
 
+bool DeepCubeList::covers(const Vec3& x, double radius) const {
+  return round_up(round_up(radius + round_up((x - centre).norm() * (1.0 + 1e-12))) * (1.0 + 1e-15)) <= reach;
+}
+
+bool deep_cube_list(const SignedDistance& fixed, const DeepCube& cube, const DeepCubeVerdict& verdict,
+                    std::size_t max_count, DeepCubeList& list) {
+  list.centre = cube.box.center();
+  list.reach = round_up((verdict.near + 2.0 * deep_cube_radius(cube.box)) * (1.0 + 1e-12));
+  return verdict.near > 0.0 && fixed.triangles_within(list.centre, list.reach, max_count, list.ids);
+}
+
 DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, double cell_size, const DeepCube& cube,
-                                   std::vector<std::uint32_t>& ids) {
+                                   std::vector<std::uint32_t>& ids, const DeepCubeList* parent) {
   DeepCubeVerdict v;
   const double depth = -target;  // |target|
   const Aabb& Q = cube.box;
@@ -100,9 +111,11 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
   // distance to its centre's nearest triangle bounds dist(q, F) from above, and q inside the
   // parent centre's free ball has that centre's side (the segment between them misses F). The
   // verdicts are those of the queries below (a cube they drop has no children).
+  double hint_distance = std::numeric_limits<double>::infinity();  // an upper bound of dist(q, F)
   if (cube.hint >= 0) {
     const auto hint = static_cast<std::uint32_t>(cube.hint);
-    if (round_up(point_triangle_distance_upper(q, fixed.mesh(), hint) + r) < depth) {
+    hint_distance = point_triangle_distance_upper(q, fixed.mesh(), hint);
+    if (round_up(hint_distance + r) < depth) {
       v.nearest = hint;
       return v;  // s >= -dist(x, F) > target on Q
     }
@@ -113,11 +126,18 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
     v.side = 1;
     return v;  // outside: s >= dist(q, F) - r >= -r > target
   }
-  const Interval ud = fixed.unsigned_distance(q, &v.nearest, cube.hint);
+  // The parent's list holds q's nearest triangles when it holds every triangle within an upper
+  // bound of dist(q, F) of q, and the segment from the parent's centre when it reaches q.
+  const Interval ud = parent && parent->covers(q, hint_distance)
+                          ? fixed.unsigned_distance_among(q, parent->ids, &v.nearest)
+                          : fixed.unsigned_distance(q, &v.nearest, cube.hint);
   v.free = ud.lo;
+  v.near = ud.hi;
   // s >= -dist(x, F) everywhere: shallow whatever q's side.
   if (round_up(ud.hi + r) < depth) return v;
+  const bool segment_listed = parent && cube.ref_side != 0 && parent->covers(q, 0.0);
   const int side = in_free_ball         ? cube.ref_side
+                   : segment_listed     ? fixed.side_among(q, ud, cube.ref, cube.ref_side, parent->ids)
                    : cube.ref_side != 0 ? fixed.side(q, ud, cube.ref, cube.ref_side)
                                         : fixed.side(q, ud);
   if (ud.lo > 0.0) v.side = static_cast<signed char>(side);
@@ -129,8 +149,16 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
   const std::array<Vec3, 8> corners = Q.corners();
   // Sparse weights: a cube undecided by them is split, and is cheaper to split than to bound with
   // converged weights (rotor, retinal, boeing, pinion: 20-50 % less time, as many cubes).
-  const double bound = depth_upper_bound(fixed, q, round_up(ud.hi + 2 * r), corners.data(), 8, ids, nullptr, nullptr,
-                                         nullptr, nullptr, 0.0, DepthWeights::sparse);
+  const double reach = round_up(ud.hi + 2 * r);
+  double bound;
+  if (parent && parent->covers(q, reach)) {
+    fixed.triangles_within_among(q, reach, parent->ids, ids);
+    bound = depth_upper_bound_among(fixed, q, ids, corners.data(), 8, nullptr, nullptr, nullptr, nullptr, 0.0,
+                                    DepthWeights::sparse);
+  } else {
+    bound = depth_upper_bound(fixed, q, reach, corners.data(), 8, ids, nullptr, nullptr, nullptr, nullptr, 0.0,
+                              DepthWeights::sparse);
+  }
   if (bound < depth) return v;  // s >= -dist >= -bound > target on the cube
   if (!clip_deep_cube(fixed, depth, Q, corners, ids, v)) return v;  // a clip's function proves it shallow
   v.what = r <= cell_size ? DeepCubeVerdict::keep : DeepCubeVerdict::split;

@@ -56,6 +56,7 @@ struct DeepCubeVerdict {
   signed char n_clips = 0;     // clips[0, n_clips): Z's part of the cube lies in each (keep, split)
   std::uint32_t nearest = 0;   // the centre's nearest triangle
   double free = 0.0;           // a lower bound of the centre's distance to F (0: not known)
+  double near = 0.0;           // an upper bound of it (0: not known)
   std::array<DeepClip, 4> clips;
 };
 
@@ -63,9 +64,25 @@ struct DeepCubeVerdict {
 double deep_cube_radius(const Aabb& box);
 // The root cube: about F's bounding box (its shape only), grown to contain it.
 DeepCube deep_cover_root(const SignedDistance& fixed);
-// A cube's verdict for the zone {s <= target} (target < 0). `ids`: scratch.
+// Triangles of F listed about a split cube's centre for its children: every triangle within
+// `reach` of `centre` is among `ids` (deep_cube_list).
+struct DeepCubeList {
+  Vec3 centre = Vec3::Zero();
+  double reach = 0.0;
+  std::vector<std::uint32_t> ids;
+  bool covers(const Vec3& x, double radius) const;  // every triangle within radius of x is listed
+};
+// The list of a split cube (its verdict's `near` known): the triangles within near + 2 r of its
+// centre, which hold every child centre's nearest triangles and the segments from the centre to
+// them; false when more than `max_count` qualify (then `list` is not to be used).
+bool deep_cube_list(const SignedDistance& fixed, const DeepCube& cube, const DeepCubeVerdict& verdict,
+                    std::size_t max_count, DeepCubeList& list);
+
+// A cube's verdict for the zone {s <= target} (target < 0). `ids`: scratch. `parent` (optional):
+// its parent's list (deep_cube_list), from which its distance, side and depth candidates are
+// answered without tree queries where the list provably holds them.
 DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, double cell_size, const DeepCube& cube,
-                                   std::vector<std::uint32_t>& ids);
+                                   std::vector<std::uint32_t>& ids, const DeepCubeList* parent = nullptr);
 // The eight children of a split cube, cut at its computed centre (they tile it exactly), child k
 // on the upper side of axis a when bit a of k is set.
 std::array<DeepCube, 8> deep_cube_children(const DeepCube& cube, const DeepCubeVerdict& verdict);

@@ -355,6 +355,18 @@ int SignedDistance::side(const Vec3& p, const Interval& unsigned_dist, const Vec
   return parity.crossings % 2 == 1 ? -ref_side : ref_side;
 }
 
+int SignedDistance::side_among(const Vec3& p, const Interval& unsigned_dist, const Vec3& ref, int ref_side,
+                               const std::vector<std::uint32_t>& candidates) const {
+  if (!(unsigned_dist.lo > 0.0) || (ref_side != 1 && ref_side != -1)) return side(p, unsigned_dist);
+  const double margin = 1e-9 * (bbox_.diagonal() + (p - bbox_.center()).norm() + (p - ref).norm()) + 1e-300;
+  ParityPolicy parity{mesh_, ref, p, margin};
+  for (const std::uint32_t f : candidates) {
+    parity.leaf(f);
+    if (parity.degenerate) return side_off_surface(p);
+  }
+  return parity.crossings % 2 == 1 ? -ref_side : ref_side;
+}
+
 int SignedDistance::side_off_surface(const Vec3& p) const {
   const Vec3 center = bbox_.center();
   const double reach = 2.0 * (bbox_.diagonal() + (p - center).norm()) + 1.0;

@@ -87,6 +87,10 @@ class SignedDistance {
   // segment ref -> p's proper crossings of F (a short segment meets far fewer boxes than a ray out
   // of the bounding box), or the ray test when that segment meets F degenerately.
   int side(const Vec3& p, const Interval& unsigned_dist, const Vec3& ref, int ref_side) const;
+  // The same, the segment's crossings counted among `candidates` only: they must include every
+  // triangle the segment ref -> p may meet (e.g. all within |p - ref| of ref).
+  int side_among(const Vec3& p, const Interval& unsigned_dist, const Vec3& ref, int ref_side,
+                 const std::vector<std::uint32_t>& candidates) const;
 
   // [lo, hi] containing the signed distance s(p) (negative inside).
   Interval signed_distance(const Vec3& p) const;

@@ -258,16 +258,16 @@ void axis_range(double p_lo, double p_hi, double b_lo, double b_hi, double w_lo,
 // coordinate axes), its extent along each, moved by t0, and the motion d along each (all outward):
 // the same for every cube a query tests it against, so made once per face and query.
 struct MovingTriangle {
-  std::array<Vec3, 3> edges;
   std::array<Vec3, 10> axes;
-  std::array<double, 10> p_lo, p_hi;  // the triangle's extent (rotated coordinates)
-  std::array<double, 10> m_lo, m_hi;  // moved by t0
+  std::array<double, 10> m_lo, m_hi;  // the triangle's extent along the axis, moved by t0
   std::array<double, 10> w_lo, w_hi;  // d along the axis
   std::uint16_t nonzero = 0;          // bit i: axis i is not the zero vector
 };
 // A query's moving triangles, per thread (ThreadScratch): slot[face] holds the query's stamp and
-// the triangle's index in `items` once made.
+// the triangle's index in `items` once made; at most kMaxItems (about 30 MB), then made afresh
+// for each test (a million-face mover's query must not keep one per face).
 struct MovingTriangles {
+  static constexpr std::size_t kMaxItems = 65536;
   std::vector<std::uint64_t> slot;
   std::vector<MovingTriangle> items;
   std::uint32_t stamp = 0;
@@ -370,17 +370,18 @@ struct CoverGeometry {
   void make_moving(std::uint32_t face, MovingTriangle& t) const {
     const Face& f = (*o.faces)[face];
     const Vec3 &a0 = o.rotated[f[0]], &a1 = o.rotated[f[1]], &a2 = o.rotated[f[2]];
-    t.edges = {a1 - a0, a2 - a1, a0 - a2};
-    t.axes[0] = t.edges[0].cross(a2 - a0);
+    const std::array<Vec3, 3> edges{a1 - a0, a2 - a1, a0 - a2};
+    t.axes[0] = edges[0].cross(a2 - a0);
     for (int e = 0; e < 3; ++e)
-      for (int k = 0; k < 3; ++k) t.axes[1 + 3 * e + k] = t.edges[e].cross(Vec3::Unit(k));
+      for (int k = 0; k < 3; ++k) t.axes[1 + 3 * e + k] = edges[e].cross(Vec3::Unit(k));
     t.nonzero = 0;
     for (std::size_t i = 0; i < t.axes.size(); ++i) {
       const Vec3& n = t.axes[i];
       if (!(n.cwiseAbs().maxCoeff() > 0.0)) continue;
       t.nonzero = static_cast<std::uint16_t>(t.nonzero | (1u << i));
-      extent(n, a0, a1, a2, t.p_lo[i], t.p_hi[i]);
-      moved(n, t.p_lo[i], t.p_hi[i], t.m_lo[i], t.m_hi[i], t.w_lo[i], t.w_hi[i]);
+      double p_lo, p_hi;
+      extent(n, a0, a1, a2, p_lo, p_hi);
+      moved(n, p_lo, p_hi, t.m_lo[i], t.m_hi[i], t.w_lo[i], t.w_hi[i]);
     }
   }
   const MovingTriangle& moving_triangle(std::uint32_t face, MovingTriangle& local) const {
@@ -390,6 +391,10 @@ struct CoverGeometry {
     }
     std::uint64_t& s = cache->slot[face];
     if (s >> 32 == cache->stamp) return cache->items[s & 0xffffffffu];
+    if (cache->items.size() >= MovingTriangles::kMaxItems) {
+      make_moving(face, local);
+      return local;
+    }
     s = (static_cast<std::uint64_t>(cache->stamp) << 32) | cache->items.size();
     cache->items.emplace_back();
     make_moving(face, cache->items.back());
@@ -542,9 +547,27 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     bool classified = false;
     bool leaf = false;              // kept: in the zone, or undecided at most the leaf size
     std::uint32_t first_child = 0;  // 0: none yet
+    std::uint32_t parent = 0;       // (the root's: itself)
+    std::int32_t list = -1;         // its children's list in `lists` (-1: not made yet, -2: none)
   };
   std::vector<Node> nodes;
-  nodes.push_back({deep_cover_root(fixed), {}, false, false, 0});
+  nodes.push_back({deep_cover_root(fixed), {}, false, false, 0, 0, -2});
+  // A split cube's list of nearby triangles, made when one of its children is first classified
+  // here: the children's queries scan it instead of the tree. A deterministic function of the cube
+  // (its verdict is), so a verdict does not depend on which query classified it.
+  constexpr std::size_t kMaxListed = 64;
+  std::vector<DeepCubeList> lists;
+  const auto parent_list = [&](std::uint32_t child) -> const DeepCubeList* {
+    Node& p = nodes[nodes[child].parent];
+    if (p.list == -1) {
+      lists.emplace_back();
+      p.list = deep_cube_list(fixed, p.cube, p.verdict, kMaxListed, lists.back())
+                   ? static_cast<std::int32_t>(lists.size() - 1)
+                   : -2;
+      if (p.list == -2) lists.pop_back();
+    }
+    return p.list >= 0 ? &lists[static_cast<std::size_t>(p.list)] : nullptr;
+  };
   std::vector<std::uint32_t> ids;
   // Pairs (mover node, cube) by the latest lambda at which they may meet, latest first.
   struct Pair {
@@ -579,7 +602,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       if (!(memo && memo->find(nb.cube.box, &nb.verdict))) {
         // Cell size 0: "split" is "not decided", the cell size applied below, so that the memo
         // serves queries of any cell size.
-        nb.verdict = classify_deep_cube(fixed, target, 0.0, nb.cube, ids);
+        nb.verdict = classify_deep_cube(fixed, target, 0.0, nb.cube, ids, parent_list(e.b));
         if (memo) memo->insert(nb.cube.box, nb.verdict);
       }
       nb.classified = true;
@@ -636,7 +659,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     if (nodes[e.b].first_child == 0) {
       const std::array<DeepCube, 8> children = deep_cube_children(nodes[e.b].cube, nodes[e.b].verdict);
       nodes[e.b].first_child = static_cast<std::uint32_t>(nodes.size());
-      for (const DeepCube& c : children) nodes.push_back({c, {}, false, false, 0});  // (nb is stale now)
+      for (const DeepCube& c : children) nodes.push_back({c, {}, false, false, 0, e.b, -1});  // (nb is stale now)
     }
     const std::uint32_t first = nodes[e.b].first_child;
     for (std::uint32_t k = 0; k < 8; ++k) push(e.a, first + k);

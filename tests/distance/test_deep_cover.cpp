@@ -69,18 +69,30 @@ TEST(DeepCover, HoldsEveryDeepPoint) {
 }
 
 // The octree's first `levels` levels, breadth first: f(cube, verdict, level) for each cube
-// classified (cell size 0), the split ones' children on the next level.
+// classified (cell size 0) and the list it was classified with (null: none), the split ones'
+// children on the next level; with `lists`, each child
+// classified from its parent's list of nearby triangles (deep_cube_list, at most 64), as the
+// octree about the mover's path does.
 template <class F>
-void walk_octree(const SignedDistance& sdf, double target, int levels, F f) {
-  std::vector<DeepCube> level{deep_cover_root(sdf)}, next;
+void walk_octree(const SignedDistance& sdf, double target, int levels, F f, bool lists = false) {
+  std::vector<std::pair<DeepCube, int>> level{{deep_cover_root(sdf), -1}}, next;  // (cube, its parent's list)
+  std::vector<DeepCubeList> made;
   std::vector<std::uint32_t> ids;
   for (int l = 0; l < levels; ++l) {
     next.clear();
-    for (const DeepCube& cube : level) {
-      const DeepCubeVerdict v = classify_deep_cube(sdf, target, 0.0, cube, ids);
-      if (v.what == DeepCubeVerdict::split)
-        for (const DeepCube& c : deep_cube_children(cube, v)) next.push_back(c);
-      f(cube, v, l);
+    for (const auto& [cube, list] : level) {
+      const DeepCubeList* parent = list >= 0 ? &made[static_cast<std::size_t>(list)] : nullptr;
+      const DeepCubeVerdict v = classify_deep_cube(sdf, target, 0.0, cube, ids, parent);
+      if (v.what == DeepCubeVerdict::split) {
+        int own = -1;
+        DeepCubeList m;
+        if (lists && deep_cube_list(sdf, cube, v, 64, m)) {
+          made.push_back(std::move(m));
+          own = static_cast<int>(made.size()) - 1;
+        }
+        for (const DeepCube& c : deep_cube_children(cube, v)) next.emplace_back(c, own);
+      }
+      f(cube, v, l, parent);
     }
     std::swap(level, next);
   }
@@ -95,7 +107,7 @@ void expect_clips_hold_deep_points(const TriangleMesh& m, double target, int lev
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   int clipped = 0, deep = 0, cut = 0;
-  walk_octree(sdf, target, levels, [&](const DeepCube& cube, const DeepCubeVerdict& v, int l) {
+  walk_octree(sdf, target, levels, [&](const DeepCube& cube, const DeepCubeVerdict& v, int l, const DeepCubeList*) {
     if (l + 3 < levels) return;  // sampled on the last levels only
     if (v.n_clips > 0) ++clipped;
     for (int i = 0; i < 6; ++i) {
@@ -132,15 +144,16 @@ TEST(DeepCover, ClipsHoldEveryDeepPoint) {
   expect_clips_hold_deep_points(make_torus(1.0, 0.4, 24, 12), -0.1, 7, 5);
 }
 
-// What a parent leaves its children (its centre's nearest triangle, side and free ball) decides
-// many cubes before any tree query; it changes the work, not the verdicts: each cube of the first
-// levels classified with it and without it (no hint, no reference point) gets the same verdict,
-// and the same centre side wherever both know it (the free ball's side is the ray test's).
+// What a parent leaves its children (its centre's nearest triangle, side and free ball, and its
+// list of nearby triangles) decides many cubes before any tree query; it changes the work, not
+// the verdicts: each cube of the first levels classified with it and without it (no hint, no
+// reference point, no list) gets the same verdict, and the same centre side wherever both know it
+// (the free ball's and the list's sides are the ray test's).
 void expect_parent_shortcuts_agree(const TriangleMesh& m, double target, int levels) {
   const SignedDistance sdf(m);
   std::vector<std::uint32_t> ids;
-  int with_parent = 0, free_ball = 0, sides = 0;
-  walk_octree(sdf, target, levels, [&](const DeepCube& cube, const DeepCubeVerdict& v, int) {
+  int with_parent = 0, free_ball = 0, sides = 0, listed = 0;
+  walk_octree(sdf, target, levels, [&](const DeepCube& cube, const DeepCubeVerdict& v, int, const DeepCubeList* list) {
     DeepCube bare = cube;
     bare.hint = -1;
     bare.ref_side = 0;
@@ -153,11 +166,13 @@ void expect_parent_shortcuts_agree(const TriangleMesh& m, double target, int lev
       ++sides;
     }
     if (cube.hint >= 0) ++with_parent;
+    if (list && list->covers(cube.box.center(), 0.0)) ++listed;
     if (cube.ref_side != 0 && (cube.box.center() - cube.ref).norm() < 0.99 * cube.ref_free) ++free_ball;
-  });
+  }, /*lists=*/true);
   EXPECT_GT(with_parent, 100);  // the shortcuts had cubes to decide
   EXPECT_GT(free_ball, 20);
   EXPECT_GT(sides, 50);
+  EXPECT_GT(listed, 100);
 }
 
 TEST(DeepCover, ParentShortcutsChangeTheWorkNotTheVerdicts) {
