@@ -93,10 +93,10 @@ bool DeepCubeList::covers(const Vec3& x, double radius) const {
   return round_up(round_up(radius + round_up((x - centre).norm() * (1.0 + 1e-12))) * (1.0 + 1e-15)) <= reach;
 }
 
-bool deep_cube_list(const SignedDistance& fixed, const DeepCube& cube, const DeepCubeVerdict& verdict,
+bool deep_cube_list(const SignedDistance& fixed, const Aabb& cube, const DeepCubeVerdict& verdict,
                     std::size_t max_count, DeepCubeList& list) {
-  list.centre = cube.box.center();
-  list.reach = round_up((verdict.near + 2.0 * deep_cube_radius(cube.box)) * (1.0 + 1e-12));
+  list.centre = cube.center();
+  list.reach = round_up((verdict.near + 2.0 * deep_cube_radius(cube)) * (1.0 + 1e-12));
   return verdict.near > 0.0 && fixed.triangles_within(list.centre, list.reach, max_count, list.ids);
 }
 
@@ -165,21 +165,28 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
   return v;
 }
 
+DeepCube deep_cube_child(const Aabb& box, const Aabb& parent, const DeepCubeVerdict& parent_verdict) {
+  DeepCube c;
+  c.box = box;
+  c.ref = parent.center();
+  c.ref_side = parent_verdict.side;
+  c.ref_free = parent_verdict.free;
+  c.hint = parent_verdict.nearest;
+  return c;
+}
+
 std::array<DeepCube, 8> deep_cube_children(const DeepCube& cube, const DeepCubeVerdict& verdict) {
   const Aabb& Q = cube.box;
   const Vec3 q = Q.center();
   std::array<DeepCube, 8> children;
   for (int k = 0; k < 8; ++k) {
-    DeepCube& c = children[k];
+    Aabb b;
     for (int a = 0; a < 3; ++a) {
       const bool upper = (k >> a) & 1;
-      c.box.lo[a] = upper ? q[a] : Q.lo[a];
-      c.box.hi[a] = upper ? Q.hi[a] : q[a];
+      b.lo[a] = upper ? q[a] : Q.lo[a];
+      b.hi[a] = upper ? Q.hi[a] : q[a];
     }
-    c.ref = q;
-    c.ref_side = verdict.side;
-    c.ref_free = verdict.free;
-    c.hint = verdict.nearest;
+    children[k] = deep_cube_child(b, Q, verdict);
   }
   return children;
 }

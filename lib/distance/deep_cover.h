@@ -75,7 +75,7 @@ struct DeepCubeList {
 // The list of a split cube (its verdict's `near` known): the triangles within near + 2 r of its
 // centre, which hold every child centre's nearest triangles and the segments from the centre to
 // them; false when more than `max_count` qualify (then `list` is not to be used).
-bool deep_cube_list(const SignedDistance& fixed, const DeepCube& cube, const DeepCubeVerdict& verdict,
+bool deep_cube_list(const SignedDistance& fixed, const Aabb& cube, const DeepCubeVerdict& verdict,
                     std::size_t max_count, DeepCubeList& list);
 
 // A cube's verdict for the zone {s <= target} (target < 0). `ids`: scratch. `parent` (optional):
@@ -86,6 +86,9 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
 // The eight children of a split cube, cut at its computed centre (they tile it exactly), child k
 // on the upper side of axis a when bit a of k is set.
 std::array<DeepCube, 8> deep_cube_children(const DeepCube& cube, const DeepCubeVerdict& verdict);
+// One of them from its box alone and its parent's box and verdict (what deep_cube_children gives
+// it): an octree need not keep each cube's reference point, hint and free ball.
+DeepCube deep_cube_child(const Aabb& box, const Aabb& parent, const DeepCubeVerdict& parent_verdict);
 
 // Verdicts of one zone's cubes (classified with cell_size 0: split stands for "not decided"),
 // shared by every pose and thread of a level. A verdict depends only on the cube, F and the

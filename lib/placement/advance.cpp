@@ -542,7 +542,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
   // The octree, grown on demand: a cube is classified when a pair holding it comes up, and split
   // into eight when it is neither dropped nor kept.
   struct Node {
-    DeepCube cube;
+    Aabb box;  // the rest of its DeepCube is its parent's (deep_cube_child)
     DeepCubeVerdict verdict;
     bool classified = false;
     bool leaf = false;              // kept: in the zone, or undecided at most the leaf size
@@ -551,7 +551,8 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     std::int32_t list = -1;         // its children's list in `lists` (-1: not made yet, -2: none)
   };
   std::vector<Node> nodes;
-  nodes.push_back({deep_cover_root(fixed), {}, false, false, 0, 0, -2});
+  const DeepCube root = deep_cover_root(fixed);
+  nodes.push_back({root.box, {}, false, false, 0, 0, -2});
   // A split cube's list of nearby triangles, made when one of its children is first classified
   // here: the children's queries scan it instead of the tree. A deterministic function of the cube
   // (its verdict is), so a verdict does not depend on which query classified it.
@@ -561,7 +562,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     Node& p = nodes[nodes[child].parent];
     if (p.list == -1) {
       lists.emplace_back();
-      p.list = deep_cube_list(fixed, p.cube, p.verdict, kMaxListed, lists.back())
+      p.list = deep_cube_list(fixed, p.box, p.verdict, kMaxListed, lists.back())
                    ? static_cast<std::int32_t>(lists.size() - 1)
                    : -2;
       if (p.list == -2) lists.pop_back();
@@ -577,7 +578,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
   const auto earlier = [](const Pair& x, const Pair& y) { return x.hi < y.hi; };  // max-heap on hi
   std::vector<Pair> heap;
   const auto push = [&](std::uint32_t a, std::uint32_t b) {
-    LambdaRange r = g.boxes(orientation.boxes.nodes[a].bv, g.grown(nodes[b].cube.box));
+    LambdaRange r = g.boxes(orientation.boxes.nodes[a].bv, g.grown(nodes[b].box));
     r.meet(-kInf, lambda_top);
     if (r.empty() || !(r.hi > out.lambda)) return;
     heap.push_back({a, b, r.hi});
@@ -599,16 +600,18 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
         return out;
       }
       ++out.cubes;
-      if (!(memo && memo->find(nb.cube.box, &nb.verdict))) {
+      if (!(memo && memo->find(nb.box, &nb.verdict))) {
         // Cell size 0: "split" is "not decided", the cell size applied below, so that the memo
         // serves queries of any cell size.
-        nb.verdict = classify_deep_cube(fixed, target, 0.0, nb.cube, ids, parent_list(e.b));
-        if (memo) memo->insert(nb.cube.box, nb.verdict);
+        const DeepCube cube =
+            e.b == 0 ? root : deep_cube_child(nb.box, nodes[nb.parent].box, nodes[nb.parent].verdict);
+        nb.verdict = classify_deep_cube(fixed, target, 0.0, cube, ids, e.b == 0 ? nullptr : parent_list(e.b));
+        if (memo) memo->insert(nb.box, nb.verdict);
       }
       nb.classified = true;
       const double leaf_size = nb.verdict.n_clips > 0 ? std::max(cell_size, clipped_cell_size) : cell_size;
       nb.leaf = nb.verdict.what == DeepCubeVerdict::keep ||
-                (nb.verdict.what == DeepCubeVerdict::split && deep_cube_radius(nb.cube.box) <= leaf_size);
+                (nb.verdict.what == DeepCubeVerdict::split && deep_cube_radius(nb.box) <= leaf_size);
     }
     if (nb.verdict.what == DeepCubeVerdict::drop) continue;
     const auto& na = orientation.boxes.nodes[e.a];
@@ -620,12 +623,12 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     }
     const bool cube_leaf = nb.leaf;
     if (na.count > 0 && !cube_leaf && nodes[e.b].verdict.n_clips > 0 &&
-        deep_cube_radius(nodes[e.b].cube.box) <= kPresplitLeaves * std::max(cell_size, clipped_cell_size)) {
+        deep_cube_radius(nodes[e.b].box) <= kPresplitLeaves * std::max(cell_size, clipped_cell_size)) {
       // The mover's triangles against the zone's part of the cube before splitting it: where the
       // clips hold the zone, a cube the triangles miss needs no children. Only near the leaves'
       // size: larger cubes' clips seldom part them from whole triangles, and testing every level
       // doubled a thin shell's queries (repaired lion -20 %).
-      const Aabb G = g.grown(nodes[e.b].cube.box);
+      const Aabb G = g.grown(nodes[e.b].box);
       bool meets = false;
       for (std::uint32_t i = 0; i < na.count && !meets; ++i) {
         // From the best contact so far: a range narrowed below it is as good as empty, and the
@@ -638,7 +641,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       if (!meets) continue;
     }
     if (na.count > 0 && cube_leaf) {
-      const Aabb G = g.grown(nodes[e.b].cube.box);
+      const Aabb G = g.grown(nodes[e.b].box);
       for (std::uint32_t i = 0; i < na.count; ++i) {
         LambdaRange r;
         r.meet(out.lambda, lambda_top);  // as above: only a later contact matters
@@ -650,16 +653,16 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     }
     // Split the larger of the two (a leaf never).
     const bool split_mover =
-        cube_leaf || (na.count == 0 && na.bv.extent().squaredNorm() >= nodes[e.b].cube.box.extent().squaredNorm());
+        cube_leaf || (na.count == 0 && na.bv.extent().squaredNorm() >= nodes[e.b].box.extent().squaredNorm());
     if (split_mover) {
       push(na.first, e.b);
       push(na.first + 1, e.b);
       continue;
     }
     if (nodes[e.b].first_child == 0) {
-      const std::array<DeepCube, 8> children = deep_cube_children(nodes[e.b].cube, nodes[e.b].verdict);
+      const std::array<DeepCube, 8> children = deep_cube_children(DeepCube{nodes[e.b].box}, nodes[e.b].verdict);
       nodes[e.b].first_child = static_cast<std::uint32_t>(nodes.size());
-      for (const DeepCube& c : children) nodes.push_back({c, {}, false, false, 0, e.b, -1});  // (nb is stale now)
+      for (const DeepCube& c : children) nodes.push_back({c.box, {}, false, false, 0, e.b, -1});  // (nb is stale now)
     }
     const std::uint32_t first = nodes[e.b].first_child;
     for (std::uint32_t k = 0; k < 8; ++k) push(e.a, first + k);

@@ -86,7 +86,7 @@ void walk_octree(const SignedDistance& sdf, double target, int levels, F f, bool
       if (v.what == DeepCubeVerdict::split) {
         int own = -1;
         DeepCubeList m;
-        if (lists && deep_cube_list(sdf, cube, v, 64, m)) {
+        if (lists && deep_cube_list(sdf, cube.box, v, 64, m)) {
           made.push_back(std::move(m));
           own = static_cast<int>(made.size()) - 1;
         }
