@@ -3,6 +3,7 @@
 // deterministic; a budget too small gives no cover rather than a partial one.
 #include <gtest/gtest.h>
 
+#include <deque>
 #include <iomanip>
 #include <random>
 
@@ -76,7 +77,7 @@ TEST(DeepCover, HoldsEveryDeepPoint) {
 template <class F>
 void walk_octree(const SignedDistance& sdf, double target, int levels, F f, bool lists = false) {
   std::vector<std::pair<DeepCube, int>> level{{deep_cover_root(sdf), -1}}, next;  // (cube, its parent's list)
-  std::vector<DeepCubeList> made;
+  std::deque<DeepCubeList> made;  // stable: a child's pointer outlives later lists
   std::vector<std::uint32_t> ids;
   for (int l = 0; l < levels; ++l) {
     next.clear();
