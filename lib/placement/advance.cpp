@@ -264,7 +264,7 @@ struct MovingTriangle {
   std::uint16_t nonzero = 0;          // bit i: axis i is not the zero vector
 };
 // A query's moving triangles, per thread (ThreadScratch): slot[face] holds the query's stamp and
-// the triangle's index in `items` once made; at most kMaxItems (about 30 MB), then made afresh
+// the triangle's index in `items` once made; at most kMaxItems (about 40 MB), then made afresh
 // for each test (a million-face mover's query must not keep one per face).
 struct MovingTriangles {
   static constexpr std::size_t kMaxItems = 65536;
@@ -366,7 +366,7 @@ struct CoverGeometry {
     moved(n, p_lo, p_hi, m_lo, m_hi, w_lo, w_hi);
     axis_range(m_lo, m_hi, b_lo, b_hi, w_lo, w_hi, r);
   }
-  // The moving triangle `face`: from the query's cache when there is one.
+  // The moving triangle `face`: its axes, and its extent and motion along each.
   void make_moving(std::uint32_t face, MovingTriangle& t) const {
     const Face& f = (*o.faces)[face];
     const Vec3 &a0 = o.rotated[f[0]], &a1 = o.rotated[f[1]], &a2 = o.rotated[f[2]];
@@ -384,6 +384,7 @@ struct CoverGeometry {
       moved(n, p_lo, p_hi, t.m_lo[i], t.m_hi[i], t.w_lo[i], t.w_hi[i]);
     }
   }
+  // The same from the query's cache when there is one (and it is not full), else made in `local`.
   const MovingTriangle& moving_triangle(std::uint32_t face, MovingTriangle& local) const {
     if (!cache) {
       make_moving(face, local);
@@ -407,7 +408,7 @@ struct CoverGeometry {
   // pairs part there, and the clipped extents cost more. Any set of axes is valid (a pair no axis
   // parts may meet); the triangle's edges crossed with the clip planes' edges on the box are left
   // out: they parted under 1 % of the pairs and cost a sixth of rotor's -20 % poses
-  // (doc/performance.md, "The octree's triangle tests"). Narrows r.
+  // (doc/performance.md, "The octree's triangle tests and its cubes' parents"). Narrows r.
   void triangle(std::uint32_t face, const Aabb& G, LambdaRange& r, const DeepCubeVerdict* v = nullptr) const {
     const Face& f = (*o.faces)[face];
     const Vec3 &a0 = o.rotated[f[0]], &a1 = o.rotated[f[1]], &a2 = o.rotated[f[2]];
