@@ -175,19 +175,22 @@ DeepCube deep_cube_child(const Aabb& box, const Aabb& parent, const DeepCubeVerd
   return c;
 }
 
-std::array<DeepCube, 8> deep_cube_children(const DeepCube& cube, const DeepCubeVerdict& verdict) {
-  const Aabb& Q = cube.box;
+std::array<Aabb, 8> deep_cube_child_boxes(const Aabb& Q) {
   const Vec3 q = Q.center();
-  std::array<DeepCube, 8> children;
-  for (int k = 0; k < 8; ++k) {
-    Aabb b;
+  std::array<Aabb, 8> boxes;
+  for (int k = 0; k < 8; ++k)
     for (int a = 0; a < 3; ++a) {
       const bool upper = (k >> a) & 1;
-      b.lo[a] = upper ? q[a] : Q.lo[a];
-      b.hi[a] = upper ? Q.hi[a] : q[a];
+      boxes[k].lo[a] = upper ? q[a] : Q.lo[a];
+      boxes[k].hi[a] = upper ? Q.hi[a] : q[a];
     }
-    children[k] = deep_cube_child(b, Q, verdict);
-  }
+  return boxes;
+}
+
+std::array<DeepCube, 8> deep_cube_children(const DeepCube& cube, const DeepCubeVerdict& verdict) {
+  const std::array<Aabb, 8> boxes = deep_cube_child_boxes(cube.box);
+  std::array<DeepCube, 8> children;
+  for (int k = 0; k < 8; ++k) children[k] = deep_cube_child(boxes[k], cube.box, verdict);
   return children;
 }
 

@@ -86,8 +86,10 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
 // The eight children of a split cube, cut at its computed centre (they tile it exactly), child k
 // on the upper side of axis a when bit a of k is set.
 std::array<DeepCube, 8> deep_cube_children(const DeepCube& cube, const DeepCubeVerdict& verdict);
-// One of them from its box alone and its parent's box and verdict (what deep_cube_children gives
-// it): an octree need not keep each cube's reference point, hint and free ball.
+// Their boxes alone, and one of them from its box and its parent's box and verdict (what
+// deep_cube_children gives it): an octree need not keep each cube's reference point, hint and
+// free ball.
+std::array<Aabb, 8> deep_cube_child_boxes(const Aabb& cube);
 DeepCube deep_cube_child(const Aabb& box, const Aabb& parent, const DeepCubeVerdict& parent_verdict);
 
 // Verdicts of one zone's cubes (classified with cell_size 0: split stands for "not decided"),

@@ -346,24 +346,29 @@ int SignedDistance::side(const Vec3& p, const Interval& unsigned_dist) const {
 }
 
 int SignedDistance::side(const Vec3& p, const Interval& unsigned_dist, const Vec3& ref, int ref_side) const {
-  if (!(unsigned_dist.lo > 0.0) || (ref_side != 1 && ref_side != -1)) return side(p, unsigned_dist);
-  // Both ends off F: each proper crossing flips the side (Jordan-Brouwer, as for the ray).
-  const double margin = 1e-9 * (bbox_.diagonal() + (p - bbox_.center()).norm() + (p - ref).norm()) + 1e-300;
-  ParityPolicy parity{mesh_, ref, p, margin};
-  traverse_nearest_first(tree_, parity);
-  if (parity.degenerate) return side_off_surface(p);
-  return parity.crossings % 2 == 1 ? -ref_side : ref_side;
+  return segment_side(p, unsigned_dist, ref, ref_side, nullptr);
 }
 
 int SignedDistance::side_among(const Vec3& p, const Interval& unsigned_dist, const Vec3& ref, int ref_side,
                                const std::vector<std::uint32_t>& candidates) const {
+  return segment_side(p, unsigned_dist, ref, ref_side, &candidates);
+}
+
+int SignedDistance::segment_side(const Vec3& p, const Interval& unsigned_dist, const Vec3& ref, int ref_side,
+                                 const std::vector<std::uint32_t>* candidates) const {
   if (!(unsigned_dist.lo > 0.0) || (ref_side != 1 && ref_side != -1)) return side(p, unsigned_dist);
+  // Both ends off F: each proper crossing flips the side (Jordan-Brouwer, as for the ray).
   const double margin = 1e-9 * (bbox_.diagonal() + (p - bbox_.center()).norm() + (p - ref).norm()) + 1e-300;
   ParityPolicy parity{mesh_, ref, p, margin};
-  for (const std::uint32_t f : candidates) {
-    parity.leaf(f);
-    if (parity.degenerate) return side_off_surface(p);
+  if (candidates) {
+    for (const std::uint32_t f : *candidates) {
+      parity.leaf(f);
+      if (parity.done()) break;
+    }
+  } else {
+    traverse_nearest_first(tree_, parity);
   }
+  if (parity.degenerate) return side_off_surface(p);
   return parity.crossings % 2 == 1 ? -ref_side : ref_side;
 }
 

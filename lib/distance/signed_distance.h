@@ -101,6 +101,9 @@ class SignedDistance {
  private:
   bool on_surface(const Vec3& p) const;
   int side_off_surface(const Vec3& p) const;  // ray parity; p must not lie on F
+  // side(p, ud, ref, ref_side) over F's tree (candidates null) or over `candidates` (side_among).
+  int segment_side(const Vec3& p, const Interval& unsigned_dist, const Vec3& ref, int ref_side,
+                   const std::vector<std::uint32_t>* candidates) const;
 
   TriangleMesh mesh_;
   Aabb bbox_;

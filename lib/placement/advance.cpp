@@ -661,9 +661,9 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       continue;
     }
     if (nodes[e.b].first_child == 0) {
-      const std::array<DeepCube, 8> children = deep_cube_children(DeepCube{nodes[e.b].box}, nodes[e.b].verdict);
+      const std::array<Aabb, 8> children = deep_cube_child_boxes(nodes[e.b].box);
       nodes[e.b].first_child = static_cast<std::uint32_t>(nodes.size());
-      for (const DeepCube& c : children) nodes.push_back({c.box, {}, false, false, 0, e.b, -1});  // (nb is stale now)
+      for (const Aabb& c : children) nodes.push_back({c, {}, false, false, 0, e.b, -1});  // (nb is stale now)
     }
     const std::uint32_t first = nodes[e.b].first_child;
     for (std::uint32_t k = 0; k < 8; ++k) push(e.a, first + k);
