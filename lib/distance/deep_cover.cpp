@@ -7,7 +7,6 @@
 #include <cstring>
 #include <limits>
 #include <mutex>
-#include <unordered_map>
 
 #include <tbb/blocked_range.h>
 #include <tbb/collaborative_call_once.h>
@@ -46,7 +45,7 @@ namespace {
 // depth everywhere. The function: d_j's least-squares fit over the corners, raised by its largest
 // shortfall there (exact where d_j is affine over the cube: the triangle's plane).
 bool clip_deep_cube(const SignedDistance& fixed, double depth, const Aabb& Q, const std::array<Vec3, 8>& corners,
-                    const std::vector<std::uint32_t>& ids, DeepCubeVerdict& v) {
+                    const std::vector<std::uint32_t>& ids, const CornerDistances& known, DeepCubeVerdict& v) {
   const TriangleMesh& m = fixed.mesh();
   const Vec3 ext = Q.hi - Q.lo;
   if (!(ext.minCoeff() > 0.0)) return true;
@@ -54,7 +53,10 @@ bool clip_deep_cube(const SignedDistance& fixed, double depth, const Aabb& Q, co
   const std::size_t n = std::min<std::size_t>(ids.size(), v.clips.size());
   for (std::size_t j = 0; j < n && v.n_clips < static_cast<signed char>(v.clips.size()); ++j) {
     std::array<double, 8> f;
-    for (int k = 0; k < 8; ++k) f[k] = point_triangle_distance_upper(corners[k], m, ids[j]);
+    for (int k = 0; k < 8; ++k) {
+      const double d = known.d[static_cast<std::size_t>(k)][j];  // the depth bound's, when it has it
+      f[k] = std::isnan(d) ? point_triangle_distance_upper(corners[k], m, ids[j]) : d;
+    }
     // The least-squares gradient over the corners (only tightness depends on it); corner k is on
     // the upper side of axis a when bit a of k is set (Aabb::corners).
     Vec3 a = Vec3::Zero();
@@ -151,16 +153,17 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
   // converged weights (rotor, retinal, boeing, pinion: 20-50 % less time, as many cubes).
   const double reach = round_up(ud.hi + 2 * r);
   double bound;
+  CornerDistances known;  // the clips' distances that the bound computes
   if (parent && parent->covers(q, reach)) {
     fixed.triangles_within_among(q, reach, parent->ids, ids);
     bound = depth_upper_bound_among(fixed, q, ids, corners.data(), 8, nullptr, nullptr, nullptr, nullptr, 0.0,
-                                    DepthWeights::sparse);
+                                    DepthWeights::sparse, nullptr, &known);
   } else {
     bound = depth_upper_bound(fixed, q, reach, corners.data(), 8, ids, nullptr, nullptr, nullptr, nullptr, 0.0,
-                              DepthWeights::sparse);
+                              DepthWeights::sparse, nullptr, &known);
   }
   if (bound < depth) return v;  // s >= -dist >= -bound > target on the cube
-  if (!clip_deep_cube(fixed, depth, Q, corners, ids, v)) return v;  // a clip's function proves it shallow
+  if (!clip_deep_cube(fixed, depth, Q, corners, ids, known, v)) return v;  // a clip proves it shallow
   v.what = r <= cell_size ? DeepCubeVerdict::keep : DeepCubeVerdict::split;
   return v;
 }
@@ -255,25 +258,63 @@ DeepCover build_deep_cover(const SignedDistance& fixed, double target, const Dee
 }
 
 namespace {
-constexpr std::size_t kMemoShards = 64;
-using CubeKey = std::array<double, 4>;  // lo and hi.x: one cube of the octree
-struct CubeKeyHash {
-  std::size_t operator()(const CubeKey& k) const {
-    std::uint64_t h = 0x9e3779b97f4a7c15ull;
-    for (const double x : k) {
-      std::uint64_t b;
-      std::memcpy(&b, &x, sizeof b);
-      h ^= b + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
-    }
-    return static_cast<std::size_t>(h);
-  }
+constexpr std::size_t kMemoShards = 64;  // chosen by a hash's top 6 bits
+// A cube of the octree is its lower corner and its side (lo, and hi.x), compared bit for bit.
+struct CubeKey {
+  std::array<std::uint64_t, 4> bits;
+  bool operator==(const CubeKey& o) const { return bits == o.bits; }
 };
-CubeKey cube_key(const Aabb& c) { return {c.lo[0], c.lo[1], c.lo[2], c.hi[0]}; }
+CubeKey cube_key(const Aabb& c) {
+  CubeKey k;
+  const double x[4] = {c.lo[0], c.lo[1], c.lo[2], c.hi[0]};
+  std::memcpy(k.bits.data(), x, sizeof x);
+  return k;
+}
+// The octree's doubles differ in few high bits: every word is mixed in full (splitmix64's
+// finaliser), so both the shard (the top bits) and the slot (the low bits) spread.
+std::uint64_t mix(std::uint64_t x) {
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9ull;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+std::uint64_t cube_hash(const CubeKey& k) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ull;
+  for (const std::uint64_t b : k.bits) h = mix(h ^ b);
+  return h;
+}
 }  // namespace
 
+// Open addressing, linear probing, at most half full: a look-up is one probe of a flat array in
+// most cases (an unordered_map's division and node chase were a tenth of rotor's octree queries).
 struct DeepCubeMemo::Shard {
+  struct Slot {
+    CubeKey key;
+    std::uint32_t verdict = 0;  // index + 1 into verdicts; 0: empty
+  };
   mutable std::mutex mutex;
-  std::unordered_map<CubeKey, DeepCubeVerdict, CubeKeyHash> map;
+  std::vector<Slot> slots;  // a power of two in size, or empty
+  std::vector<DeepCubeVerdict> verdicts;
+
+  // The slot holding k, or the empty one where it would go (slots must not be empty or full).
+  std::size_t probe(const CubeKey& k, std::uint64_t h) const {
+    const std::size_t mask = slots.size() - 1;
+    std::size_t i = h & mask;
+    while (slots[i].verdict != 0 && !(slots[i].key == k)) i = (i + 1) & mask;
+    return i;
+  }
+  void grow() {
+    std::vector<Slot> old(std::max<std::size_t>(64, 2 * slots.size()));
+    old.swap(slots);
+    const std::size_t mask = slots.size() - 1;
+    for (const Slot& s : old) {
+      if (s.verdict == 0) continue;
+      std::size_t i = cube_hash(s.key) & mask;
+      while (slots[i].verdict != 0) i = (i + 1) & mask;
+      slots[i] = s;
+    }
+  }
 };
 
 DeepCubeMemo::DeepCubeMemo(double target, std::size_t max_entries)
@@ -283,26 +324,35 @@ DeepCubeMemo::~DeepCubeMemo() = default;
 
 bool DeepCubeMemo::find(const Aabb& cube, DeepCubeVerdict* verdict) const {
   const CubeKey k = cube_key(cube);
-  const Shard& s = shards_[CubeKeyHash{}(k) % kMemoShards];
+  const std::uint64_t h = cube_hash(k);
+  const Shard& s = shards_[h >> 58];
   std::lock_guard<std::mutex> lock(s.mutex);
-  const auto it = s.map.find(k);
-  if (it == s.map.end()) return false;
-  *verdict = it->second;
+  if (s.slots.empty()) return false;
+  const std::uint32_t at = s.slots[s.probe(k, h)].verdict;
+  if (at == 0) return false;
+  *verdict = s.verdicts[at - 1];
   return true;
 }
 
 void DeepCubeMemo::insert(const Aabb& cube, const DeepCubeVerdict& verdict) {
   const CubeKey k = cube_key(cube);
-  Shard& s = shards_[CubeKeyHash{}(k) % kMemoShards];
+  const std::uint64_t h = cube_hash(k);
+  Shard& s = shards_[h >> 58];
   std::lock_guard<std::mutex> lock(s.mutex);
-  if (s.map.size() < max_per_shard_) s.map.emplace(k, verdict);
+  if (s.verdicts.size() >= max_per_shard_) return;
+  if (2 * (s.verdicts.size() + 1) > s.slots.size()) s.grow();
+  Shard::Slot& slot = s.slots[s.probe(k, h)];
+  if (slot.verdict != 0) return;  // another thread's verdict for the same cube: the same verdict
+  s.verdicts.push_back(verdict);
+  slot.key = k;
+  slot.verdict = static_cast<std::uint32_t>(s.verdicts.size());
 }
 
 std::size_t DeepCubeMemo::size() const {
   std::size_t n = 0;
   for (std::size_t i = 0; i < kMemoShards; ++i) {
     std::lock_guard<std::mutex> lock(shards_[i].mutex);
-    n += shards_[i].map.size();
+    n += shards_[i].verdicts.size();
   }
   return n;
 }

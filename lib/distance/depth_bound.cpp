@@ -304,18 +304,20 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
                          std::vector<std::uint32_t>& ids, Vec3* candidate, const Vec3* plane_normal, int* worst_corner,
                          TranslatedDepthBound* moments, double coplanar_slack, DepthWeights weights,
-                         DepthWitness* witness) {
+                         DepthWitness* witness, CornerDistances* computed) {
   sdf.triangles_within(c, radius, max_triangles(weights) - 1, ids);  // stops after max_triangles
   return depth_upper_bound_among(sdf, c, ids, corners, n_corners, candidate, plane_normal, worst_corner, moments,
-                                 coplanar_slack, weights, witness);
+                                 coplanar_slack, weights, witness, computed);
 }
 
 double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids,
                                const Vec3* corners, int n_corners, Vec3* candidate, const Vec3* plane_normal,
                                int* worst_corner, TranslatedDepthBound* moments, double coplanar_slack,
-                               DepthWeights weights, DepthWitness* witness) {
+                               DepthWeights weights, DepthWitness* witness, CornerDistances* computed) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   if (moments) moments->n = 0;
+  if (computed)
+    for (auto& row : computed->d) row.fill(std::numeric_limits<double>::quiet_NaN());
   if (witness) witness->n = 0;
   if (ids.empty()) return kInf;
   const TriangleMesh& m = sdf.mesh();
@@ -370,7 +372,9 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
       if (lambda[j] <= 0.0) continue;
       const Face& f = m.faces[ids[j]];
       const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &cc = m.vertices[f[2]];
-      sum += lambda[j] * point_triangle_distance_upper(v, a, b, cc);
+      const double dj = point_triangle_distance_upper(v, a, b, cc);
+      if (computed && j < 4 && corner < 8) computed->d[static_cast<std::size_t>(corner)][j] = dj;
+      sum += lambda[j] * dj;
       weights += lambda[j];
       if (with_moments) {
         const Vec3 w = v - point_of_triangle_near(v, a, b, cc);

@@ -49,6 +49,13 @@ struct DepthWitness {
 // +inf when w is empty.
 double witness_depth_bound(const SignedDistance& sdf, const DepthWitness& w, const Vec3* corners, int n_corners);
 
+// The certified distances (point_triangle_distance_upper) of the first four triangles of `ids`, as
+// the bound leaves them, at up to eight corners, where the bound computed them (NaN elsewhere): a
+// caller that needs the same distances (deep_cover.cpp's clips) takes them from here.
+struct CornerDistances {
+  std::array<std::array<double, 4>, 8> d;
+};
+
 // How far the weights are optimised (only the bound's tightness and cost depend on it).
 // `converged`: Frank-Wolfe to the min-norm point (up to 100 steps): the tightest on plateaus and
 // seams, for the maximum penetration's cubes. `sparse`: stopped once the duality gap is at most
@@ -68,7 +75,8 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
                          std::vector<std::uint32_t>& scratch, Vec3* candidate = nullptr,
                          const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
                          TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0,
-                         DepthWeights weights = DepthWeights::converged, DepthWitness* witness = nullptr);
+                         DepthWeights weights = DepthWeights::converged, DepthWitness* witness = nullptr,
+                         CornerDistances* computed = nullptr);
 // The same bound from the triangles `ids` (any set; it should hold the nearest ones of the cell's
 // points to be tight), of which the nearest 49 to c are kept (16 with sparse weights): `ids` is
 // reordered nearest first and cut to those used. depth_upper_bound is triangles_within then this.
@@ -76,7 +84,8 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
                                const Vec3* corners, int n_corners, Vec3* candidate = nullptr,
                                const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
                                TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0,
-                               DepthWeights weights = DepthWeights::converged, DepthWitness* witness = nullptr);
+                               DepthWeights weights = DepthWeights::converged, DepthWitness* witness = nullptr,
+                               CornerDistances* computed = nullptr);
 // The same bound with the weights that minimise its largest corner value (a linear program over
 // the first max_members triangles of `ids`, e.g. the nearest ones as depth_upper_bound_among leaves
 // them): tighter than the min-norm weights where the nearest feature changes across the cell, as

@@ -281,6 +281,47 @@ struct MovingTriangles {
   }
 };
 
+// A deep-zone query's octree and work lists, kept per thread from query to query: allocating them
+// afresh (and faulting their pages in) was a tenth of rotor's queries. Storage past kKeepBytes is
+// given back after a query, so a thin shell's 4-million-cube query does not stay resident.
+struct ZoneOctree {
+  struct Node {
+    Aabb box;  // the rest of its DeepCube is its parent's (deep_cube_child)
+    DeepCubeVerdict verdict;
+    bool classified = false;
+    bool leaf = false;              // kept: in the zone, or undecided at most the leaf size
+    std::uint32_t first_child = 0;  // 0: none yet
+    std::uint32_t parent = 0;       // (the root's: itself)
+    std::int32_t list = -1;         // its children's list in `lists` (-1: not made yet, -2: none)
+  };
+  // Pairs (mover node, cube) by the latest lambda at which they may meet, latest first.
+  struct Pair {
+    std::uint32_t a, b;
+    double hi;
+  };
+  static constexpr std::size_t kKeepBytes = std::size_t{64} << 20;
+  std::vector<Node> nodes;
+  std::vector<DeepCubeList> lists;  // [0, n_lists) in use; the rest keep their storage
+  std::size_t n_lists = 0;
+  std::vector<Pair> heap;
+  std::vector<std::uint32_t> ids;
+  void start() {
+    nodes.clear();
+    heap.clear();
+    n_lists = 0;
+  }
+  // After a query: a large octree's storage is given back.
+  void trim() {
+    const std::size_t bytes = nodes.capacity() * sizeof(Node) + heap.capacity() * sizeof(Pair) +
+                              lists.capacity() * (sizeof(DeepCubeList) + 64 * sizeof(std::uint32_t));
+    if (bytes <= kKeepBytes) return;
+    std::vector<Node>().swap(nodes);
+    std::vector<Pair>().swap(heap);
+    std::vector<DeepCubeList>().swap(lists);
+    n_lists = 0;
+  }
+};
+
 // The lambdas where the mover (rotated doubles moved by t0 + lambda d, exactly) can meet a box
 // of a deep-zone cover grown by `margin`.
 struct CoverGeometry {
@@ -540,44 +581,36 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
   ThreadScratch<MovingTriangles> moving_scratch;
   moving_scratch.get().start(orientation.faces->size());
   const CoverGeometry g{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max), &moving_scratch.get()};
-  // The octree, grown on demand: a cube is classified when a pair holding it comes up, and split
-  // into eight when it is neither dropped nor kept.
-  struct Node {
-    Aabb box;  // the rest of its DeepCube is its parent's (deep_cube_child)
-    DeepCubeVerdict verdict;
-    bool classified = false;
-    bool leaf = false;              // kept: in the zone, or undecided at most the leaf size
-    std::uint32_t first_child = 0;  // 0: none yet
-    std::uint32_t parent = 0;       // (the root's: itself)
-    std::int32_t list = -1;         // its children's list in `lists` (-1: not made yet, -2: none)
-  };
-  std::vector<Node> nodes;
+  // The octree, grown on demand (ZoneOctree): a cube is classified when a pair holding it comes
+  // up, and split into eight when it is neither dropped nor kept.
+  ThreadScratch<ZoneOctree> scratch;
+  ZoneOctree& z = scratch.get();
+  z.start();
+  struct Trim {
+    ZoneOctree& z;
+    ~Trim() { z.trim(); }
+  } trim_after{z};
+  std::vector<ZoneOctree::Node>& nodes = z.nodes;
   const DeepCube root = deep_cover_root(fixed);
   nodes.push_back({root.box, {}, false, false, 0, 0, -2});
   // A split cube's list of nearby triangles, made when one of its children is first classified
   // here: the children's queries scan it instead of the tree. A deterministic function of the cube
   // (its verdict is), so a verdict does not depend on which query classified it.
   constexpr std::size_t kMaxListed = 64;
-  std::vector<DeepCubeList> lists;
   const auto parent_list = [&](std::uint32_t child) -> const DeepCubeList* {
-    Node& p = nodes[nodes[child].parent];
+    ZoneOctree::Node& p = nodes[nodes[child].parent];
     if (p.list == -1) {
-      lists.emplace_back();
-      p.list = deep_cube_list(fixed, p.box, p.verdict, kMaxListed, lists.back())
-                   ? static_cast<std::int32_t>(lists.size() - 1)
+      if (z.n_lists == z.lists.size()) z.lists.emplace_back();
+      p.list = deep_cube_list(fixed, p.box, p.verdict, kMaxListed, z.lists[z.n_lists])
+                   ? static_cast<std::int32_t>(z.n_lists++)
                    : -2;
-      if (p.list == -2) lists.pop_back();
     }
-    return p.list >= 0 ? &lists[static_cast<std::size_t>(p.list)] : nullptr;
+    return p.list >= 0 ? &z.lists[static_cast<std::size_t>(p.list)] : nullptr;
   };
-  std::vector<std::uint32_t> ids;
-  // Pairs (mover node, cube) by the latest lambda at which they may meet, latest first.
-  struct Pair {
-    std::uint32_t a, b;
-    double hi;
-  };
+  std::vector<std::uint32_t>& ids = z.ids;
+  using Pair = ZoneOctree::Pair;
   const auto earlier = [](const Pair& x, const Pair& y) { return x.hi < y.hi; };  // max-heap on hi
-  std::vector<Pair> heap;
+  std::vector<Pair>& heap = z.heap;
   const auto push = [&](std::uint32_t a, std::uint32_t b) {
     LambdaRange r = g.boxes(orientation.boxes.nodes[a].bv, g.grown(nodes[b].box));
     r.meet(-kInf, lambda_top);
@@ -592,7 +625,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     heap.pop_back();
     if (!(e.hi > out.lambda)) break;  // no waiting pair can meet later than the best contact
     if (out.lambda >= stop_at) break;
-    Node& nb = nodes[e.b];
+    ZoneOctree::Node& nb = nodes[e.b];
     if (!nb.classified) {
       // Every cube counts against the budget, found in the memo or not: whether it is found there
       // depends on other threads, the answer must not.
