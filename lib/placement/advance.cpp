@@ -566,33 +566,70 @@ double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orient
   return p.best;
 }
 
+// A held query (HeldZoneQuery): its octree and queue, what it was asked, and how far it got.
+struct HeldZoneQuery::State {
+  ZoneOctree z;
+  const SignedDistance* fixed = nullptr;
+  const MoverOrientation* orientation = nullptr;
+  const DeepCubeMemo* memo = nullptr;
+  double target = 0.0, cell_size = 0.0, clipped_cell_size = 0.0, slack = 0.0, lambda_max = 0.0;
+  Vec3 t0 = Vec3::Zero(), d = Vec3::Zero();
+  double best = 0.0;         // its latest contact so far
+  std::uint64_t cubes = 0;   // classified since it started
+};
+
+HeldZoneQuery::HeldZoneQuery() = default;
+HeldZoneQuery::~HeldZoneQuery() = default;
+HeldZoneQuery::HeldZoneQuery(HeldZoneQuery&&) noexcept = default;
+HeldZoneQuery& HeldZoneQuery::operator=(HeldZoneQuery&&) noexcept = default;
+bool HeldZoneQuery::held() const { return state_ != nullptr; }
+double HeldZoneQuery::cell_size() const { return state_ ? state_->cell_size : 0.0; }
+double HeldZoneQuery::clipped_cell_size() const { return state_ ? state_->clipped_cell_size : 0.0; }
+void HeldZoneQuery::clear() { state_.reset(); }
+
 DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, double cell_size,
                                   const MoverOrientation& orientation, const Vec3& t0, const Vec3& d, double slack,
                                   double lambda_max, double lambda_top, double stop_at, std::uint64_t max_cubes,
-                                  DeepCubeMemo* memo, double clipped_cell_size) {
+                                  DeepCubeMemo* memo, double clipped_cell_size, HeldZoneQuery* held) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   constexpr double kPresplitLeaves = 8.0;
   DeepZoneContact out;
   out.lambda = -kInf;
   if (!(target < 0.0) || fixed.mesh().faces.empty() || orientation.boxes.empty()) {
+    if (held) held->clear();
     out.complete = true;
     return out;
   }
   ThreadScratch<MovingTriangles> moving_scratch;
   moving_scratch.get().start(orientation.faces->size());
   const CoverGeometry g{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max), &moving_scratch.get()};
+  // A held query of the same question continues where it stopped: every pair it set aside had no
+  // contact later than its best, which is at most lambda_top, so its queue still holds every
+  // pair that may meet later (pairs queued under an earlier lambda_top keep upper bounds that are
+  // still valid, and their tests now stop at lambda_top).
+  HeldZoneQuery::State* h = held ? held->state_.get() : nullptr;
+  const bool resume = h && h->fixed == &fixed && h->orientation == &orientation && h->memo == memo &&
+                      h->target == target && h->cell_size == cell_size &&
+                      h->clipped_cell_size == clipped_cell_size && h->slack == slack && h->lambda_max == lambda_max &&
+                      h->t0 == t0 && h->d == d && !(h->best > lambda_top);
+  if (held && !resume) held->clear();
+  std::uint64_t done = resume ? h->cubes : 0;  // cubes of this query classified before this call
   // The octree, grown on demand (ZoneOctree): a cube is classified when a pair holding it comes
   // up, and split into eight when it is neither dropped nor kept.
   ThreadScratch<ZoneOctree> scratch;
-  ZoneOctree& z = scratch.get();
-  z.start();
+  ZoneOctree& z = resume ? h->z : scratch.get();
   struct Trim {
     ZoneOctree& z;
     ~Trim() { z.trim(); }
-  } trim_after{z};
+  } trim_after{scratch.get()};
   std::vector<ZoneOctree::Node>& nodes = z.nodes;
   const DeepCube root = deep_cover_root(fixed);
-  nodes.push_back({root.box, {}, false, false, 0, 0, -2});
+  if (resume) {
+    out.lambda = h->best;
+  } else {
+    z.start();
+    nodes.push_back({root.box, {}, false, false, 0, 0, -2});
+  }
   // A split cube's list of nearby triangles, made when one of its children is first classified
   // here: the children's queries scan it instead of the tree. A deterministic function of the cube
   // (its verdict is), so a verdict does not depend on which query classified it.
@@ -611,6 +648,31 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
   using Pair = ZoneOctree::Pair;
   const auto earlier = [](const Pair& x, const Pair& y) { return x.hi < y.hi; };  // max-heap on hi
   std::vector<Pair>& heap = z.heap;
+  // Out of budget: the query is held (the pair just taken put back) when the caller keeps it.
+  const auto run_out = [&](const Pair& e) {
+    out.complete = false;
+    if (!held) return;
+    heap.push_back(e);
+    std::push_heap(heap.begin(), heap.end(), earlier);
+    if (!resume) {
+      auto s = std::make_unique<HeldZoneQuery::State>();
+      std::swap(s->z, z);  // the thread's scratch is left empty
+      s->fixed = &fixed;
+      s->orientation = &orientation;
+      s->memo = memo;
+      s->target = target;
+      s->cell_size = cell_size;
+      s->clipped_cell_size = clipped_cell_size;
+      s->slack = slack;
+      s->lambda_max = lambda_max;
+      s->t0 = t0;
+      s->d = d;
+      held->state_ = std::move(s);
+      h = held->state_.get();
+    }
+    h->best = out.lambda;
+    h->cubes = done + out.cubes;
+  };
   const auto push = [&](std::uint32_t a, std::uint32_t b) {
     LambdaRange r = g.boxes(orientation.boxes.nodes[a].bv, g.grown(nodes[b].box));
     r.meet(-kInf, lambda_top);
@@ -618,7 +680,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     heap.push_back({a, b, r.hi});
     std::push_heap(heap.begin(), heap.end(), earlier);
   };
-  push(0, 0);
+  if (!resume) push(0, 0);
   while (!heap.empty()) {
     std::pop_heap(heap.begin(), heap.end(), earlier);
     const Pair e = heap.back();
@@ -629,8 +691,8 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     if (!nb.classified) {
       // Every cube counts against the budget, found in the memo or not: whether it is found there
       // depends on other threads, the answer must not.
-      if (out.cubes >= max_cubes) {
-        out.complete = false;
+      if (done + out.cubes >= max_cubes) {
+        run_out(e);
         return out;
       }
       ++out.cubes;
@@ -702,6 +764,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     for (std::uint32_t k = 0; k < 8; ++k) push(e.a, first + k);
   }
   out.complete = true;
+  if (held) held->clear();
   return out;
 }
 

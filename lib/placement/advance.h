@@ -6,6 +6,7 @@
 // target. As FCL's conservative advancement, with rigorous bounds.
 #include <cstdint>
 #include <limits>
+#include <memory>
 
 #include "distance/deep_cover.h"
 #include "distance/signed_distance.h"
@@ -97,11 +98,38 @@ double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orient
 struct DeepZoneContact {
   double lambda = 0.0;
   bool complete = false;
-  std::uint64_t cubes = 0;  // cubes classified
+  std::uint64_t cubes = 0;  // cubes classified by this call
 };
+// A query that ran out of its budget, kept to be continued by a later call (deep_zone_contact's
+// `held`) instead of classified again from the root: a plateau's queries are retried with twice
+// the budget, and each retry used to redo its predecessors' cubes.
+class HeldZoneQuery {
+ public:
+  HeldZoneQuery();
+  ~HeldZoneQuery();
+  HeldZoneQuery(HeldZoneQuery&&) noexcept;
+  HeldZoneQuery& operator=(HeldZoneQuery&&) noexcept;
+  bool held() const;
+  double cell_size() const;          // the held query's (0 when none is held)
+  double clipped_cell_size() const;  // the held query's
+  void clear();
+  struct State;
+
+ private:
+  friend DeepZoneContact deep_zone_contact(const SignedDistance&, double, double, const MoverOrientation&,
+                                           const Vec3&, const Vec3&, double, double, double, double, std::uint64_t,
+                                           DeepCubeMemo*, double, HeldZoneQuery*);
+  std::unique_ptr<State> state_;
+};
+// held (optional): a query that runs out is kept there; one held there for the same fixed mesh,
+// target, cell sizes, orientation, t0, d, slack, lambda_max and memo, whose latest contact so far is
+// at most lambda_top, is continued with the new lambda_top, stop_at and budget (max_cubes counts
+// its cubes from its start). The answer is then the one above for that query's octree: valid, and a
+// deterministic function of the calls made. Emptied when a query completes.
 DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, double cell_size,
                                   const MoverOrientation& orientation, const Vec3& t0, const Vec3& d, double slack,
                                   double lambda_max, double lambda_top, double stop_at, std::uint64_t max_cubes,
-                                  DeepCubeMemo* memo = nullptr, double clipped_cell_size = 0.0);
+                                  DeepCubeMemo* memo = nullptr, double clipped_cell_size = 0.0,
+                                  HeldZoneQuery* held = nullptr);
 
 }  // namespace cdbench

@@ -141,15 +141,24 @@ class DeepZoneJumps {
     // (PoseOptions::deep_zone_min_cubes).
     const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_, flat >= kPlateauSteps);
     if (budget == 0) return kNaN;
+    // A query that ran out is held and continued by the next try (with twice the budget) rather
+    // than started again, with its own leaves while they are at most 1.2 times the size this gap
+    // gives: on a plateau the gap barely changes (doc/performance.md, "Held queries").
     const double fine = kFineLeafGaps * gap;
-    DeepZoneContact z = deep_zone_contact(*setup.fixed, target_, fine, frame.orientation, frame.t0, dir, pose_slack,
-                                          lambda_far, lambda, worth, budget, memo_, kClippedLeafGaps * gap);
+    const auto leaves = [&](const HeldZoneQuery& q, double size) {
+      return q.held() && q.cell_size() <= kHeldLeafGrowth * fine ? q.cell_size() : size;
+    };
+    const double fine1 = leaves(clipped_query_, fine);
+    DeepZoneContact z =
+        deep_zone_contact(*setup.fixed, target_, fine1, frame.orientation, frame.t0, dir, pose_slack, lambda_far,
+                          lambda, worth, budget, memo_,
+                          fine1 == fine ? kClippedLeafGaps * gap : clipped_query_.clipped_cell_size(), &clipped_query_);
     *zone_cubes += z.cubes;
     if (z.complete && !(z.lambda < worth)) {
       // Clipped leaves of three gaps found the zone within two: their clips may be loose (a curved
       // wall: thin shells). Asked again with every leaf a quarter of the gap before giving up.
-      z = deep_zone_contact(*setup.fixed, target_, fine, frame.orientation, frame.t0, dir, pose_slack, lambda_far,
-                            lambda, worth, budget, memo_);
+      z = deep_zone_contact(*setup.fixed, target_, leaves(fine_query_, fine), frame.orientation, frame.t0, dir,
+                            pose_slack, lambda_far, lambda, worth, budget, memo_, 0.0, &fine_query_);
       *zone_cubes += z.cubes;
     }
     if (!z.complete) {
@@ -160,7 +169,7 @@ class DeepZoneJumps {
     return z.lambda;
   }
 
-  static constexpr double kFineLeafGaps = 0.25, kClippedLeafGaps = 3.0;
+  static constexpr double kFineLeafGaps = 0.25, kClippedLeafGaps = 3.0, kHeldLeafGrowth = 1.2;
   static constexpr int kPlateauSteps = 8;
 
  private:
@@ -169,6 +178,7 @@ class DeepZoneJumps {
   bool use_cover_, use_octree_;
   DeepCubeMemo* memo_;
   std::uint64_t tried_ = 0;  // the budget of the octree's last query that ran out (0: none yet)
+  HeldZoneQuery clipped_query_, fine_query_;  // queries that ran out, to be continued
 };
 
 }  // namespace

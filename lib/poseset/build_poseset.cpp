@@ -201,11 +201,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // 2; with the octree's cap of 4,000,000 cubes and a last query at it since session 31: 3; with
   // clipped cubes, plateaus from a tenth of |target| and queries of at least 20,000 cubes since
   // session 33: 4; with the octree's triangle tests without the clip-edge axes and covers of at
-  // most 1,000 cubes per approach of the request since session 35: 5): their poses may differ within the tolerance from earlier binaries', whose
+  // most 1,000 cubes per approach of the request since session 35: 5; with queries that ran out
+  // continued by the next try since session 36: 6): their poses may differ within the tolerance from earlier binaries', whose
   // journals must therefore not be resumed or merged with them. Absent otherwise, so that other
   // runs still resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
-    run_key["deep_zone_jumps"] = 5;
+    run_key["deep_zone_jumps"] = 6;
   // Penetrating levels' certificates since 2026-11-28 (session 34: no pair-distance path, leaves
   // of one face and hopeless boxes split unevaluated, 2; stale cells re-bounded by their last depth
   // bound's weights, 3): their intervals, and so the polished poses, may differ within the

@@ -279,5 +279,64 @@ TEST(DeepJumps, GrownOctreeFindsTheCoversContact) {
   }
 }
 
+// A query that runs out and is held, then continued (with a larger budget, under the same or a
+// lower lambda_top): a complete search's answer is the latest contact over the same octree, so it
+// equals a fresh query's; its cubes, before and after, are the fresh query's. A different question
+// is not continued, and a completed query is no longer held.
+TEST(DeepJumps, HeldQueryContinuesToTheFreshAnswer) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  int continued = 0, lowered = 0;
+  for (int shape = 0; shape < 2; ++shape) {
+    const Scene w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
+    const double target = shape == 0 ? -0.05 : -0.12;
+    const double cell = 0.1 * std::abs(target), clipped = 0.3 * std::abs(target);
+    std::mt19937_64 rng(41 + shape);
+    for (int i = 0; i < 10; ++i) {
+      const OrientationFrame frame = make_orientation_frame(w.setup, random_rotation(rng));
+      const Vec3 dir = random_direction(rng);
+      const double lambda_far = w.setup.fixed_radius + w.setup.mover_radius + 1.0;
+      const auto ask = [&](double top, std::uint64_t budget, HeldZoneQuery* held) {
+        return deep_zone_contact(w.fixed, target, cell, frame.orientation, frame.t0, dir, 1e-12, lambda_far, top, kInf,
+                                 budget, nullptr, clipped, held);
+      };
+      const DeepZoneContact fresh = ask(kInf, 1000000, nullptr);
+      ASSERT_TRUE(fresh.complete);
+      if (fresh.cubes < 20) continue;
+      HeldZoneQuery held;
+      const DeepZoneContact first = ask(kInf, fresh.cubes / 3, &held);
+      ASSERT_FALSE(first.complete);
+      ASSERT_TRUE(held.held());
+      EXPECT_EQ(held.cell_size(), cell);
+      const DeepZoneContact rest = ask(kInf, 1000000, &held);
+      ASSERT_TRUE(rest.complete);
+      EXPECT_FALSE(held.held());
+      EXPECT_EQ(rest.lambda, fresh.lambda) << std::setprecision(17) << "shape " << shape << " dir " << dir.transpose();
+      EXPECT_EQ(first.cubes + rest.cubes, fresh.cubes);
+      ++continued;
+      // Under a lower lambda_top (what a pose that advanced asks): the fresh answer there.
+      if (!(fresh.lambda > -lambda_far)) continue;
+      const double top = fresh.lambda + 0.25 * (lambda_far - fresh.lambda);
+      const DeepZoneContact fresh_low = ask(top, 1000000, nullptr);
+      const DeepZoneContact part = ask(kInf, fresh.cubes / 4, &held);
+      ASSERT_FALSE(part.complete);
+      const DeepZoneContact low = ask(top, 1000000, &held);
+      ASSERT_TRUE(low.complete);
+      EXPECT_EQ(low.lambda, fresh_low.lambda) << std::setprecision(17) << "shape " << shape << " top " << top;
+      ++lowered;
+      // Another question (another cell size) starts afresh and drops the held one.
+      ASSERT_FALSE(ask(kInf, fresh.cubes / 4, &held).complete);
+      const DeepZoneContact other = deep_zone_contact(w.fixed, target, 2.0 * cell, frame.orientation, frame.t0, dir,
+                                                      1e-12, lambda_far, kInf, kInf, 1000000, nullptr, clipped, &held);
+      const DeepZoneContact other_fresh = deep_zone_contact(w.fixed, target, 2.0 * cell, frame.orientation, frame.t0,
+                                                            dir, 1e-12, lambda_far, kInf, kInf, 1000000, nullptr, clipped);
+      EXPECT_EQ(other.lambda, other_fresh.lambda);
+      EXPECT_EQ(other.cubes, other_fresh.cubes);
+      EXPECT_FALSE(held.held());
+    }
+  }
+  EXPECT_GT(continued, 6);
+  EXPECT_GT(lowered, 3);
+}
+
 }  // namespace
 }  // namespace cdbench
