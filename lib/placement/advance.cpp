@@ -646,7 +646,12 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
   };
   std::vector<std::uint32_t>& ids = z.ids;
   using Pair = ZoneOctree::Pair;
-  const auto earlier = [](const Pair& x, const Pair& y) { return x.hi < y.hi; };  // max-heap on hi
+  // A max-heap on hi, ties by the pair: the order pairs come up in is a function of the pairs queued,
+  // not of the order they were queued in, so a held query continued does what one fresh query with
+  // the whole budget would.
+  const auto earlier = [](const Pair& x, const Pair& y) {
+    return x.hi < y.hi || (x.hi == y.hi && (x.a > y.a || (x.a == y.a && x.b > y.b)));
+  };
   std::vector<Pair>& heap = z.heap;
   // Out of budget: the query is held (the pair just taken put back) when the caller keeps it.
   const auto run_out = [&](const Pair& e) {
@@ -674,6 +679,9 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     h->cubes = done + out.cubes;
   };
   const auto push = [&](std::uint32_t a, std::uint32_t b) {
+    // A cube already dropped meets nothing (its pairs queued before its verdict are dropped when
+    // they come up).
+    if (nodes[b].classified && nodes[b].verdict.what == DeepCubeVerdict::drop) return;
     LambdaRange r = g.boxes(orientation.boxes.nodes[a].bv, g.grown(nodes[b].box));
     r.meet(-kInf, lambda_top);
     if (r.empty() || !(r.hi > out.lambda)) return;
