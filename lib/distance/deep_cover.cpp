@@ -55,7 +55,7 @@ bool clip_deep_cube(const SignedDistance& fixed, double depth, const Aabb& Q, co
     std::array<double, 8> f;
     for (int k = 0; k < 8; ++k) {
       const double d = known.d[static_cast<std::size_t>(k)][j];  // the depth bound's, when it has it
-      f[k] = std::isnan(d) ? point_triangle_distance_upper(corners[k], m, ids[j]) : d;
+      f[k] = std::isnan(d) ? point_triangle_distance_upper_near(corners[k], m, ids[j]) : d;
     }
     // The least-squares gradient over the corners (only tightness depends on it); corner k is on
     // the upper side of axis a when bit a of k is set (Aabb::corners).
@@ -116,7 +116,7 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
   double hint_distance = std::numeric_limits<double>::infinity();  // an upper bound of dist(q, F)
   if (cube.hint >= 0) {
     const auto hint = static_cast<std::uint32_t>(cube.hint);
-    hint_distance = point_triangle_distance_upper(q, fixed.mesh(), hint);
+    hint_distance = point_triangle_distance_upper_near(q, fixed.mesh(), hint);
     if (round_up(hint_distance + r) < depth) {
       v.nearest = hint;
       return v;  // s >= -dist(x, F) > target on Q

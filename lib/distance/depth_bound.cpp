@@ -155,7 +155,7 @@ double patched_depth_bound(const SignedDistance& sdf, const Vec3& c, const std::
         const Patch& p = patches[static_cast<std::size_t>(who[i])];
         d = patch_distance_bound(*p.plane, p.eta, v);
       } else {
-        d = point_triangle_distance_upper(v, m, ids[static_cast<std::size_t>(-who[i] - 1)]);
+        d = point_triangle_distance_upper_near(v, m, ids[static_cast<std::size_t>(-who[i] - 1)]);
       }
       sum += lambda[i] * d;
       weights += lambda[i];
@@ -266,7 +266,7 @@ double witness_depth_bound(const SignedDistance& sdf, const DepthWitness& w, con
   double worst = 0.0;
   for (int k = 0; k < n_corners; ++k) {
     double sum = 0.0;
-    for (int j = 0; j < w.n; ++j) sum += w.weight[j] * point_triangle_distance_upper(corners[k], m, w.face[j]);
+    for (int j = 0; j < w.n; ++j) sum += w.weight[j] * point_triangle_distance_upper_near(corners[k], m, w.face[j]);
     worst = std::max(worst, weighted_mean_up(sum, weights));
   }
   return round_up(worst);
@@ -283,7 +283,7 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
   thread_local std::vector<double> lambda;
   D.resize(static_cast<std::size_t>(n_corners) * M);
   for (int k = 0; k < n_corners; ++k)
-    for (std::size_t j = 0; j < M; ++j) D[k * M + j] = point_triangle_distance_upper(corners[k], m, ids[j]);
+    for (std::size_t j = 0; j < M; ++j) D[k * M + j] = point_triangle_distance_upper_near(corners[k], m, ids[j]);
   if (!minimax_weights(D.data(), n_corners, static_cast<int>(M), lambda)) return kInf;
   keep_witness(ids, lambda, M, witness);
   double worst = 0.0;
@@ -372,7 +372,7 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
       if (lambda[j] <= 0.0) continue;
       const Face& f = m.faces[ids[j]];
       const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &cc = m.vertices[f[2]];
-      const double dj = point_triangle_distance_upper(v, a, b, cc);
+      const double dj = point_triangle_distance_upper_near(v, a, b, cc);
       if (computed && j < 4 && corner < 8) computed->d[static_cast<std::size_t>(corner)][j] = dj;
       sum += lambda[j] * dj;
       weights += lambda[j];

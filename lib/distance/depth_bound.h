@@ -49,7 +49,7 @@ struct DepthWitness {
 // +inf when w is empty.
 double witness_depth_bound(const SignedDistance& sdf, const DepthWitness& w, const Vec3* corners, int n_corners);
 
-// The certified distances (point_triangle_distance_upper) of the first four triangles of `ids`, as
+// The certified distances (point_triangle_distance_upper_near) of the first four triangles of `ids`, as
 // the bound leaves them, at up to eight corners, where the bound computed them (NaN elsewhere): a
 // caller that needs the same distances (deep_cover.cpp's clips) takes them from here.
 struct CornerDistances {

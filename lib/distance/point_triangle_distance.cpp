@@ -211,6 +211,12 @@ Vec3 point_of_triangle_near(const Vec3& p, const Vec3& a, const Vec3& b, const V
   return a + beta * (b - a) + gamma * (c - a);
 }
 
+double point_triangle_distance_upper_near(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 q = point_of_triangle_near(p, a, b, c);
+  const double d = (p - q).norm();
+  return round_up(round_up(d * (1.0 + 1e-14)) + closest_point_error(a, b, c));
+}
+
 double closest_point_error(const Vec3& a, const Vec3& b, const Vec3& c) {
   // At most ~6 roundings per coordinate of magnitude <= |a| + |b - a| + |c - a| <= 5 M: below
   // 35 u M per coordinate, 61 u M in norm (u = 2^-53); 1e-13 M covers it with margin.

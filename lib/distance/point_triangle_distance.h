@@ -25,6 +25,18 @@ inline double point_triangle_distance_upper(const Vec3& p, const TriangleMesh& m
   return point_triangle_distance_upper(p, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
 }
 
+// A certified upper bound of the distance from p to abc in plain doubles, about a quarter of the
+// enclosure's cost: |p - q| for q = point_of_triangle_near(p, a, b, c) (a point of the triangle up
+// to closest_point_error), with the norm's rounding (a few roundings of at most 2 u each, any
+// rounding mode) covered by 1e-14 relative and that error added. At most about 1e-13 max|coordinate|
+// above the enclosure's bound. For the depth bounds and clips evaluated at many corners
+// (doc/distance.md, "Near-point upper bounds").
+double point_triangle_distance_upper_near(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+inline double point_triangle_distance_upper_near(const Vec3& p, const TriangleMesh& m, std::uint32_t face) {
+  const Face& f = m.faces[face];
+  return point_triangle_distance_upper_near(p, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
+}
+
 // A rigorous lower bound of the distance from p to abc from any direction u != 0: the triangle lies
 // in the half-space {x : (x - p).u >= min_k (v_k - p).u} (a linear function on a triangle is least
 // at a vertex), so the distance is at least that minimum over |u| when it is positive (else 0).

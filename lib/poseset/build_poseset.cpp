@@ -209,10 +209,11 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     run_key["deep_zone_jumps"] = 6;
   // Penetrating levels' certificates since 2026-11-28 (session 34: no pair-distance path, leaves
   // of one face and hopeless boxes split unevaluated, 2; stale cells re-bounded by their last depth
-  // bound's weights, 3): their intervals, and so the polished poses, may differ within the
-  // tolerance from earlier binaries'. Absent otherwise.
+  // bound's weights, 3; depth bounds from near-point distances since session 36, 4): their
+  // intervals, and so the polished poses, may differ within the tolerance from earlier binaries'.
+  // Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
-    run_key["penetrating_certificates"] = 3;
+    run_key["penetrating_certificates"] = 4;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 

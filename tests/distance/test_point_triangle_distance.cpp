@@ -53,6 +53,26 @@ TEST(PointTriangleDistance, NearTheTrianglePlane) {
   }
 }
 
+// Random triangles at three scales, about the origin and 10^3 scales from it, every tenth a sliver
+// and every fiftieth degenerate (two equal vertices): f(a, b, c, o, scale, k) for each, o the
+// centre and k its index at that scale and centre.
+template <class F>
+void for_random_triangles(std::mt19937_64& rng, F&& f) {
+  std::uniform_real_distribution<double> w(0, 1);
+  for (double scale : {1e-3, 1.0, 1e3}) {
+    for (double offset : {0.0, 1e3 * scale}) {
+      std::uniform_real_distribution<double> u(-scale, scale);
+      const Vec3 o(offset, -0.5 * offset, 0.25 * offset);
+      for (int k = 0; k < 3000; ++k) {
+        Vec3 a = o + Vec3(u(rng), u(rng), u(rng)), b = o + Vec3(u(rng), u(rng), u(rng)), c = o + Vec3(u(rng), u(rng), u(rng));
+        if (k % 10 == 1) c = a + w(rng) * (b - a) + 1e-9 * Vec3(u(rng), u(rng), u(rng));  // sliver
+        if (k % 50 == 2) c = b;                                                           // degenerate
+        f(a, b, c, o, scale, k);
+      }
+    }
+  }
+}
+
 // The slab bound (used by the fast nearest query) never exceeds the exact distance, for any
 // direction, at many scales and near the plane; along the normal it is tight where the projection
 // falls inside the triangle.
@@ -103,45 +123,68 @@ TEST(PointTriangleDistance, PlaneLowerBoundNeverExceedsTheExactDistance) {
   std::mt19937_64 rng(23);
   std::uniform_real_distribution<double> w(0, 1);
   int tight = 0, over_without_eps = 0, degenerate = 0;
-  for (double scale : {1e-3, 1.0, 1e3}) {
-    for (double offset : {0.0, 1e3 * scale}) {
-      std::uniform_real_distribution<double> u(-scale, scale);
-      const Vec3 o(offset, -0.5 * offset, 0.25 * offset);
-      for (int k = 0; k < 3000; ++k) {
-        Vec3 a = o + Vec3(u(rng), u(rng), u(rng)), b = o + Vec3(u(rng), u(rng), u(rng)), c = o + Vec3(u(rng), u(rng), u(rng));
-        if (k % 10 == 1) c = a + w(rng) * (b - a) + 1e-9 * scale * Vec3(u(rng), u(rng), u(rng)) / scale;  // sliver
-        if (k % 50 == 2) c = b;                                                                        // degenerate
-        const TrianglePlane pl = make_triangle_plane(a, b, c);
-        if (!(pl.eps < std::numeric_limits<double>::infinity())) ++degenerate;
-        const Vec3 n = (b - a).cross(c - a);
-        double s = w(rng), t = w(rng);
-        const bool above = k % 2 == 0 && s + t < 1.0 && n.norm() > 0.0;
-        Vec3 p = o + Vec3(u(rng), u(rng), u(rng));
-        if (above) p = a + s * (b - a) + t * (c - a) + std::ldexp(scale, -static_cast<int>(w(rng) * 30)) * n.normalized();
-        const double lb = plane_distance_lower_bound(pl, p);
-        const Epeck::FT exact = exact_squared_distance(p, a, b, c);
-        ASSERT_GE(lb, 0.0);
-        ASSERT_TRUE(Epeck::FT(lb) * Epeck::FT(lb) <= exact)
-            << std::setprecision(17) << "p=(" << p.transpose() << ") a=(" << a.transpose() << ") b=(" << b.transpose()
-            << ") c=(" << c.transpose() << ") bound " << lb << " exact^2 " << CGAL::to_double(exact);
-        if (above && offset == 0.0 && k % 10 != 1) {
-          const double d = std::sqrt(CGAL::to_double(exact));
-          EXPECT_GE(lb, d * (1.0 - 1e-12) - 1e-13 * scale);
-          ++tight;
-        }
-        TrianglePlane no_eps = pl;
-        no_eps.eps = 0.0;
-        no_eps.norm_up = std::sqrt(pl.n.squaredNorm());
-        const double s0 = pl.n.dot(p) - pl.d;
-        if (pl.eps < std::numeric_limits<double>::infinity() && std::abs(s0) > 0.0 &&
-            !(Epeck::FT(std::abs(s0) / no_eps.norm_up) * Epeck::FT(std::abs(s0) / no_eps.norm_up) <= exact))
-          ++over_without_eps;
-      }
+  for_random_triangles(rng, [&](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& o, double scale, int k) {
+    std::uniform_real_distribution<double> u(-scale, scale);
+    const double offset = o.x();
+    const TrianglePlane pl = make_triangle_plane(a, b, c);
+    if (!(pl.eps < std::numeric_limits<double>::infinity())) ++degenerate;
+    const Vec3 n = (b - a).cross(c - a);
+    double s = w(rng), t = w(rng);
+    const bool above = k % 2 == 0 && s + t < 1.0 && n.norm() > 0.0;
+    Vec3 p = o + Vec3(u(rng), u(rng), u(rng));
+    if (above) p = a + s * (b - a) + t * (c - a) + std::ldexp(scale, -static_cast<int>(w(rng) * 30)) * n.normalized();
+    const double lb = plane_distance_lower_bound(pl, p);
+    const Epeck::FT exact = exact_squared_distance(p, a, b, c);
+    ASSERT_GE(lb, 0.0);
+    ASSERT_TRUE(Epeck::FT(lb) * Epeck::FT(lb) <= exact)
+        << std::setprecision(17) << "p=(" << p.transpose() << ") a=(" << a.transpose() << ") b=(" << b.transpose()
+        << ") c=(" << c.transpose() << ") bound " << lb << " exact^2 " << CGAL::to_double(exact);
+    if (above && offset == 0.0 && k % 10 != 1) {
+      const double d = std::sqrt(CGAL::to_double(exact));
+      EXPECT_GE(lb, d * (1.0 - 1e-12) - 1e-13 * scale);
+      ++tight;
     }
-  }
+    TrianglePlane no_eps = pl;
+    no_eps.eps = 0.0;
+    no_eps.norm_up = std::sqrt(pl.n.squaredNorm());
+    const double s0 = pl.n.dot(p) - pl.d;
+    if (pl.eps < std::numeric_limits<double>::infinity() && std::abs(s0) > 0.0 &&
+        !(Epeck::FT(std::abs(s0) / no_eps.norm_up) * Epeck::FT(std::abs(s0) / no_eps.norm_up) <= exact))
+      ++over_without_eps;
+  });
   EXPECT_GT(tight, 1500);
   EXPECT_GT(degenerate, 100);
   EXPECT_GT(over_without_eps, 10);
+}
+
+// The near-point upper bound is never below the exact distance (random and nearly coplanar points,
+// slivers and degenerate triangles, far from the origin too), and at most about 1e-13 of the
+// coordinates' magnitude above it; without its error term it falls below the exact distance
+// somewhere (the control: the test can fail).
+TEST(PointTriangleDistance, NearPointUpperBoundEnclosesTheExactDistance) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> w(0, 1);
+  int below_without_error = 0;
+  for_random_triangles(rng, [&](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& o, double scale, int k) {
+    std::uniform_real_distribution<double> u(-scale, scale);
+    Vec3 p = o + Vec3(u(rng), u(rng), u(rng));
+    const Vec3 n = (b - a).cross(c - a);
+    if (k % 2 == 0 && n.norm() > 0.0) {  // on or just off the plane, inside or outside
+      const double s = w(rng), t = 1.2 * w(rng) * (1.0 - s);
+      p = a + s * (b - a) + t * (c - a) + ((k % 4) ? 1.0 : 0.0) * std::ldexp(scale, -static_cast<int>(w(rng) * 50)) *
+                                              n.normalized();
+    }
+    const double up = point_triangle_distance_upper_near(p, a, b, c);
+    const Epeck::FT exact = exact_squared_distance(p, a, b, c);
+    ASSERT_TRUE(up >= 0.0 && exact <= Epeck::FT(up) * Epeck::FT(up))
+        << std::setprecision(17) << "p=(" << p.transpose() << ") a=(" << a.transpose() << ") b=(" << b.transpose()
+        << ") c=(" << c.transpose() << ") bound " << up << " exact^2 " << CGAL::to_double(exact);
+    const double m = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});
+    EXPECT_LE(up, std::sqrt(CGAL::to_double(exact)) * (1.0 + 1e-13) + 2e-13 * m);
+    const double bare = (p - point_of_triangle_near(p, a, b, c)).norm();
+    if (Epeck::FT(bare) * Epeck::FT(bare) < exact) ++below_without_error;
+  });
+  EXPECT_GT(below_without_error, 10);
 }
 
 TEST(PointTriangleDistance, HandBuiltDegenerateAndBoundaryCases) {
