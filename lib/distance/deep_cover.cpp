@@ -307,13 +307,8 @@ struct DeepCubeMemo::Shard {
   void grow() {
     std::vector<Slot> old(std::max<std::size_t>(64, 2 * slots.size()));
     old.swap(slots);
-    const std::size_t mask = slots.size() - 1;
-    for (const Slot& s : old) {
-      if (s.verdict == 0) continue;
-      std::size_t i = cube_hash(s.key) & mask;
-      while (slots[i].verdict != 0) i = (i + 1) & mask;
-      slots[i] = s;
-    }
+    for (const Slot& s : old)
+      if (s.verdict != 0) slots[probe(s.key, cube_hash(s.key))] = s;  // keys are distinct: an empty slot
   }
 };
 

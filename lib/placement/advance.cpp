@@ -300,6 +300,8 @@ struct ZoneOctree {
     double hi;
   };
   static constexpr std::size_t kKeepBytes = std::size_t{64} << 20;
+  // A split cube lists the triangles near it for its children (deep_cube_list), at most this many.
+  static constexpr std::size_t kMaxListed = 64;
   std::vector<Node> nodes;
   std::vector<DeepCubeList> lists;  // [0, n_lists) in use; the rest keep their storage
   std::size_t n_lists = 0;
@@ -313,7 +315,7 @@ struct ZoneOctree {
   // After a query: a large octree's storage is given back.
   void trim() {
     const std::size_t bytes = nodes.capacity() * sizeof(Node) + heap.capacity() * sizeof(Pair) +
-                              lists.capacity() * (sizeof(DeepCubeList) + 64 * sizeof(std::uint32_t));
+                              lists.capacity() * (sizeof(DeepCubeList) + kMaxListed * sizeof(std::uint32_t));
     if (bytes <= kKeepBytes) return;
     std::vector<Node>().swap(nodes);
     std::vector<Pair>().swap(heap);
@@ -633,12 +635,11 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
   // A split cube's list of nearby triangles, made when one of its children is first classified
   // here: the children's queries scan it instead of the tree. A deterministic function of the cube
   // (its verdict is), so a verdict does not depend on which query classified it.
-  constexpr std::size_t kMaxListed = 64;
   const auto parent_list = [&](std::uint32_t child) -> const DeepCubeList* {
     ZoneOctree::Node& p = nodes[nodes[child].parent];
     if (p.list == -1) {
       if (z.n_lists == z.lists.size()) z.lists.emplace_back();
-      p.list = deep_cube_list(fixed, p.box, p.verdict, kMaxListed, z.lists[z.n_lists])
+      p.list = deep_cube_list(fixed, p.box, p.verdict, ZoneOctree::kMaxListed, z.lists[z.n_lists])
                    ? static_cast<std::int32_t>(z.n_lists++)
                    : -2;
     }

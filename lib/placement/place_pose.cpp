@@ -145,20 +145,18 @@ class DeepZoneJumps {
     // than started again, with its own leaves while they are at most 1.2 times the size this gap
     // gives: on a plateau the gap barely changes (doc/performance.md, "Held queries").
     const double fine = kFineLeafGaps * gap;
-    const auto leaves = [&](const HeldZoneQuery& q, double size) {
-      return q.held() && q.cell_size() <= kHeldLeafGrowth * fine ? q.cell_size() : size;
+    const auto ask = [&](HeldZoneQuery& q, double clipped) {
+      const bool keep = q.held() && q.cell_size() <= kHeldLeafGrowth * fine;
+      return deep_zone_contact(*setup.fixed, target_, keep ? q.cell_size() : fine, frame.orientation, frame.t0, dir,
+                               pose_slack, lambda_far, lambda, worth, budget, memo_,
+                               keep ? q.clipped_cell_size() : clipped, &q);
     };
-    const double fine1 = leaves(clipped_query_, fine);
-    DeepZoneContact z =
-        deep_zone_contact(*setup.fixed, target_, fine1, frame.orientation, frame.t0, dir, pose_slack, lambda_far,
-                          lambda, worth, budget, memo_,
-                          fine1 == fine ? kClippedLeafGaps * gap : clipped_query_.clipped_cell_size(), &clipped_query_);
+    DeepZoneContact z = ask(clipped_query_, kClippedLeafGaps * gap);
     *zone_cubes += z.cubes;
     if (z.complete && !(z.lambda < worth)) {
       // Clipped leaves of three gaps found the zone within two: their clips may be loose (a curved
       // wall: thin shells). Asked again with every leaf a quarter of the gap before giving up.
-      z = deep_zone_contact(*setup.fixed, target_, leaves(fine_query_, fine), frame.orientation, frame.t0, dir,
-                            pose_slack, lambda_far, lambda, worth, budget, memo_, 0.0, &fine_query_);
+      z = ask(fine_query_, 0.0);
       *zone_cubes += z.cubes;
     }
     if (!z.complete) {
