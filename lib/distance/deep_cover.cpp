@@ -95,7 +95,7 @@ bool DeepCubeList::covers(const Vec3& x, double radius) const {
   return round_up(round_up(radius + round_up((x - centre).norm() * (1.0 + 1e-12))) * (1.0 + 1e-15)) <= reach;
 }
 
-bool deep_cube_list(const SignedDistance& fixed, const Aabb& cube, const DeepCubeVerdict& verdict,
+bool deep_cube_list(const SignedDistance& fixed, const Aabb& cube, const DeepCubeHead& verdict,
                     std::size_t max_count, DeepCubeList& list) {
   list.centre = cube.center();
   list.reach = round_up((verdict.near + 2.0 * deep_cube_radius(cube)) * (1.0 + 1e-12));
@@ -168,7 +168,7 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
   return v;
 }
 
-DeepCube deep_cube_child(const Aabb& box, const Aabb& parent, const DeepCubeVerdict& parent_verdict) {
+DeepCube deep_cube_child(const Aabb& box, const Aabb& parent, const DeepCubeHead& parent_verdict) {
   DeepCube c;
   c.box = box;
   c.ref = parent.center();
@@ -293,9 +293,14 @@ struct DeepCubeMemo::Shard {
     CubeKey key;
     std::uint32_t verdict = 0;  // index + 1 into verdicts; 0: empty
   };
+  struct Entry {
+    DeepCubeHead head;
+    std::uint32_t clips = 0;  // its clips: clips[this, this + head.n_clips)
+  };
   mutable std::mutex mutex;
   std::vector<Slot> slots;  // a power of two in size, or empty
-  std::vector<DeepCubeVerdict> verdicts;
+  std::vector<Entry> verdicts;
+  std::vector<DeepClip> clips;  // most cubes have none: 32 bytes a verdict instead of 152
 
   // The slot holding k, or the empty one where it would go (slots must not be empty or full).
   std::size_t probe(const CubeKey& k, std::uint64_t h) const {
@@ -325,7 +330,9 @@ bool DeepCubeMemo::find(const Aabb& cube, DeepCubeVerdict* verdict) const {
   if (s.slots.empty()) return false;
   const std::uint32_t at = s.slots[s.probe(k, h)].verdict;
   if (at == 0) return false;
-  *verdict = s.verdicts[at - 1];
+  const Shard::Entry& e = s.verdicts[at - 1];
+  static_cast<DeepCubeHead&>(*verdict) = e.head;
+  std::copy_n(s.clips.begin() + e.clips, e.head.n_clips, verdict->clips.begin());
   return true;
 }
 
@@ -338,7 +345,8 @@ void DeepCubeMemo::insert(const Aabb& cube, const DeepCubeVerdict& verdict) {
   if (2 * (s.verdicts.size() + 1) > s.slots.size()) s.grow();
   Shard::Slot& slot = s.slots[s.probe(k, h)];
   if (slot.verdict != 0) return;  // another thread's verdict for the same cube: the same verdict
-  s.verdicts.push_back(verdict);
+  s.verdicts.push_back({verdict, static_cast<std::uint32_t>(s.clips.size())});
+  s.clips.insert(s.clips.end(), verdict.clips.begin(), verdict.clips.begin() + verdict.n_clips);
   slot.key = k;
   slot.verdict = static_cast<std::uint32_t>(s.verdicts.size());
 }

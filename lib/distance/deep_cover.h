@@ -49,7 +49,9 @@ struct DeepClip {
   double off = 0.0;
 };
 
-struct DeepCubeVerdict {
+// A cube's verdict less its clips: what octrees and the memo keep for every cube (24 bytes), the
+// clips, which few cubes have, stored apart.
+struct DeepCubeHead {
   enum Kind : signed char { drop, keep, split };
   Kind what = drop;  // keep: inside Z, or at most cell_size
   signed char side = 0;        // the centre's side when certain (0: not known)
@@ -57,6 +59,9 @@ struct DeepCubeVerdict {
   std::uint32_t nearest = 0;   // the centre's nearest triangle
   double free = 0.0;           // a lower bound of the centre's distance to F (0: not known)
   double near = 0.0;           // an upper bound of it (0: not known)
+};
+
+struct DeepCubeVerdict : DeepCubeHead {
   std::array<DeepClip, 4> clips;
 };
 
@@ -75,7 +80,7 @@ struct DeepCubeList {
 // The list of a split cube (its verdict's `near` known): the triangles within near + 2 r of its
 // centre, which hold every child centre's nearest triangles and the segments from the centre to
 // them; false when more than `max_count` qualify (then `list` is not to be used).
-bool deep_cube_list(const SignedDistance& fixed, const Aabb& cube, const DeepCubeVerdict& verdict,
+bool deep_cube_list(const SignedDistance& fixed, const Aabb& cube, const DeepCubeHead& verdict,
                     std::size_t max_count, DeepCubeList& list);
 
 // A cube's verdict for the zone {s <= target} (target < 0). `ids`: scratch. `parent` (optional):
@@ -90,7 +95,7 @@ std::array<DeepCube, 8> deep_cube_children(const DeepCube& cube, const DeepCubeV
 // deep_cube_children gives it): an octree need not keep each cube's reference point, hint and
 // free ball.
 std::array<Aabb, 8> deep_cube_child_boxes(const Aabb& cube);
-DeepCube deep_cube_child(const Aabb& box, const Aabb& parent, const DeepCubeVerdict& parent_verdict);
+DeepCube deep_cube_child(const Aabb& box, const Aabb& parent, const DeepCubeHead& parent_verdict);
 
 // Verdicts of one zone's cubes (classified with cell_size 0: split stands for "not decided"),
 // shared by every pose and thread of a level. A verdict depends only on the cube, F and the

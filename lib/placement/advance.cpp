@@ -285,15 +285,18 @@ struct MovingTriangles {
 // afresh (and faulting their pages in) was a tenth of rotor's queries. Storage past kKeepBytes is
 // given back after a query, so a thin shell's 4-million-cube query does not stay resident.
 struct ZoneOctree {
+  // 96 bytes: a thin shell's query holds millions (its clips apart, in `clips`).
   struct Node {
     Aabb box;  // the rest of its DeepCube is its parent's (deep_cube_child)
-    DeepCubeVerdict verdict;
+    DeepCubeHead verdict;
     bool classified = false;
     bool leaf = false;              // kept: in the zone, or undecided at most the leaf size
     std::uint32_t first_child = 0;  // 0: none yet
     std::uint32_t parent = 0;       // (the root's: itself)
     std::int32_t list = -1;         // its children's list in `lists` (-1: not made yet, -2: none)
+    std::uint32_t clips = 0;        // its verdict's clips: clips[this, this + verdict.n_clips)
   };
+  static_assert(sizeof(Node) <= 96, "a node's clips belong in `clips`");
   // Pairs (mover node, cube) by the latest lambda at which they may meet, latest first.
   struct Pair {
     std::uint32_t a, b;
@@ -303,21 +306,25 @@ struct ZoneOctree {
   // A split cube lists the triangles near it for its children (deep_cube_list), at most this many.
   static constexpr std::size_t kMaxListed = 64;
   std::vector<Node> nodes;
+  std::vector<DeepClip> clips;
   std::vector<DeepCubeList> lists;  // [0, n_lists) in use; the rest keep their storage
   std::size_t n_lists = 0;
   std::vector<Pair> heap;
   std::vector<std::uint32_t> ids;
   void start() {
     nodes.clear();
+    clips.clear();
     heap.clear();
     n_lists = 0;
   }
   // After a query: a large octree's storage is given back.
   void trim() {
-    const std::size_t bytes = nodes.capacity() * sizeof(Node) + heap.capacity() * sizeof(Pair) +
+    const std::size_t bytes = nodes.capacity() * sizeof(Node) + clips.capacity() * sizeof(DeepClip) +
+                              heap.capacity() * sizeof(Pair) +
                               lists.capacity() * (sizeof(DeepCubeList) + kMaxListed * sizeof(std::uint32_t));
     if (bytes <= kKeepBytes) return;
     std::vector<Node>().swap(nodes);
+    std::vector<DeepClip>().swap(clips);
     std::vector<Pair>().swap(heap);
     std::vector<DeepCubeList>().swap(lists);
     n_lists = 0;
@@ -326,6 +333,12 @@ struct ZoneOctree {
 
 // The lambdas where the mover (rotated doubles moved by t0 + lambda d, exactly) can meet a box
 // of a deep-zone cover grown by `margin`.
+// A cube's clips (DeepClip), wherever its octree keeps them.
+struct ClipSpan {
+  const DeepClip* at = nullptr;
+  int n = 0;
+};
+
 struct CoverGeometry {
   const MoverOrientation& o;
   Vec3 t0, d;
@@ -452,7 +465,7 @@ struct CoverGeometry {
   // parts may meet); the triangle's edges crossed with the clip planes' edges on the box are left
   // out: they parted under 1 % of the pairs and cost a sixth of rotor's -20 % poses
   // (doc/performance.md, "The octree's triangle tests and its cubes' parents"). Narrows r.
-  void triangle(std::uint32_t face, const Aabb& G, LambdaRange& r, const DeepCubeVerdict* v = nullptr) const {
+  void triangle(std::uint32_t face, const Aabb& G, LambdaRange& r, ClipSpan v = {}) const {
     const Face& f = (*o.faces)[face];
     const Vec3 &a0 = o.rotated[f[0]], &a1 = o.rotated[f[1]], &a2 = o.rotated[f[2]];
     Aabb tri;
@@ -461,7 +474,7 @@ struct CoverGeometry {
     tri.extend(a2);
     const LambdaRange rb = boxes(tri, G);
     r.meet(rb.lo, rb.hi);
-    if (v) clips(face, *v, r);  // cheap, and often decisive
+    if (v.n > 0) clips(face, v, r);  // cheap, and often decisive
     if (r.empty()) return;
     // The triangle's normal and its edges crossed with the axes: any vector separates validly; the
     // computed ones nearly as the exact.
@@ -475,14 +488,14 @@ struct CoverGeometry {
       extent(axes[i], G, b_lo, b_hi);
       axis_range(t.m_lo[i], t.m_hi[i], b_lo, b_hi, t.w_lo[i], t.w_hi[i], r);
     }
-    const int n_clips = v ? v->n_clips : 0;
+    const int n_clips = v.n;
     if (n_clips == 0 || r.empty()) return;
     // Against the clipped cube: the same axes with its smaller extents.
     std::array<Vec3, 4> cn;
     std::array<double, 4> coff;
     for (int i = 0; i < n_clips; ++i) {
-      cn[i] = v->clips[i].n;
-      coff[i] = grown_off(v->clips[i]);
+      cn[i] = v.at[i].n;
+      coff[i] = grown_off(v.at[i]);
     }
     // The clipped cube's extent along n (the least of the clips' bounds), against the triangle's.
     const auto clipped_extent = [&](const Vec3& n, double& b_lo, double& b_hi) {
@@ -509,19 +522,19 @@ struct CoverGeometry {
   }
   // The moving box A (rotated coordinates), or the mover's triangle `face`, against each of the
   // cube's clips grown by the margin (a half-line of fixed extent), narrowing r.
-  void clips(const Aabb& A, const DeepCubeVerdict& v, LambdaRange& r) const {
-    for (int i = 0; i < v.n_clips && !r.empty(); ++i) {
+  void clips(const Aabb& A, ClipSpan v, LambdaRange& r) const {
+    for (int i = 0; i < v.n && !r.empty(); ++i) {
       double p_lo, p_hi;
-      extent(v.clips[i].n, A, p_lo, p_hi);
-      moving(v.clips[i].n, p_lo, p_hi, -std::numeric_limits<double>::infinity(), grown_off(v.clips[i]), r);
+      extent(v.at[i].n, A, p_lo, p_hi);
+      moving(v.at[i].n, p_lo, p_hi, -std::numeric_limits<double>::infinity(), grown_off(v.at[i]), r);
     }
   }
-  void clips(std::uint32_t face, const DeepCubeVerdict& v, LambdaRange& r) const {
+  void clips(std::uint32_t face, ClipSpan v, LambdaRange& r) const {
     const Face& f = (*o.faces)[face];
-    for (int i = 0; i < v.n_clips && !r.empty(); ++i) {
+    for (int i = 0; i < v.n && !r.empty(); ++i) {
       double p_lo, p_hi;
-      extent(v.clips[i].n, o.rotated[f[0]], o.rotated[f[1]], o.rotated[f[2]], p_lo, p_hi);
-      moving(v.clips[i].n, p_lo, p_hi, -std::numeric_limits<double>::infinity(), grown_off(v.clips[i]), r);
+      extent(v.at[i].n, o.rotated[f[0]], o.rotated[f[1]], o.rotated[f[2]], p_lo, p_hi);
+      moving(v.at[i].n, p_lo, p_hi, -std::numeric_limits<double>::infinity(), grown_off(v.at[i]), r);
     }
   }
 };
@@ -630,7 +643,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     out.lambda = h->best;
   } else {
     z.start();
-    nodes.push_back({root.box, {}, false, false, 0, 0, -2});
+    nodes.push_back({root.box, {}, false, false, 0, 0, -2, 0});
   }
   // A split cube's list of nearby triangles, made when one of its children is first classified
   // here: the children's queries scan it instead of the tree. A deterministic function of the cube
@@ -705,14 +718,18 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
         return out;
       }
       ++out.cubes;
-      if (!(memo && memo->find(nb.box, &nb.verdict))) {
+      DeepCubeVerdict v;
+      if (!(memo && memo->find(nb.box, &v))) {
         // Cell size 0: "split" is "not decided", the cell size applied below, so that the memo
         // serves queries of any cell size.
         const DeepCube cube =
             e.b == 0 ? root : deep_cube_child(nb.box, nodes[nb.parent].box, nodes[nb.parent].verdict);
-        nb.verdict = classify_deep_cube(fixed, target, 0.0, cube, ids, e.b == 0 ? nullptr : parent_list(e.b));
-        if (memo) memo->insert(nb.box, nb.verdict);
+        v = classify_deep_cube(fixed, target, 0.0, cube, ids, e.b == 0 ? nullptr : parent_list(e.b));
+        if (memo) memo->insert(nb.box, v);
       }
+      nb.verdict = v;
+      nb.clips = static_cast<std::uint32_t>(z.clips.size());
+      z.clips.insert(z.clips.end(), v.clips.begin(), v.clips.begin() + v.n_clips);
       nb.classified = true;
       const double leaf_size = nb.verdict.n_clips > 0 ? std::max(cell_size, clipped_cell_size) : cell_size;
       nb.leaf = nb.verdict.what == DeepCubeVerdict::keep ||
@@ -720,14 +737,15 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     }
     if (nb.verdict.what == DeepCubeVerdict::drop) continue;
     const auto& na = orientation.boxes.nodes[e.a];
-    if (nodes[e.b].verdict.n_clips > 0) {  // the pair again, against the zone's part of the cube
+    const ClipSpan clips{z.clips.data() + nb.clips, nb.verdict.n_clips};
+    if (clips.n > 0) {  // the pair again, against the zone's part of the cube
       LambdaRange r;
       r.meet(-kInf, e.hi);
-      g.clips(na.bv, nodes[e.b].verdict, r);
+      g.clips(na.bv, clips, r);
       if (r.empty() || !(r.hi > out.lambda)) continue;
     }
     const bool cube_leaf = nb.leaf;
-    if (na.count > 0 && !cube_leaf && nodes[e.b].verdict.n_clips > 0 &&
+    if (na.count > 0 && !cube_leaf && clips.n > 0 &&
         deep_cube_radius(nodes[e.b].box) <= kPresplitLeaves * std::max(cell_size, clipped_cell_size)) {
       // The mover's triangles against the zone's part of the cube before splitting it: where the
       // clips hold the zone, a cube the triangles miss needs no children. Only near the leaves'
@@ -740,7 +758,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
         // test stops at the first axis that shows it (the same answer as from -inf).
         LambdaRange r;
         r.meet(out.lambda, lambda_top);
-        g.triangle(orientation.boxes.order[na.first + i], G, r, &nodes[e.b].verdict);
+        g.triangle(orientation.boxes.order[na.first + i], G, r, clips);
         meets = !r.empty() && r.hi > out.lambda;
       }
       if (!meets) continue;
@@ -751,7 +769,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
         LambdaRange r;
         r.meet(out.lambda, lambda_top);  // as above: only a later contact matters
         const std::uint32_t face = orientation.boxes.order[na.first + i];
-        g.triangle(face, G, r, &nodes[e.b].verdict);
+        g.triangle(face, G, r, clips);
         if (!r.empty()) out.lambda = std::max(out.lambda, r.hi);
       }
       continue;
@@ -767,7 +785,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     if (nodes[e.b].first_child == 0) {
       const std::array<Aabb, 8> children = deep_cube_child_boxes(nodes[e.b].box);
       nodes[e.b].first_child = static_cast<std::uint32_t>(nodes.size());
-      for (const Aabb& c : children) nodes.push_back({c, {}, false, false, 0, e.b, -1});  // (nb is stale now)
+      for (const Aabb& c : children) nodes.push_back({c, {}, false, false, 0, e.b, -1, 0});  // (nb is stale now)
     }
     const std::uint32_t first = nodes[e.b].first_child;
     for (std::uint32_t k = 0; k < 8; ++k) push(e.a, first + k);
