@@ -98,6 +98,27 @@ struct FastNearestPolicy {
   }
 };
 
+// A lower bound of dist(p, F)^2, at most enough_sq: the least of the visited triangles' bounds
+// and enough_sq (a node or triangle beyond the running least is pruned: it cannot lower it). Each
+// triangle by its plane first, then by the slab bound. Stops once the bound is below stop_sq.
+struct LowerPolicy {
+  const TriangleMesh& mesh;
+  const std::vector<TrianglePlane>& planes;
+  Vec3 p;
+  double stop_sq;
+  double lo_sq;
+  double bound(const Aabb& box) const { return squared_distance_lower_bound(box, p); }
+  double prune_bound() const { return lo_sq; }
+  bool done() const { return lo_sq < stop_sq; }
+  void leaf(std::uint32_t f) {
+    const double pl = plane_distance_lower_bound(planes[f], p);
+    if (pl > 0.0 && round_down(pl * pl) >= lo_sq) return;
+    const Face& t = mesh.faces[f];
+    double e2 = 0.0;
+    lo_sq = std::min(lo_sq, slab_lower_bound_sq(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], &e2));
+  }
+};
+
 // Whether some triangle is proven within sqrt(stop_sq) of p, nearest boxes first: a triangle is
 // enclosed rigorously only when the double estimate of its distance is about the bound or below
 // (most visited ones are not: an enclosure costs several estimates), and the first whose upper end
@@ -322,6 +343,15 @@ bool SignedDistance::distance_at_most(const Vec3& p, double bound, Interval* ful
   if (full) *full = d;
   if (nearest) *nearest = face;
   return false;
+}
+
+double SignedDistance::distance_lower(const Vec3& p, double enough, double stop) const {
+  if (!(enough > 0.0) || mesh_.faces.empty()) return mesh_.faces.empty() && enough > 0.0 ? enough : 0.0;
+  // enough^2 rounded down and the result's root rounded down: a lower bound either way.
+  LowerPolicy q{mesh_, planes_, p, stop > 0.0 ? round_up(stop * stop) : -1.0, round_down(enough * enough)};
+  traverse_nearest_first(tree_, q);
+  if (q.done()) return 0.0;  // stopped: the leaves not visited may be nearer than the bound so far
+  return q.lo_sq > 0.0 ? round_down(std::sqrt(q.lo_sq)) : 0.0;
 }
 
 bool SignedDistance::triangles_within(const Vec3& p, double radius, std::size_t max_count,

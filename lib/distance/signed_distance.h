@@ -69,6 +69,13 @@ class SignedDistance {
   double triangle_squared_distance_lower(const std::array<Vec3, 3>& v, double stop_sq = -1.0,
                                          double enough_sq = std::numeric_limits<double>::infinity()) const;
 
+  // A lower bound of dist(p, F), at most `enough`: min(dist(p, F), enough) less the bounds' slack.
+  // Only what lies within `enough` of p is visited: for a point far from F, where the nearest
+  // triangle is found only after every box nearer than it (a point inside a hollow shell meets
+  // most of the tree), far cheaper than unsigned_distance. Stops as soon as the bound falls below
+  // `stop`, and then returns 0.
+  double distance_lower(const Vec3& p, double enough, double stop = 0.0) const;
+
   // Ids of all triangles whose distance to p may be <= radius (certified superset: every triangle
   // within radius is listed). Returns false, leaving `out` partial, once more than `max_count` qualify.
   bool triangles_within(const Vec3& p, double radius, std::size_t max_count, std::vector<std::uint32_t>& out) const;

@@ -339,6 +339,7 @@ class BranchAndBound {
     r.tolerance_reached = heap_.empty() || heap_.front().lower >= threshold();
     r.clearance = {lower, upper_};
     r.distance_queries = queries_;
+    r.far_cells = far_cells_;
     r.argmin_face = argmin_face_;
     r.argmin_beta = argmin_bary_[0];
     r.argmin_gamma = argmin_bary_[1];
@@ -438,6 +439,7 @@ class BranchAndBound {
     // Half diagonal, plus the rounding of the centre, rounded up.
     const double r = up(up(0.5 * box.diagonal()) * (1.0 + 1e-12));
     ++queries_;
+    if (set_aside_far(centre, r, 0.0, parent, hint, c)) return c;
     std::uint32_t nearest = 0;
     const Interval ud = fixed_.unsigned_distance(centre, &nearest, hint);
     c.near_face = nearest;
@@ -457,6 +459,33 @@ class BranchAndBound {
     c.lower = lower;
     return c;
   }
+
+  // A cell outside F whose centre lies so far from F that its Lipschitz bound sets it aside: only
+  // that is asked (distance_lower, up to a margin beyond the need), not the nearest triangle, which
+  // for a centre far inside a hollow shell is found only after most of F's tree (a thin shell's
+  // -20 % poses spent most of their time so; doc/performance.md, "Far cells"). Its bound is then
+  // the margin's, not its own: only how soon a warm start evaluates it again depends on that.
+  // r: the cell's radius about `centre` (with any rounding of it); at_least: a distance below which
+  // the caller needs the full evaluation (a face cell's centre, whose s may lower the upper end).
+  bool set_aside_far(const Vec3& centre, double r, double at_least, const SideBall* parent, std::int64_t hint,
+                     Cell& c) {
+    const double thr = threshold();
+    if (!(thr < kInf)) return false;
+    const double need = up(std::max({0.0, thr, at_least}) + r);  // dist >= need: lower = dist - r >= thr
+    const double enough = up(need + kFarMargin * (r + std::abs(target_)));
+    const double lo = fixed_.distance_lower(centre, enough, need);
+    if (!(lo >= need)) return false;
+    const Interval ud{lo, kInf};
+    int side = side_from_ball(parent, centre);
+    if (side == 0) side = parent ? fixed_.side(centre, ud, parent->centre, parent->side) : fixed_.side(centre, ud);
+    if (side <= 0) return false;  // inside: its depth bound is needed (evaluated in full)
+    c.ball = SideBall{centre, lo, 1};
+    c.near_face = hint;
+    c.lower = down(lo - r);
+    ++far_cells_;
+    return true;
+  }
+  static constexpr double kFarMargin = 2.0;
 
   // A (sub)triangle cell placed at this pose: corners v, centre m, radius r (every exact cell point
   // within r of m), eta (the corners' distance from the exact sub-triangle's), eta_m (m's).
@@ -574,6 +603,8 @@ class BranchAndBound {
     const Vec3& m = geo.m;
     const double r = geo.r, eta = geo.eta, eta_m = geo.eta_m;
     ++queries_;
+    // (Its centre's s could lower the upper end only below upper_.)
+    if (!list && set_aside_far(m, up(r + eta_m), upper_, parent, c.near_face, c)) return c;
     // dist(m, F) <= dist(parent centre, F) + |m - parent centre|.
     std::uint32_t nearest = 0;
     const Interval ud =
@@ -825,7 +856,7 @@ class BranchAndBound {
   std::vector<CellDepthBound>& depth_;
   std::vector<std::uint32_t>& ids_;
   double min_discarded_ = kInf;
-  std::uint64_t seq_ = 0, queries_ = 0;
+  std::uint64_t seq_ = 0, queries_ = 0, far_cells_ = 0;
   ParentCandidates parent_;
 };
 

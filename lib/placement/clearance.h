@@ -105,6 +105,7 @@ struct ClearanceResult {
   bool separated = false;  // decided by the distance path (surfaces disjoint, mover outside)
   double transform_error = 0.0;
   std::uint64_t pair_tests = 0, cells = 0, distance_queries = 0;
+  std::uint64_t far_cells = 0;  // cells set aside by a lower bound of their centre's distance alone
   // Where the branch and bound found its upper end (a hint for the next, nearby pose); -1 if unused.
   std::int64_t argmin_face = -1;
   double argmin_beta = 0.0, argmin_gamma = 0.0;

@@ -214,6 +214,10 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
     run_key["penetrating_certificates"] = 4;
+  // Every certificate since 2026-11-29 (session 37) sets cells far outside F aside by a lower bound
+  // of their centre's distance alone (1): intervals and polishing steps, rarely poses, may differ
+  // within the tolerance from earlier binaries', whose journals have no such key.
+  run_key["far_cells"] = 1;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 

@@ -266,6 +266,51 @@ TEST(SignedDistance, DistanceAtMostStopsEarlyButIsRigorous) {
   }
 }
 
+// distance_lower: below the exact distance (CGAL's rationals) always, and within rounding of
+// min(distance, enough) when it does not stop early; below `stop` when it does. Points inside a
+// hollow sphere (a thick shell: two nested icospheres, the inner one reversed) are where it saves
+// the most, and far outside, near the walls and on them.
+TEST(SignedDistance, DistanceLowerIsBelowTheExactDistanceAndTightUpToEnough) {
+  TriangleMesh shell = make_icosphere(1.0, 3);
+  TriangleMesh inner = make_icosphere(0.9, 2);
+  const auto offset = static_cast<std::uint32_t>(shell.vertices.size());
+  for (const Vec3& v : inner.vertices) shell.vertices.push_back(v);
+  for (const Face& f : inner.faces) shell.faces.push_back({f[0] + offset, f[2] + offset, f[1] + offset});
+  const SignedDistance sdf(shell);
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.6, 1.6), e(0.0, 1.0);
+  std::vector<Vec3> points;
+  for (int k = 0; k < 300; ++k) points.push_back(Vec3(u(rng), u(rng), u(rng)) * (k % 3 == 0 ? 0.5 : 1.0));
+  for (int k = 0; k < 30; ++k) points.push_back(shell.vertices[(k * 7919) % shell.vertices.size()]);
+  int capped = 0, stopped = 0;
+  for (const Vec3& p : points) {
+    const Epeck::FT exact = testing::exact_squared_distance(p, shell);
+    const double exact_d = std::sqrt(CGAL::to_double(exact));
+    const double enough = e(rng);
+    const double lo = sdf.distance_lower(p, enough);
+    SCOPED_TRACE(::testing::Message() << std::setprecision(17) << "p = (" << p.x() << ", " << p.y() << ", " << p.z()
+                                      << ") enough " << enough);
+    EXPECT_GE(lo, 0.0);
+    EXPECT_LE(lo, enough);
+    EXPECT_TRUE(Epeck::FT(lo) * Epeck::FT(lo) <= exact) << lo << " vs " << exact_d;
+    EXPECT_GE(lo, std::min(exact_d, enough) * (1 - 1e-9) - 1e-12);
+    capped += exact_d > enough;
+    const double stop = e(rng);
+    const double early = sdf.distance_lower(p, enough, stop);
+    EXPECT_TRUE(Epeck::FT(early) * Epeck::FT(early) <= exact);
+    if (early < stop) {
+      ++stopped;
+    } else {
+      EXPECT_GE(early, std::min(exact_d, enough) * (1 - 1e-9) - 1e-12);
+    }
+    if (std::min(exact_d, enough) < stop * (1 - 1e-9)) {
+      EXPECT_LT(early, stop);
+    }
+  }
+  EXPECT_GT(capped, 50);
+  EXPECT_GT(stopped, 50);
+}
+
 // The lower bound of dist(T, F)^2 against the brute-force minimum of the certified pair enclosures
 // (tested against exact rationals in test_triangle_distance): never above the minimum's upper end
 // (rigour), never below its lower end by more than rounding (tightness), 0 for a triangle crossing

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <iomanip>
 #include <random>
 
@@ -206,6 +207,55 @@ TEST(Clearance, AgreesWithDenseSampling) {
   EXPECT_GT(penetrating, 2);
 }
 
+// A pose's cold certificate, and the same pose warm-started from a nearby pose's frontier, both
+// checked against dense sampling (`samples` points per edge): both are returned.
+std::array<ClearanceResult, 2> expect_cold_and_warm_agree(Case& c, const Eigen::Matrix3d& R, const Vec3& t, double tol,
+                                                          int samples) {
+  const ClearanceResult r = c.run(R, t, tol);
+  const MoverOrientation o = make_mover_orientation(c.mover, R);
+  const Interval ref = sampled_enclosure(c.fixed, o.placed(t), c.mover.faces, samples);
+  ClearanceFrontier frontier;
+  ClearanceOptions warm;
+  warm.tolerance = tol;
+  warm.frontier = &frontier;
+  certify_clearance(c.fixed, c.mover, c.comps, o, t + Vec3(0.01, -0.02, 0.015), warm);
+  const ClearanceResult w = certify_clearance(c.fixed, c.mover, c.comps, o, t, warm);
+  SCOPED_TRACE(::testing::Message() << std::setprecision(17) << "t = (" << t.x() << ", " << t.y() << ", " << t.z()
+                                    << ")");
+  for (const ClearanceResult* x : {&r, &w}) {
+    EXPECT_TRUE(x->tolerance_reached);
+    EXPECT_LE(x->clearance.lo, ref.hi) << x->clearance.lo << " " << x->clearance.hi << " vs " << ref.lo << " " << ref.hi;
+    EXPECT_GE(x->clearance.hi, ref.lo) << x->clearance.lo << " " << x->clearance.hi << " vs " << ref.lo << " " << ref.hi;
+    EXPECT_LE(x->clearance.width(), x->separated ? 1e-12 : tol * 1.001);
+  }
+  return {r, w};
+}
+
+// Cells far outside F are set aside by a lower bound of their centre's distance alone
+// (BranchAndBound::set_aside_far): inside a thin-walled pipe most of a mover's cells lie in the
+// hollow, far from the wall. Cold and warm certificates agree with dense sampling, and the far
+// cells were used.
+TEST(Clearance, FarCellsInAHollowPipeAgreeWithDenseSampling) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Case c(make_tube(0.9, 1.0, 2.0, 32), make_torus(0.6, 0.12, 16, 8));
+  int penetrating = 0;
+  std::uint64_t far = 0;
+  const int poses = test_scale::cases(12);
+  for (int k = 0; k < poses; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    // Off the axis, the torus reaching into the wall on one side.
+    const double rho = 0.3 + 0.1 * u(rng), phi = 3.14159 * u(rng);
+    const Vec3 t = Vec3(rho * std::cos(phi), rho * std::sin(phi), 1.0 + 0.3 * u(rng));
+    SCOPED_TRACE("case " + std::to_string(k));
+    const auto both = expect_cold_and_warm_agree(c, R, t, 1e-6, 24);
+    far += both[0].far_cells + both[1].far_cells;
+    penetrating += !both[0].separated;
+  }
+  EXPECT_GT(penetrating, poses / 2);
+  EXPECT_GT(far, static_cast<std::uint64_t>(poses));
+}
+
 // A mover of needle triangles (a thin torus with few segments along its length: edges about 20
 // times longer than its short ones), whose cells are split across their length into three
 // (BranchAndBound's needle split): cold and warm certificates agree with dense sampling.
@@ -218,24 +268,8 @@ TEST(Clearance, NeedleCellsAgreeWithDenseSampling) {
   for (int k = 0; k < poses; ++k) {
     const Eigen::Matrix3d R = random_rotation(rng);
     const Vec3 t = Vec3(1.0, 0.0, 0.0) + 0.45 * Vec3(u(rng), u(rng), u(rng));
-    const double tol = 1e-6;
-    const ClearanceResult r = c.run(R, t, tol);
-    const MoverOrientation o = make_mover_orientation(c.mover, R);
-    const Interval ref = sampled_enclosure(c.fixed, o.placed(t), c.mover.faces, 48);
-    // The same pose warm-started from a nearby pose's frontier.
-    ClearanceFrontier frontier;
-    ClearanceOptions warm;
-    warm.tolerance = tol;
-    warm.frontier = &frontier;
-    certify_clearance(c.fixed, c.mover, c.comps, o, t + Vec3(0.01, -0.02, 0.015), warm);
-    const ClearanceResult w = certify_clearance(c.fixed, c.mover, c.comps, o, t, warm);
     SCOPED_TRACE("case " + std::to_string(k));
-    for (const ClearanceResult* x : {&r, &w}) {
-      EXPECT_TRUE(x->tolerance_reached);
-      EXPECT_LE(x->clearance.lo, ref.hi) << x->clearance.lo << " " << x->clearance.hi << " vs " << ref.lo << " " << ref.hi;
-      EXPECT_GE(x->clearance.hi, ref.lo) << x->clearance.lo << " " << x->clearance.hi << " vs " << ref.lo << " " << ref.hi;
-    }
-    penetrating += !r.separated;
+    penetrating += !expect_cold_and_warm_agree(c, R, t, 1e-6, 48)[0].separated;
   }
   EXPECT_GT(penetrating, 6 * poses / 16);
 }
