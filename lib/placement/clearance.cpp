@@ -400,8 +400,9 @@ class BranchAndBound {
 
   // s at x from its unsigned distance; the side from `ball` when x lies in it, else a ray test.
   // `own` receives the ball about x that this evaluation certifies.
-  Interval signed_at(const Vec3& x, const Interval& ud, const SideBall* ball, SideBall* own) {
-    int side = side_from_ball(ball, x);
+  // known: x's side when already decided (set_aside_far), else 0.
+  Interval signed_at(const Vec3& x, const Interval& ud, const SideBall* ball, SideBall* own, int known = 0) {
+    int side = known != 0 ? known : side_from_ball(ball, x);
     // Outside the ball, the parity of the short segment from its centre (of known side).
     if (side == 0) side = ball ? fixed_.side(x, ud, ball->centre, ball->side) : fixed_.side(x, ud);
     if (own) *own = SideBall{x, side == 0 ? 0.0 : ud.lo, side};
@@ -439,12 +440,13 @@ class BranchAndBound {
     // Half diagonal, plus the rounding of the centre, rounded up.
     const double r = up(up(0.5 * box.diagonal()) * (1.0 + 1e-12));
     ++queries_;
-    if (set_aside_far(centre, r, 0.0, parent, hint, c)) return c;
+    int known_side = 0;
+    if (set_aside_far(centre, r, 0.0, parent, hint, c, &known_side)) return c;
     std::uint32_t nearest = 0;
     const Interval ud = fixed_.unsigned_distance(centre, &nearest, hint);
     c.near_face = nearest;
     c.ud_hi = ud.hi;
-    const Interval s = signed_at(centre, ud, parent, &c.ball);
+    const Interval s = signed_at(centre, ud, parent, &c.ball, known_side);
     double lower = down(s.lo - r);
     // The depth bound only when it can set the node aside: never when its centre lies below the
     // threshold (every bound of the node is at most s there), e.g. a large box across F at a contact.
@@ -467,18 +469,29 @@ class BranchAndBound {
   // the margin's, not its own: only how soon a warm start evaluates it again depends on that.
   // r: the cell's radius about `centre` (with any rounding of it); at_least: a distance below which
   // the caller needs the full evaluation (a face cell's centre, whose s may lower the upper end).
+  // *known_side: the centre's side when this decided it and returned false (the caller's evaluation
+  // then needs no side query of its own).
   bool set_aside_far(const Vec3& centre, double r, double at_least, const SideBall* parent, std::int64_t hint,
-                     Cell& c) {
+                     Cell& c, int* known_side) {
     const double thr = threshold();
     if (!(thr < kInf)) return false;
+    // Inside by the parent's ball: its depth bound is needed (the full evaluation).
+    const int ball_side = side_from_ball(parent, centre);
+    if (ball_side < 0) return false;
     const double need = up(std::max({0.0, thr, at_least}) + r);  // dist >= need: lower = dist - r >= thr
+    // A triangle of F nearer than that (the parent's nearest, often) shows the cell is not far.
+    if (hint >= 0 && point_triangle_distance_upper_near(centre, fixed_.mesh(), static_cast<std::uint32_t>(hint)) < need)
+      return false;
     const double enough = up(need + kFarMargin * (r + std::abs(target_)));
     const double lo = fixed_.distance_lower(centre, enough, need);
     if (!(lo >= need)) return false;
-    const Interval ud{lo, kInf};
-    int side = side_from_ball(parent, centre);
-    if (side == 0) side = parent ? fixed_.side(centre, ud, parent->centre, parent->side) : fixed_.side(centre, ud);
-    if (side <= 0) return false;  // inside: its depth bound is needed (evaluated in full)
+    int side = ball_side;
+    if (side == 0) {  // as signed_at would decide it: only lo > 0 matters there
+      const Interval ud{lo, kInf};
+      side = parent ? fixed_.side(centre, ud, parent->centre, parent->side) : fixed_.side(centre, ud);
+      *known_side = side;
+    }
+    if (side <= 0) return false;  // inside: its depth bound is needed
     c.ball = SideBall{centre, lo, 1};
     c.near_face = hint;
     c.lower = down(lo - r);
@@ -604,7 +617,8 @@ class BranchAndBound {
     const double r = geo.r, eta = geo.eta, eta_m = geo.eta_m;
     ++queries_;
     // (Its centre's s could lower the upper end only below upper_.)
-    if (!list && set_aside_far(m, up(r + eta_m), upper_, parent, c.near_face, c)) return c;
+    int known_side = 0;
+    if (!list && set_aside_far(m, up(r + eta_m), upper_, parent, c.near_face, c, &known_side)) return c;
     // dist(m, F) <= dist(parent centre, F) + |m - parent centre|.
     std::uint32_t nearest = 0;
     const Interval ud =
@@ -612,7 +626,7 @@ class BranchAndBound {
                     c.near_face);
     c.ud_hi = ud.hi;
     c.near_face = nearest;
-    const Interval s = signed_at(m, ud, parent, &c.ball);
+    const Interval s = signed_at(m, ud, parent, &c.ball, known_side);
     const auto& w = geo.w;
     offer_upper(up(s.hi + eta_m), c.id,
                 {w[0] * c.bary[0][0] + w[1] * c.bary[1][0] + w[2] * c.bary[2][0],
