@@ -18,7 +18,10 @@ echo "test: release build done in $(( $(date +%s) - start )) s"
 gen=()
 command -v ninja >/dev/null && gen=(-G Ninja)
 start=$(date +%s)
+# Line tables only (-g1): enough for the sanitizers' symbolized reports, and the CGAL-heavy objects
+# compile about a tenth faster and link from a third of the size (-g: 51 MB for mesh_level_set.o).
 cmake -S "$root" -B "$root/build-asan" "${gen[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCDBENCH_SANITIZE=ON \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
   -DCDBENCH_BUILD_VALIDATION=OFF >/dev/null
 cmake --build "$root/build-asan" -j "$(nproc)"  # everything (validation/ is off): no test binary left unbuilt
 echo "test: sanitizer build done in $(( $(date +%s) - start )) s"
