@@ -346,7 +346,8 @@ bool SignedDistance::distance_at_most(const Vec3& p, double bound, Interval* ful
 }
 
 double SignedDistance::distance_lower(const Vec3& p, double enough, double stop) const {
-  if (!(enough > 0.0) || mesh_.faces.empty()) return mesh_.faces.empty() && enough > 0.0 ? enough : 0.0;
+  if (!(enough > 0.0)) return 0.0;
+  if (mesh_.faces.empty()) return enough;  // no triangle: dist(p, F) is infinite
   // enough^2 rounded down and the result's root rounded down: a lower bound either way.
   LowerPolicy q{mesh_, planes_, p, stop > 0.0 ? round_up(stop * stop) : -1.0, round_down(enough * enough)};
   traverse_nearest_first(tree_, q);

@@ -331,14 +331,14 @@ struct ZoneOctree {
   }
 };
 
-// The lambdas where the mover (rotated doubles moved by t0 + lambda d, exactly) can meet a box
-// of a deep-zone cover grown by `margin`.
 // A cube's clips (DeepClip), wherever its octree keeps them.
 struct ClipSpan {
   const DeepClip* at = nullptr;
   int n = 0;
 };
 
+// The lambdas where the mover (rotated doubles moved by t0 + lambda d, exactly) can meet a box
+// of a deep-zone cover grown by `margin`.
 struct CoverGeometry {
   const MoverOrientation& o;
   Vec3 t0, d;

@@ -469,14 +469,15 @@ class BranchAndBound {
   // the margin's, not its own: only how soon a warm start evaluates it again depends on that.
   // r: the cell's radius about `centre` (with any rounding of it); at_least: a distance below which
   // the caller needs the full evaluation (a face cell's centre, whose s may lower the upper end).
-  // *known_side: the centre's side when this decided it and returned false (the caller's evaluation
-  // then needs no side query of its own).
+  // *known_side: the centre's side when this decided it (0: not), for the caller's evaluation when
+  // this returns false: it then needs no side test of its own.
   bool set_aside_far(const Vec3& centre, double r, double at_least, const SideBall* parent, std::int64_t hint,
                      Cell& c, int* known_side) {
     const double thr = threshold();
     if (!(thr < kInf)) return false;
     // Inside by the parent's ball: its depth bound is needed (the full evaluation).
     const int ball_side = side_from_ball(parent, centre);
+    *known_side = ball_side;
     if (ball_side < 0) return false;
     const double need = up(std::max({0.0, thr, at_least}) + r);  // dist >= need: lower = dist - r >= thr
     // A triangle of F nearer than that (the parent's nearest, often) shows the cell is not far.
