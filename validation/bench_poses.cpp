@@ -32,6 +32,7 @@
 #include "fcl_ca.h"
 #include "mesh/read_mesh.h"
 #include "mesh/validate_mesh.h"
+#include "poseset/poseset_manifest.h"
 #include "placement/place_pose.h"
 #include "sampling/sampling.h"
 #include "guarded_main.h"
@@ -85,8 +86,9 @@ static int run(int argc, char** argv) {
     return 2;
   }
   const nlohmann::json ps = nlohmann::json::parse(in);
-  const TriangleMesh fixed_mesh = load(ps["fixed"]["path"].get<std::string>());
-  const TriangleMesh mover = load(ps["mover"]["path"].get<std::string>());
+  const PoseSetManifest manifest = read_poseset_manifest(dir);
+  const TriangleMesh fixed_mesh = load(locate_mesh(manifest.fixed, dir));
+  const TriangleMesh mover = load(locate_mesh(manifest.mover, dir));
   const SignedDistance fixed(fixed_mesh);
   const double diag = fixed.bbox().diagonal();
   ApproachSetup setup = make_approach_setup(fixed, mover);

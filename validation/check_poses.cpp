@@ -27,6 +27,7 @@
 
 #include "mesh/read_mesh.h"
 #include "mesh/validate_mesh.h"
+#include "poseset/poseset_manifest.h"
 #include "poseset/pose_csv.h"
 #include "guarded_main.h"
 
@@ -71,8 +72,9 @@ static int run(int argc, char** argv) {
     return 2;
   }
   const nlohmann::json ps = nlohmann::json::parse(in);
-  const cdbench::TriangleMesh fixed = load(ps["fixed"]["path"].get<std::string>());
-  const cdbench::TriangleMesh mover = load(ps["mover"]["path"].get<std::string>());
+  const cdbench::PoseSetManifest manifest = cdbench::read_poseset_manifest(dir);
+  const cdbench::TriangleMesh fixed = load(cdbench::locate_mesh(manifest.fixed, dir));
+  const cdbench::TriangleMesh mover = load(cdbench::locate_mesh(manifest.mover, dir));
   const double diag = ps["certification"]["diagonal"].get<double>();
   const Mesh F = to_cgal(fixed);
   Tree tree(faces(F).first, faces(F).second, F);

@@ -35,8 +35,8 @@ int main(int argc, char** argv) {
     const PoseSetManifest man = read_poseset_manifest(dir);
     const nlohmann::json& ps = man.json;
     const auto load = [](const std::string& p) { return validate_mesh(read_polygon_soup(p)).mesh; };
-    const TriangleMesh fixed_mesh = load(man.fixed.path);
-    const TriangleMesh mover = man.mover_is_fixed ? fixed_mesh : load(man.mover.path);
+    const TriangleMesh fixed_mesh = load(locate_mesh(man.fixed, man.dir));
+    const TriangleMesh mover = man.mover_is_fixed ? fixed_mesh : load(locate_mesh(man.mover, man.dir));
     const SignedDistance fixed(fixed_mesh);  // reference points and radii only
     const ApproachSetup setup = make_approach_setup(fixed, mover);
     const auto& s = ps.at("sampling");

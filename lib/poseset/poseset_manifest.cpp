@@ -96,11 +96,29 @@ std::vector<PoseRow> read_poseset_rows(const PoseSetManifest& m) {
   return rows;
 }
 
-void check_mesh_unchanged(const MeshRecord& mesh, const std::string& what) {
-  if (!std::filesystem::exists(mesh.path)) throw InputError(what + ": mesh " + mesh.path + " not found");
-  if (sha256_file(mesh.path) != mesh.sha256)
-    throw InputError(mesh.path + ": its content differs from the pose set's (SHA-256 mismatch); " + what +
+std::string locate_mesh(const MeshRecord& mesh, const std::string& poseset_dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  std::string found;
+  std::string looked = "the current directory";
+  if (fs::is_regular_file(mesh.path, ec)) {
+    found = mesh.path;
+  } else if (fs::path(mesh.path).is_relative()) {
+    fs::path dir = fs::weakly_canonical(fs::absolute(poseset_dir, ec), ec);
+    looked += ", " + dir.string() + " and its parent directories";
+    for (; found.empty(); dir = dir.parent_path()) {
+      const fs::path candidate = dir / mesh.path;
+      if (fs::is_regular_file(candidate, ec)) found = candidate.string();
+      if (dir == dir.parent_path()) break;
+    }
+  }
+  if (found.empty())
+    throw InputError(poseset_dir + ": mesh " + mesh.path + " not found (looked from " + looked +
+                     "; a pose set records the path it was made with)");
+  if (sha256_file(found) != mesh.sha256)
+    throw InputError(found + ": its content differs from the pose set's (SHA-256 mismatch); " + poseset_dir +
                      " was made from another version of it");
+  return found;
 }
 
 }  // namespace cdbench

@@ -46,7 +46,12 @@ PoseSetManifest read_poseset_manifest(const std::string& dir);
 // DIR/poses.csv, checked against the manifest (level indices in range).
 std::vector<PoseRow> read_poseset_rows(const PoseSetManifest& manifest);
 
-// Checks that a mesh file still has the content the pose set was made from (SHA-256).
-void check_mesh_unchanged(const MeshRecord& mesh, const std::string& what);
+// The file of a mesh the pose set in `poseset_dir` was made from, checked to have the same content
+// (SHA-256). The recorded path is as `cdbench poses` was given it, so relative to the directory it
+// ran in: when it is not found from the current directory, a relative path is looked for from
+// `poseset_dir` and each of its parent directories (the first file found there decides; its
+// content is checked as well, so another file cannot stand in for it). InputError naming the pose
+// set, the path and the places looked in, or the mismatch.
+std::string locate_mesh(const MeshRecord& mesh, const std::string& poseset_dir);
 
 }  // namespace cdbench

@@ -41,9 +41,9 @@ std::vector<std::string> split_list(const std::string& s) {
 }
 
 const TriangleMesh& load_valid(const MeshRecord& m, const std::string& poseset, std::unique_ptr<LoadedMesh>& holder) {
-  check_mesh_unchanged(m, poseset);
-  holder = std::make_unique<LoadedMesh>(load_mesh(m.path));
-  if (!holder->validated.report.valid()) throw InputError(m.path + ": not a valid closed solid");
+  const std::string path = locate_mesh(m, poseset);
+  holder = std::make_unique<LoadedMesh>(load_mesh(path));
+  if (!holder->validated.report.valid()) throw InputError(path + ": not a valid closed solid");
   return holder->validated.mesh;
 }
 

@@ -65,10 +65,10 @@ int run_validate_cmd(const ValidateCliOptions& opt) {
     if (m.fixed.sha256 != first.fixed.sha256 || m.mover.sha256 != first.mover.sha256)
       throw InputError(dir + ": made from other meshes than " + opt.posesets.front() + " (validate one mesh at a time)");
   }
-  check_mesh_unchanged(first.fixed, opt.posesets.front());
-  if (!first.mover_is_fixed) check_mesh_unchanged(first.mover, opt.posesets.front());
+  const std::string fixed_path = locate_mesh(first.fixed, opt.posesets.front());
+  const std::string mover_path = first.mover_is_fixed ? "" : locate_mesh(first.mover, opt.posesets.front());
   LoadedMesh fixed, mover;
-  if (!load_solids(first.fixed.path, first.mover_is_fixed ? "" : first.mover.path, &fixed, &mover)) return kExitInvalidMesh;
+  if (!load_solids(fixed_path, mover_path, &fixed, &mover)) return kExitInvalidMesh;
   std::vector<ValidateResult> runs;
   std::vector<std::string> names;
   for (std::size_t k = 0; k < opt.posesets.size(); ++k) {

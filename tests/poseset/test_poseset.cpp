@@ -19,6 +19,7 @@
 #include "poseset/poseset_manifest.h"
 #include "poseset/user_poses.h"
 #include "util/error.h"
+#include "util/sha256.h"
 
 namespace cdbench {
 namespace {
@@ -232,6 +233,34 @@ TEST(PoseSetManifest, NamesTheMissingKey) {
   EXPECT_NE(error_of([&] { read_poseset_manifest(dir); }).find("missing key 'levels[0].spec'"), std::string::npos);
 }
 
+// A pose set made as `cdbench poses locate_mesh_data/m.off -o runs/ps` from ROOT, read from elsewhere:
+// the mesh is found from the pose set's parent directories, and only with the recorded content.
+TEST(PoseSetManifest, LocatesARelativeMeshFromThePoseSetsParents) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::path(testing::TempDir()) / "locate_root";
+  fs::remove_all(root);
+  fs::create_directories(root / "locate_mesh_data");
+  fs::create_directories(root / "runs" / "ps");
+  const std::string mesh_file = (root / "locate_mesh_data" / "m.off").string();
+  std::ofstream(mesh_file) << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  ASSERT_FALSE(fs::exists("locate_mesh_data/m.off"));  // not found from the current directory
+  MeshRecord m{"locate_mesh_data/m.off", sha256_file(mesh_file), 3, 1, 1.0, Eigen::Vector3d::Zero()};
+  const std::string ps = (root / "runs" / "ps").string();
+  EXPECT_EQ(fs::canonical(locate_mesh(m, ps)), fs::canonical(mesh_file));
+  // A path that exists as recorded is taken as it is (absolute here).
+  MeshRecord absolute = m;
+  absolute.path = mesh_file;
+  EXPECT_EQ(locate_mesh(absolute, ps), mesh_file);
+  // Another content under the same name: named, never used.
+  MeshRecord other = m;
+  other.sha256 = std::string(64, '0');
+  EXPECT_NE(error_of([&] { locate_mesh(other, ps); }).find("SHA-256 mismatch"), std::string::npos);
+  MeshRecord missing = m;
+  missing.path = "locate_mesh_data/none.off";
+  const std::string e = error_of([&] { locate_mesh(missing, ps); });
+  EXPECT_NE(e.find("mesh locate_mesh_data/none.off not found"), std::string::npos) << e;
+  EXPECT_NE(e.find("parent directories"), std::string::npos) << e;
+}
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
