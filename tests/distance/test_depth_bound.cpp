@@ -14,6 +14,7 @@
 #include "distance/point_triangle_distance.h"
 #include "exact_reference.h"
 #include "mesh/shapes.h"
+#include "test_scale.h"
 
 namespace cdbench {
 namespace {
@@ -118,8 +119,8 @@ TEST(TranslatedDepth, BoundsEveryPointOfTheTranslatedCellExactly) {
   for (const auto& [name, m] : three_solids()) {
     SCOPED_TRACE(name);
     for (const DepthWeights w : {DepthWeights::converged, DepthWeights::sparse}) {
-      const Checked r = check_mesh(m, 5, 200, false, w);
-      EXPECT_EQ(r.cells, 200);
+      const Checked r = check_mesh(m, 5, test_scale::cases(200), false, w);
+      EXPECT_EQ(r.cells, test_scale::cases(200));
       EXPECT_EQ(r.violations, 0) << "of " << r.points;
     }
   }
@@ -287,8 +288,8 @@ Checked check_witness(const TriangleMesh& m, std::uint64_t seed, int cells, bool
 TEST(DepthWitness, BoundsEveryPointOfTheMovedCellExactly) {
   for (const auto& [name, m] : three_solids()) {
     SCOPED_TRACE(name);
-    const Checked r = check_witness(m, 7, 200, false);
-    EXPECT_EQ(r.cells, 200);
+    const Checked r = check_witness(m, 7, test_scale::cases(200), false);
+    EXPECT_EQ(r.cells, test_scale::cases(200));
     EXPECT_EQ(r.violations, 0) << "of " << r.points;
   }
 }
@@ -543,7 +544,7 @@ TEST(MinimaxDepthBound, BoundsEveryPointOfTheCubeExactly) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::vector<std::uint32_t> ids;
     int cells = 0, finite = 0;
-    while (cells < 150) {
+    while (cells < test_scale::cases(150)) {
       const Vec3 c = box.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent());
       const double h = box.diagonal() * (0.001 + 0.03 * u(rng));
       std::array<Vec3, 8> v;
@@ -563,7 +564,7 @@ TEST(MinimaxDepthBound, BoundsEveryPointOfTheCubeExactly) {
                 << x.transpose() << ", bound " << bound;
           }
     }
-    EXPECT_GT(finite, 140);
+    EXPECT_GT(finite, test_scale::cases(150) - 10);
   }
 }
 

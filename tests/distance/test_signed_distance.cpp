@@ -8,6 +8,7 @@
 #include "distance/triangle_distance.h"
 #include "exact_reference.h"
 #include "mesh/shapes.h"
+#include "test_scale.h"
 
 namespace cdbench {
 namespace {
@@ -321,7 +322,7 @@ TEST(SignedDistance, TriangleLowerBoundAgainstBruteForce) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.6, 1.6), s(-1.0, 1.0);
   int crossing = 0, disjoint = 0;
-  for (int k = 0; k < 400; ++k) {
+  for (int k = 0; k < test_scale::cases(400); ++k) {
     const double size = k % 4 == 0 ? 1.0 : (k % 4 == 1 ? 0.1 : 0.01);
     const Vec3 c(u(rng), u(rng), 0.5 * u(rng));
     const std::array<Vec3, 3> v{c + size * Vec3(s(rng), s(rng), s(rng)), c + size * Vec3(s(rng), s(rng), s(rng)),
@@ -366,8 +367,8 @@ TEST(SignedDistance, TriangleLowerBoundAgainstBruteForce) {
       }
     }
   }
-  EXPECT_GT(crossing, 20);
-  EXPECT_GT(disjoint, 200);
+  EXPECT_GT(crossing, test_scale::cases(400) / 20);
+  EXPECT_GT(disjoint, test_scale::cases(400) / 2);
 }
 
 }  // namespace
