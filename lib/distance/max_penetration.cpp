@@ -88,10 +88,11 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
 
   double best = 0.0;             // certified: some interior point has depth >= best
   Vec3 best_point = box.center();
-  double upper_discarded = 0.0;  // max certified upper bound over all discarded cells
+  double upper_left = 0.0;  // max certified upper bound over the discarded cells and those a stop left
+  bool stopped = false;     // a safety stop: the next level was not built
   Progress progress("max penetration", 0);
 
-  while (!frontier.empty()) {
+  while (!frontier.empty() && !stopped) {
     if (result.cells + frontier.size() > options.max_cells || frontier.size() > options.max_frontier) break;
     const double r = round_up(half * kSqrt3Up);  // covering radius of a cell around its centre
     const double snapshot = best;
@@ -160,7 +161,17 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
       }
     });
 
+    // The next level (eight cells for each kept one) is counted before it is built: one past the
+    // safety stops is never built (its cells would only carry their parents' bounds, which the stop
+    // reports from the kept cells themselves: the same interval), so that the memory stays within
+    // them; a level that is built takes one allocation.
+    std::uint64_t kept = 0;
+    for (const Outcome& o : out) kept += o.keep;
+    const std::uint64_t next_cells = 8 * kept;
+    const bool stop = next_cells > 0 && (next_cells > options.max_frontier ||
+                                         result.cells + frontier.size() + next_cells > options.max_cells);
     std::vector<Cell> next;
+    if (!stop) next.reserve(next_cells);
     const double child_half = 0.5 * half;
     const double child_offset = round_up(child_half * kSqrt3Up);  // distance from a centre to a child's centre
     for (std::size_t i = 0; i < frontier.size(); ++i) {
@@ -172,8 +183,8 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
         best = o.lower;
         best_point = o.point;
       }
-      if (!o.keep) {
-        upper_discarded = std::max(upper_discarded, o.upper);
+      if (!o.keep || stop) {  // discarded, or left unexplored by the stop: its bound covers it
+        upper_left = std::max(upper_left, o.upper);
         continue;
       }
       const signed char child_sign = o.child_margin > child_offset ? o.sign : 0;
@@ -188,18 +199,20 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
     frontier = std::move(next);
     half = child_half;
     ++result.levels;
+    stopped = stop;
     if (options.progress) {
       std::ostringstream os;
       os.precision(9);
-      os << "level " << result.levels << ", " << frontier.size() << " cells, depth >= " << best;
+      os << "level " << result.levels << ", " << (stop ? next_cells : frontier.size()) << " cells"
+         << (stop ? " (past the safety stop)" : "") << ", depth >= " << best;
       progress.set_detail(os.str());
     }
   }
   progress.finish();
 
-  result.tolerance_reached = frontier.empty();
-  double upper = std::max(best, upper_discarded);
-  // Cells left unexplored after the safety stop are bounded by their parents' bounds.
+  result.tolerance_reached = frontier.empty() && !stopped;
+  double upper = std::max(best, upper_left);
+  // Cells of the first level left unexplored by a safety stop are bounded by their parents' bounds.
   for (const Cell& c : frontier) upper = std::max(upper, c.parent_upper);
   result.depth = {best, upper};
   result.point = best_point;

@@ -14,7 +14,9 @@ struct MaxPenetrationOptions {
   int initial_resolution = 32;       // cells along the longest bbox side at the first level
   // Safety stops (the result then says the tolerance was not reached, with a valid wider interval):
   std::uint64_t max_cells = 200000000;   // cells evaluated in all
-  std::uint64_t max_frontier = 20000000; // cells alive at one level (about 1 GB)
+  // Cells alive at one level: 48 bytes each, and 64 for each one's outcome while a level is
+  // evaluated; a next level past it is not built, so the search holds at most about 3.2 GB.
+  std::uint64_t max_frontier = 20000000;
   bool progress = true;              // progress on stderr (only when it is a terminal)
 };
 

@@ -148,6 +148,29 @@ TEST(MaxPenetration, FacetedTubeWithinTheCellBudget) {
   expect_no_sample_deeper(m, r);
 }
 
+// The safety stops: the search never evaluates more cells than allowed, nor builds a level larger
+// than allowed, and what it returns then is still an enclosure (of the depth found at full
+// tolerance), only wider, and says so.
+TEST(MaxPenetration, SafetyStopsKeepTheIntervalCertified) {
+  const TriangleMesh m = make_torus(1.0, 0.3, 32, 16);
+  const SignedDistance sdf(m);
+  const auto full = run(m);
+  ASSERT_TRUE(full.tolerance_reached);
+  for (const auto& [frontier, cells] : {std::pair<std::uint64_t, std::uint64_t>{10000, 200000000}, {20000000, 30000}}) {
+    MaxPenetrationOptions o;
+    o.progress = false;
+    o.max_frontier = frontier;
+    o.max_cells = cells;
+    const auto r = certified_max_penetration(sdf, o);
+    EXPECT_FALSE(r.tolerance_reached) << frontier << " " << cells;
+    EXPECT_LE(r.cells, cells);
+    EXPECT_LE(r.depth.lo, full.depth.hi);
+    EXPECT_GE(r.depth.hi, full.depth.lo);
+    EXPECT_GT(r.depth.width(), full.depth.width());
+    EXPECT_LT(r.depth.hi, 2.0 * full.depth.hi);  // bounded by evaluated cells (the first level has none)
+  }
+}
+
 TEST(MaxPenetration, CoarseToleranceIsHonoured) {
   const TriangleMesh m = make_icosphere(1.0, 3);
   const auto r = run(m, 1e-2);
