@@ -21,7 +21,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -80,15 +79,12 @@ static int run(int argc, char** argv) {
       return 2;
     }
   }
-  std::ifstream in(dir + "/poseset.json");
-  if (!in) {
-    std::fprintf(stderr, "%s/poseset.json: cannot be read\n", dir.c_str());
-    return 2;
-  }
-  const nlohmann::json ps = nlohmann::json::parse(in);
+  // The manifest reader names the file and key of any problem; a mesh the pose set was made
+  // from is found and checked by its SHA-256 (locate_mesh), and read once when it is also the mover.
   const PoseSetManifest manifest = read_poseset_manifest(dir);
+  const nlohmann::json& ps = manifest.json;
   const TriangleMesh fixed_mesh = load(locate_mesh(manifest.fixed, dir));
-  const TriangleMesh mover = load(locate_mesh(manifest.mover, dir));
+  const TriangleMesh mover = manifest.mover_is_fixed ? fixed_mesh : load(locate_mesh(manifest.mover, dir));
   const SignedDistance fixed(fixed_mesh);
   const double diag = fixed.bbox().diagonal();
   ApproachSetup setup = make_approach_setup(fixed, mover);

@@ -66,15 +66,12 @@ static int run(int argc, char** argv) {
     if (std::strcmp(argv[i], "--poses") == 0) wanted = std::stoul(argv[i + 1]);
     if (std::strcmp(argv[i], "--grid") == 0) n = std::stoi(argv[i + 1]);
   }
-  std::ifstream in(dir + "/poseset.json");
-  if (!in) {
-    std::fprintf(stderr, "%s/poseset.json: cannot be read\n", dir.c_str());
-    return 2;
-  }
-  const nlohmann::json ps = nlohmann::json::parse(in);
+  // The manifest reader names the file and key of any problem; a mesh the pose set was made
+  // from is found and checked by its SHA-256 (locate_mesh), and read once when it is also the mover.
   const cdbench::PoseSetManifest manifest = cdbench::read_poseset_manifest(dir);
+  const nlohmann::json& ps = manifest.json;
   const cdbench::TriangleMesh fixed = load(cdbench::locate_mesh(manifest.fixed, dir));
-  const cdbench::TriangleMesh mover = load(cdbench::locate_mesh(manifest.mover, dir));
+  const cdbench::TriangleMesh mover = manifest.mover_is_fixed ? fixed : load(cdbench::locate_mesh(manifest.mover, dir));
   const double diag = ps["certification"]["diagonal"].get<double>();
   const Mesh F = to_cgal(fixed);
   Tree tree(faces(F).first, faces(F).second, F);

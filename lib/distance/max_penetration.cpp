@@ -89,10 +89,10 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
   double best = 0.0;             // certified: some interior point has depth >= best
   Vec3 best_point = box.center();
   double upper_left = 0.0;  // max certified upper bound over the discarded cells and those a stop left
-  bool stopped = false;     // a safety stop: the next level was not built
+  bool stopped = false;     // a safety stop after a level: its next level was not built
   Progress progress("max penetration", 0);
 
-  while (!frontier.empty() && !stopped) {
+  while (!frontier.empty()) {  // (a stop leaves it empty: the next level is not built)
     if (result.cells + frontier.size() > options.max_cells || frontier.size() > options.max_frontier) break;
     const double r = round_up(half * kSqrt3Up);  // covering radius of a cell around its centre
     const double snapshot = best;
