@@ -7,17 +7,14 @@
 #include <random>
 
 #include "mesh/shapes.h"
+#include "placed_sweep_mesh.h"
 #include "sweep/mesh_sweep.h"
 #include "sweep/triangle_sweep.h"
 
 namespace cdbench {
 namespace {
 
-SweepMesh placed(const TriangleMesh& m, const Eigen::Matrix3d& R, const Vec3& t) {
-  std::vector<Vec3> v;
-  for (const Vec3& p : m.vertices) v.push_back(R * p + t);
-  return make_sweep_mesh(v, m.faces);
-}
+using test::placed;
 
 // Random generic pairs: the float sweep finds the same contacts, at the same times up to rounding
 // (relative 1e-9 of the scale). Disagreements on whether a pair touches come from configurations

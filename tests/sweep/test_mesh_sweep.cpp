@@ -8,16 +8,13 @@
 
 #include "distance/triangle_distance.h"
 #include "mesh/shapes.h"
+#include "placed_sweep_mesh.h"
 #include "sweep/mesh_sweep.h"
 
 namespace cdbench {
 namespace {
 
-SweepMesh placed(const TriangleMesh& m, const Eigen::Matrix3d& R, const Vec3& t) {
-  std::vector<Vec3> v;
-  for (const Vec3& p : m.vertices) v.push_back(R * p + t);
-  return make_sweep_mesh(v, m.faces);
-}
+using test::placed;
 
 struct Shape {
   const char* name;
