@@ -278,7 +278,14 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
           frontier.push_back(c);
         }
   }
-  while (!frontier.empty() && result.cells < options.max_cells) {
+  // The budget bounds the cells evaluated and so the memory: a level starts only when it fits, and
+  // a cell is split only while its children fit too (the next level would not start otherwise).
+  bool exhausted = false;
+  while (!frontier.empty() && !exhausted) {
+    if (result.cells + frontier.size() > options.max_cells) {
+      exhausted = true;
+      break;
+    }
     std::vector<Verdict> verdict(frontier.size(), Verdict::Split);
     std::vector<std::int8_t> side_f(frontier.size(), 0), side_s(frontier.size(), 0);  // of each centre
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frontier.size(), 32), [&](const auto& range) {
@@ -327,6 +334,7 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
       }
     });
     std::vector<Cell> next;
+    const std::uint64_t level_end = result.cells + frontier.size();
     for (std::size_t i = 0; i < frontier.size(); ++i) {
       ++result.cells;
       const Cell& cell = frontier[i];
@@ -340,6 +348,11 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
           break;
         case Verdict::Split: {
           const Vec3 mid = 0.5 * (cell.lo + cell.hi);
+          if (level_end + next.size() + 8 > options.max_cells) {
+            exhausted = true;
+            if (result.unresolved.size() < 64) result.unresolved.push_back(mid);
+            break;
+          }
           for (int k = 0; k < 8; ++k) {
             Cell child;
             child.ref = mid;
@@ -363,7 +376,8 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
   if (result.missed.empty())
     for (const Cell& cell : frontier)
       if (result.unresolved.size() < 64) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
-  result.complete = frontier.empty() && result.missed.empty() && result.unresolved.empty();
+  result.budget_exhausted = exhausted;
+  result.complete = frontier.empty() && !exhausted && result.missed.empty() && result.unresolved.empty();
   result.seconds = timer.seconds();
   return result;
 }

@@ -11,7 +11,7 @@
 namespace cdbench {
 
 struct CompletenessOptions {
-  std::uint64_t max_cells = 20000000;
+  std::uint64_t max_cells = 20000000;  // cells evaluated in all, never exceeded; beyond it: not complete
   double min_cell_relative = 1e-7;  // cells smaller than this x diagonal are reported unresolved
 };
 
@@ -20,6 +20,7 @@ struct CompletenessResult {
   std::vector<Vec3> missed;          // points certainly in {s < d - eps} outside S_d, or {s > d + eps} inside it
   std::vector<Vec3> unresolved;      // centres of cells that could not be classified
   std::uint64_t cells = 0;
+  bool budget_exhausted = false;    // stopped by max_cells (then `unresolved` says where)
   double seconds = 0.0;
 };
 

@@ -32,6 +32,33 @@ TEST(CertifyCompleteness, SphereOffsetsAreComplete) {
   }
 }
 
+// The cell budget is a bound, not a target: a search never evaluates more cells than it allows (a
+// level that does not fit, or children that would not, stop it), and one that fits is unchanged.
+TEST(CertifyCompleteness, TheCellBudgetIsNeverExceeded) {
+  const SignedDistance sdf(make_icosphere(1.0, 2));
+  const double d = 0.3;
+  const TriangleMesh m = offset_near(sdf, Vec3::Zero(), 3.0, d);
+  const double eps = certify_band(sdf, m, d, BandOptions{}).epsilon;
+  const CompletenessResult full = certify_completeness(sdf, m, d, eps);
+  ASSERT_TRUE(full.complete);
+  ASSERT_GT(full.cells, 1000u);  // more than the first level (512 cells)
+  CompletenessOptions o;
+  o.max_cells = full.cells;  // just enough: the same search
+  const CompletenessResult exact = certify_completeness(sdf, m, d, eps, o);
+  EXPECT_TRUE(exact.complete);
+  EXPECT_FALSE(exact.budget_exhausted);
+  EXPECT_EQ(exact.cells, full.cells);
+  for (std::uint64_t budget : {full.cells - 1, full.cells / 2, full.cells / 7, std::uint64_t{600}, std::uint64_t{100}}) {
+    o.max_cells = budget;
+    const CompletenessResult r = certify_completeness(sdf, m, d, eps, o);
+    EXPECT_FALSE(r.complete) << "budget " << budget;
+    EXPECT_TRUE(r.budget_exhausted) << "budget " << budget;
+    EXPECT_LE(r.cells, budget);
+    EXPECT_FALSE(r.unresolved.empty()) << "budget " << budget;  // where the search stopped
+    EXPECT_TRUE(r.missed.empty());
+  }
+}
+
 TEST(CertifyCompleteness, DroppedComponentIsFound) {
   // Two balls; an offset mesh of only the first must be reported incomplete, near the second.
   const TriangleMesh two = merge_meshes(make_icosphere(1.0, 2), make_icosphere(0.6, 2, Vec3(4, 0, 0)));
