@@ -10,6 +10,7 @@
 #include "mesh/shapes.h"
 #include "placed_sweep_mesh.h"
 #include "sweep/mesh_sweep.h"
+#include "test_scale.h"
 
 namespace cdbench {
 namespace {
@@ -32,7 +33,7 @@ TEST(MeshSweep, SphereTreeMatchesBruteForceExactly) {
   for (const Shape& fixed_shape : shapes) {
     const SweepMesh fixed = make_sweep_mesh(fixed_shape.mesh.vertices, fixed_shape.mesh.faces);
     for (const Shape& mover : shapes) {
-      for (int k = 0; k < 12; ++k) {
+      for (int k = 0; k < test_scale::cases(12); ++k) {  // 4 aligned and 2 generic under the sanitizers
         // Axis-aligned cases (identity rotation, axis directions) create coplanar and parallel
         // contacts; the others are generic.
         const bool aligned = k < 4;
