@@ -17,6 +17,26 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// Missed cells' centres kept during the search, and the spread subset reported (the seeds of the
+// next attempt: one per missed region first, so that a region with many cells does not crowd out
+// a small one).
+constexpr std::size_t kMissedKept = 4096, kMissedReported = 64;
+
+// Up to n of the points, spread out: farthest-point order from the first (ties to the earlier).
+std::vector<Vec3> spread_points(const std::vector<Vec3>& points, std::size_t n) {
+  if (points.size() <= n) return points;
+  std::vector<Vec3> out{points.front()};
+  std::vector<double> to_chosen(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) to_chosen[i] = (points[i] - points.front()).squaredNorm();
+  while (out.size() < n) {
+    const std::size_t far = static_cast<std::size_t>(std::max_element(to_chosen.begin(), to_chosen.end()) - to_chosen.begin());
+    out.push_back(points[far]);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      to_chosen[i] = std::min(to_chosen[i], (points[i] - points[far]).squaredNorm());
+  }
+  return out;
+}
+
 // Cells are boxes with exact double corners; children split at the rounded midpoint, so they tile
 // exactly. Each keeps its parent's centre and that centre's sides of F and of S_d (0: unknown): a
 // centre's side is then the crossing parity of the short segment from it instead of a ray out of
@@ -251,7 +271,7 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
       for (const Vec3& x : points) {
         // Off S_d: S_d lies within eps of the level, x on the other side of F.
         const int sx = !surface ? 1 : surface->side(x, surface->unsigned_distance(x));
-        if (sx != side && result.missed.size() < 64) result.missed.push_back(x);  // wholly on the wrong side
+        if (sx != side && result.missed.size() < kMissedReported) result.missed.push_back(x);  // wholly on the wrong side
       }
       if (!result.missed.empty()) {
         result.cells = 0;
@@ -281,6 +301,7 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
   // The budget bounds the cells evaluated and so the memory: a level starts only when it fits, and
   // a cell is split only while its children fit too (the next level would not start otherwise).
   bool exhausted = false;
+  std::vector<Vec3> missed;
   while (!frontier.empty() && !exhausted) {
     if (result.cells + frontier.size() > options.max_cells) {
       exhausted = true;
@@ -341,7 +362,7 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
       switch (verdict[i]) {
         case Verdict::Discard: break;
         case Verdict::Missed:
-          if (result.missed.size() < 64) result.missed.push_back(0.5 * (cell.lo + cell.hi));
+          if (missed.size() < kMissedKept) missed.push_back(0.5 * (cell.lo + cell.hi));
           break;
         case Verdict::Unresolved:
           if (result.unresolved.size() < 64) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
@@ -371,8 +392,9 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
     }
     frontier = std::move(next);
     // A certain violation settles the answer; its points are the seeds the caller needs.
-    if (!result.missed.empty()) break;
+    if (!missed.empty()) break;
   }
+  result.missed = spread_points(missed, kMissedReported);
   if (result.missed.empty())
     for (const Cell& cell : frontier)
       if (result.unresolved.size() < 64) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));

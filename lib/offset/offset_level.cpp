@@ -156,6 +156,7 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
   // tolerance, and about a quarter fewer evaluations than CGAL's finer default bisection.
   mo.bisection_relative_error = 1e-6;
   mo.lipschitz = 1.0;  // f = s - d in doubles: 1-Lipschitz up to rounding (the mesher's margin covers it)
+  std::vector<Vec3> carried;  // vertices of the last candidate that failed the completeness search
   for (int attempt = 1; attempt <= options.max_attempts; ++attempt) {
     level.attempts = attempt;
     level.distance_bound = mo.distance_bound;
@@ -168,8 +169,10 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
     std::string mesher_failure;
     if (seeds.size() >= 4) {
       try {
-        mesh = options.parallel_mesher ? mesh_level_set_parallel(f, center, radius, seeds, mo, &stats)
-                                       : mesh_level_set(f, center, radius, seeds, mo, &stats);
+        std::vector<Vec3> all = seeds;
+        all.insert(all.end(), carried.begin(), carried.end());
+        mesh = options.parallel_mesher ? mesh_level_set_parallel(f, center, radius, all, mo, &stats)
+                                       : mesh_level_set(f, center, radius, all, mo, &stats);
       } catch (const std::exception& e) {
         // CGAL's mesher refuses some configurations with an assertion (e.g. a refinement point
         // rounded onto a vertex): a failed attempt, not a failed run; the next one meshes finer.
@@ -185,7 +188,9 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
       continue;
     }
     log("meshed " + std::to_string(mesh.faces.size()) + " faces (distance bound " + num(mo.distance_bound) + ", " +
-        std::to_string(seeds.size()) + " seeds) in " + num(t_mesh.seconds()) + " s: " + std::to_string(stats.evaluations) +
+        std::to_string(seeds.size()) + " seeds" +
+        (carried.empty() ? std::string() : ", " + std::to_string(carried.size()) + " vertices of the last candidate") +
+        ") in " + num(t_mesh.seconds()) + " s: " + std::to_string(stats.evaluations) +
         " distance evaluations for " + std::to_string(stats.calls) + " signs (" + std::to_string(stats.lipschitz) +
         " by the Lipschitz bound)");
     if (!mesh.faces.empty() && !v.report.valid()) {
@@ -229,6 +234,10 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
         std::to_string(comp.missed.size()) + " missed, " + std::to_string(comp.unresolved.size()) + " unresolved) in " +
         num(t_comp.seconds()) + " s");
     if (!comp.complete) {
+      // The next candidate starts from this one's vertices as well as the seeds: it keeps the parts
+      // of the level set this one found. A fresh mesh with the new seeds found the missed part but
+      // lost another, reached through a narrow neck (boeing -20 %: one wing per attempt, 4 attempts).
+      carried = v.mesh.vertices;
       std::size_t added = 0;
       for (const Vec3& x : comp.missed) {
         Vec3 s;

@@ -76,6 +76,31 @@ TEST(CertifyCompleteness, DroppedComponentIsFound) {
   EXPECT_TRUE(certify_completeness(sdf, both, d, eps2).complete);
 }
 
+// Missed regions found at the same depth of the search are all reported, whatever their order
+// and size: the reported points are spread over the missed cells (one per region first), so a
+// large region does not crowd a small one out of the 64 points that seed the next attempt.
+TEST(CertifyCompleteness, EveryMissedRegionIsReported) {
+  const TriangleMesh three = merge_meshes(merge_meshes(make_icosphere(1.0, 2), make_icosphere(1.5, 2, Vec3(0, 0, -5))),
+                                          make_icosphere(1.2, 2, Vec3(0, 0, 5)));
+  const SignedDistance sdf(three);
+  const double d = -0.2;
+  const TriangleMesh first = offset_near(sdf, Vec3::Zero(), 1.5, d);
+  const double eps = certify_band(sdf, first, d, BandOptions{}).epsilon;
+  const CompletenessResult r = certify_completeness(sdf, first, d, eps);
+  EXPECT_FALSE(r.complete);
+  ASSERT_FALSE(r.missed.empty());
+  EXPECT_LE(r.missed.size(), 64u);
+  int low = 0, high = 0;
+  for (const Vec3& x : r.missed) {
+    low += (x - Vec3(0, 0, -5)).norm() < 1.5;
+    high += (x - Vec3(0, 0, 5)).norm() < 1.2;
+  }
+  EXPECT_EQ(low + high, static_cast<int>(r.missed.size()));  // each in a missed ball
+  EXPECT_GT(low, 0);
+  EXPECT_GT(high, 0);
+  std::printf("missed points reported: %zu (%d in the lower ball, %d in the upper)\n", r.missed.size(), low, high);
+}
+
 // Above the band (d - eps > 0) a missing component is found through one point inside each
 // component of the solid, before any cell is searched; with it meshed the level is complete.
 TEST(CertifyCompleteness, OutwardLevelMissingComponentIsFoundFromTheSolid) {
