@@ -22,6 +22,20 @@ TriangleMesh offset_near(const SignedDistance& sdf, const Vec3& center, double r
   return mesh_level_set(f, center, radius, level_set_seeds(f, center, radius, 32), o);
 }
 
+// An offset mesh of the level set near `center`, its certified band and the search against it.
+struct NearSearch {
+  TriangleMesh mesh;
+  double eps = 0.0;
+  CompletenessResult result;
+};
+NearSearch search_near(const SignedDistance& sdf, const Vec3& center, double radius, double d) {
+  NearSearch n;
+  n.mesh = offset_near(sdf, center, radius, d);
+  n.eps = certify_band(sdf, n.mesh, d, BandOptions{}).epsilon;
+  n.result = certify_completeness(sdf, n.mesh, d, n.eps);
+  return n;
+}
+
 TEST(CertifyCompleteness, SphereOffsetsAreComplete) {
   const SignedDistance sdf(make_icosphere(1.0, 2));
   for (double d : {-0.4, 0.3}) {
@@ -37,9 +51,10 @@ TEST(CertifyCompleteness, SphereOffsetsAreComplete) {
 TEST(CertifyCompleteness, TheCellBudgetIsNeverExceeded) {
   const SignedDistance sdf(make_icosphere(1.0, 2));
   const double d = 0.3;
-  const TriangleMesh m = offset_near(sdf, Vec3::Zero(), 3.0, d);
-  const double eps = certify_band(sdf, m, d, BandOptions{}).epsilon;
-  const CompletenessResult full = certify_completeness(sdf, m, d, eps);
+  const NearSearch near = search_near(sdf, Vec3::Zero(), 3.0, d);
+  const TriangleMesh& m = near.mesh;
+  const double eps = near.eps;
+  const CompletenessResult& full = near.result;
   ASSERT_TRUE(full.complete);
   ASSERT_GT(full.cells, 1000u);  // more than the first level (512 cells)
   CompletenessOptions o;
@@ -64,9 +79,9 @@ TEST(CertifyCompleteness, DroppedComponentIsFound) {
   const TriangleMesh two = merge_meshes(make_icosphere(1.0, 2), make_icosphere(0.6, 2, Vec3(4, 0, 0)));
   const SignedDistance sdf(two);
   const double d = -0.2;
-  const TriangleMesh first = offset_near(sdf, Vec3::Zero(), 1.5, d);
-  const double eps = certify_band(sdf, first, d, BandOptions{}).epsilon;
-  const CompletenessResult r = certify_completeness(sdf, first, d, eps);
+  const NearSearch near = search_near(sdf, Vec3::Zero(), 1.5, d);
+  const TriangleMesh& first = near.mesh;
+  const CompletenessResult& r = near.result;
   EXPECT_FALSE(r.complete);
   ASSERT_FALSE(r.missed.empty());
   EXPECT_NEAR(r.missed[0].x(), 4.0, 0.6);
@@ -83,10 +98,7 @@ TEST(CertifyCompleteness, EveryMissedRegionIsReported) {
   const TriangleMesh three = merge_meshes(merge_meshes(make_icosphere(1.0, 2), make_icosphere(1.5, 2, Vec3(0, 0, -5))),
                                           make_icosphere(1.2, 2, Vec3(0, 0, 5)));
   const SignedDistance sdf(three);
-  const double d = -0.2;
-  const TriangleMesh first = offset_near(sdf, Vec3::Zero(), 1.5, d);
-  const double eps = certify_band(sdf, first, d, BandOptions{}).epsilon;
-  const CompletenessResult r = certify_completeness(sdf, first, d, eps);
+  const CompletenessResult r = search_near(sdf, Vec3::Zero(), 1.5, -0.2).result;
   EXPECT_FALSE(r.complete);
   ASSERT_FALSE(r.missed.empty());
   EXPECT_LE(r.missed.size(), 64u);
