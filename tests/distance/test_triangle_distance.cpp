@@ -6,6 +6,7 @@
 #include "distance/point_triangle_distance.h"
 #include "distance/triangle_distance.h"
 #include "exact_reference.h"
+#include "test_scale.h"
 
 namespace cdbench {
 namespace {
@@ -149,7 +150,7 @@ TEST(TriangleDistance, ReachTimeLowerBoundAgainstExactRationals) {
     const Epeck::Point_3 p = exact_point(x);
     return Epeck::Point_3(p.x() + s * v.x(), p.y() + s * v.y(), p.z() + s * v.z());
   };
-  for (int k = 0; k < 2000; ++k) {
+  for (int k = 0; k < test_scale::cases(2000); ++k) {
     const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
     const Vec3 shift = 2.0 * Vec3(u(rng), u(rng), u(rng));
     const Vec3 d = Vec3(u(rng), u(rng), u(rng)) + shift, e = Vec3(u(rng), u(rng), u(rng)) + shift,
@@ -182,8 +183,8 @@ TEST(TriangleDistance, ReachTimeLowerBoundAgainstExactRationals) {
       }
     }
   }
-  EXPECT_GT(finite, 1500);
-  EXPECT_GT(infinite, 100);
+  EXPECT_GT(finite, test_scale::pick(1500, 750));  // of 3 x the cases
+  EXPECT_GT(infinite, test_scale::pick(100, 50));
   // A vertex at height H above the middle of a large face, coming down along v with a sideways part.
   for (double H : {1.0, 1e-3, 37.5}) {
     const Vec3 a(-100, -100, 0), b(100, -100, 0), c(0, 100, 0);

@@ -1,12 +1,14 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <vector>
 
 #include "mesh/alpha_wrap.h"
 #include "mesh/shapes.h"
 #include "mesh/validate_mesh.h"
 #include "offset/fast_signed_distance.h"
 #include "offset/offset_level.h"
+#include "test_scale.h"
 
 namespace cdbench {
 namespace {
@@ -193,7 +195,8 @@ TEST(OffsetLevel, WideFacesAreRepairedLocally) {
   OffsetOptions o = coarse();
   o.distance_over_tolerance = 3.0;
   o.max_attempts = 1;
-  for (double d : {-0.2, 0.3}) {
+  // One level under the sanitizers: the repair's code is the same either way.
+  for (double d : test_scale::kSanitized ? std::vector<double>{0.3} : std::vector<double>{-0.2, 0.3}) {
     o.local_repair = false;
     const OffsetLevel plain = compute_offset_level(s.sdf, s.mp, d, o);
     ASSERT_EQ(plain.status, OffsetStatus::Failed) << "the control must need the repair (d = " << d << ")";
