@@ -108,7 +108,10 @@ OffsetValidation validate_offset(const SignedDistance& sdf, const std::string& d
       const CompletenessResult c = certify_completeness(sdf, v.mesh, d, band.epsilon);
       r.completeness = c.complete ? "complete"
                        : !c.missed.empty() ? "missed " + std::to_string(c.missed.size())
-                                           : "unresolved " + std::to_string(c.unresolved.size());
+                                           : "unresolved " + std::to_string(c.unresolved.size()) +
+                                                 (c.budget_exhausted ? " (cell budget reached after " +
+                                                                           std::to_string(c.cells) + " cells)"
+                                                                     : "");
     }
   }
   r.seconds = t.seconds();

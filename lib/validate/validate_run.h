@@ -56,7 +56,8 @@ struct OffsetValidation {
   std::string file;
   std::size_t faces = 0;
   double band = 0.0;  // certified: every point of the offset lies within [d - band, d + band]
-  std::string completeness;  // "complete", "missed N", "unresolved N", or "" (not checked)
+  std::string completeness;  // "complete", "missed N", "unresolved N" (with "(cell budget reached after M cells)"
+                             // when the search stopped at its budget), or "" (not checked)
   double seconds = 0.0;
 };
 
