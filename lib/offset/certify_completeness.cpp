@@ -19,8 +19,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Missed cells' centres kept during the search, and the spread subset reported (the seeds of the
 // next attempt: one per missed region first, so that a region with many cells does not crowd out
-// a small one).
-constexpr std::size_t kMissedKept = 4096, kMissedReported = 64;
+// a small one); unresolved cells' centres reported.
+constexpr std::size_t kMissedKept = 4096, kMissedReported = 64, kUnresolvedReported = 64;
 
 // Up to n of the points, spread out: farthest-point order from the first (ties to the earlier).
 std::vector<Vec3> spread_points(const std::vector<Vec3>& points, std::size_t n) {
@@ -218,6 +218,10 @@ bool increases_along(const SignedDistance& sdf, const Aabb& cell, const Vec3& c,
 // computed normal n is within kappa of n* (cross-product rounding relative to |b - a| |q - a|,
 // divided by |N|: large for slivers, where the vertex bound serves); h and w.n are widened by it.
 // -inf when the ball misses the plane (no point of the triangle can be nearest).
+std::string budget_note(const CompletenessResult& r) {
+  return r.budget_exhausted ? " (cell budget reached after " + std::to_string(r.cells) + " cells)" : std::string();
+}
+
 double max_towards(const Vec3& w, const Vec3& c, double rho, const Vec3& a, const Vec3& b, const Vec3& q) {
   double vertices = -kInf;  // each with its rounding (a difference and a 3-term dot product)
   for (const Vec3* v : {&a, &b, &q})
@@ -300,11 +304,10 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
   }
   // The budget bounds the cells evaluated and so the memory: a level starts only when it fits, and
   // a cell is split only while its children fit too (the next level would not start otherwise).
-  bool exhausted = false;
   std::vector<Vec3> missed;
-  while (!frontier.empty() && !exhausted) {
+  while (!frontier.empty() && !result.budget_exhausted) {
     if (result.cells + frontier.size() > options.max_cells) {
-      exhausted = true;
+      result.budget_exhausted = true;
       break;
     }
     std::vector<Verdict> verdict(frontier.size(), Verdict::Split);
@@ -365,13 +368,13 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
           if (missed.size() < kMissedKept) missed.push_back(0.5 * (cell.lo + cell.hi));
           break;
         case Verdict::Unresolved:
-          if (result.unresolved.size() < 64) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
+          if (result.unresolved.size() < kUnresolvedReported) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
           break;
         case Verdict::Split: {
           const Vec3 mid = 0.5 * (cell.lo + cell.hi);
           if (level_end + next.size() + 8 > options.max_cells) {
-            exhausted = true;
-            if (result.unresolved.size() < 64) result.unresolved.push_back(mid);
+            result.budget_exhausted = true;
+            if (result.unresolved.size() < kUnresolvedReported) result.unresolved.push_back(mid);
             break;
           }
           for (int k = 0; k < 8; ++k) {
@@ -397,9 +400,8 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
   result.missed = spread_points(missed, kMissedReported);
   if (result.missed.empty())
     for (const Cell& cell : frontier)
-      if (result.unresolved.size() < 64) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
-  result.budget_exhausted = exhausted;
-  result.complete = frontier.empty() && !exhausted && result.missed.empty() && result.unresolved.empty();
+      if (result.unresolved.size() < kUnresolvedReported) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
+  result.complete = frontier.empty() && !result.budget_exhausted && result.missed.empty() && result.unresolved.empty();
   result.seconds = timer.seconds();
   return result;
 }

@@ -4,6 +4,7 @@
 // See doc/offsets.md for the argument (components of the sub/superlevel sets, their extrema, and
 // a branch and bound that proves where s has no critical point).
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "distance/signed_distance.h"
@@ -23,6 +24,10 @@ struct CompletenessResult {
   bool budget_exhausted = false;    // stopped by max_cells (then `unresolved` says where)
   double seconds = 0.0;
 };
+
+// " (cell budget reached after N cells)" when the search stopped at its budget, else "": the same
+// words wherever an incomplete search is reported.
+std::string budget_note(const CompletenessResult& r);
 
 // An upper bound of w.(p - c) over the points p of the closed triangle (a, b, q) within rho of c,
 // for a unit w (up to rounding): the smaller of the vertex bound and the bound over the disc where

@@ -258,10 +258,8 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
            << comp.missed[0].x() << ", " << comp.missed[0].y() << ", " << comp.missed[0].z() << "); " << added
            << " seed(s) added";
       } else {
-        os << "attempt " << attempt << ": completeness "
-           << (comp.budget_exhausted ? "search stopped by its cell budget after " + std::to_string(comp.cells) + " cells, " : "")
-           << "unresolved near (" << comp.unresolved[0].x() << ", " << comp.unresolved[0].y() << ", "
-           << comp.unresolved[0].z() << ")";
+        os << "attempt " << attempt << ": completeness unresolved near (" << comp.unresolved[0].x() << ", "
+           << comp.unresolved[0].y() << ", " << comp.unresolved[0].z() << ")" << budget_note(comp);
       }
       level.message = os.str();
       if (added == 0) mo.distance_bound *= 0.7;

@@ -108,10 +108,7 @@ OffsetValidation validate_offset(const SignedDistance& sdf, const std::string& d
       const CompletenessResult c = certify_completeness(sdf, v.mesh, d, band.epsilon);
       r.completeness = c.complete ? "complete"
                        : !c.missed.empty() ? "missed " + std::to_string(c.missed.size())
-                                           : "unresolved " + std::to_string(c.unresolved.size()) +
-                                                 (c.budget_exhausted ? " (cell budget reached after " +
-                                                                           std::to_string(c.cells) + " cells)"
-                                                                     : "");
+                                           : "unresolved " + std::to_string(c.unresolved.size()) + budget_note(c);
     }
   }
   r.seconds = t.seconds();

@@ -62,12 +62,14 @@ TEST(CertifyCompleteness, TheCellBudgetIsNeverExceeded) {
   const CompletenessResult exact = certify_completeness(sdf, m, d, eps, o);
   EXPECT_TRUE(exact.complete);
   EXPECT_FALSE(exact.budget_exhausted);
+  EXPECT_EQ(budget_note(exact), "");
   EXPECT_EQ(exact.cells, full.cells);
   for (std::uint64_t budget : {full.cells - 1, full.cells / 2, full.cells / 7, std::uint64_t{600}, std::uint64_t{100}}) {
     o.max_cells = budget;
     const CompletenessResult r = certify_completeness(sdf, m, d, eps, o);
     EXPECT_FALSE(r.complete) << "budget " << budget;
     EXPECT_TRUE(r.budget_exhausted) << "budget " << budget;
+    EXPECT_EQ(budget_note(r), " (cell budget reached after " + std::to_string(r.cells) + " cells)");
     EXPECT_LE(r.cells, budget);
     EXPECT_FALSE(r.unresolved.empty()) << "budget " << budget;  // where the search stopped
     EXPECT_TRUE(r.missed.empty());

@@ -196,7 +196,7 @@ TEST(OffsetLevel, WideFacesAreRepairedLocally) {
   o.distance_over_tolerance = 3.0;
   o.max_attempts = 1;
   // One level under the sanitizers: the repair's code is the same either way.
-  for (double d : test_scale::kSanitized ? std::vector<double>{0.3} : std::vector<double>{-0.2, 0.3}) {
+  for (double d : test_scale::pick<std::vector<double>>({-0.2, 0.3}, {0.3})) {
     o.local_repair = false;
     const OffsetLevel plain = compute_offset_level(s.sdf, s.mp, d, o);
     ASSERT_EQ(plain.status, OffsetStatus::Failed) << "the control must need the repair (d = " << d << ")";

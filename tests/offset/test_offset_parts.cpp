@@ -218,7 +218,7 @@ TEST(MeshLevelSet, LipschitzSignsGiveTheSameMeshWithFewerEvaluations) {
     const SignedDistance sdf(c.mesh);
     const FastSignedDistance fast(sdf);
     // One scale under the sanitizers: 3, where the Lipschitz constant is not the default 1.
-    for (double scale : test_scale::kSanitized ? std::vector<double>{3.0} : std::vector<double>{1.0, 3.0}) {
+    for (double scale : test_scale::pick<std::vector<double>>({1.0, 3.0}, {3.0})) {
       const std::function<double(const Vec3&)> f = [&](const Vec3& p) { return scale * (fast(p) - c.d); };
       const std::vector<Vec3> seeds = level_set_seeds(f, c.center, c.radius, 32);
       LevelSetMeshOptions o;
@@ -250,7 +250,7 @@ TEST(MeshLevelSet, ParallelMesherMeshesTheSeededComponents) {
   const SignedDistance sdf(two);
   const FastSignedDistance fast(sdf);
   // One level under the sanitizers (the same code paths; the other side costs as much again).
-  for (double d : test_scale::kSanitized ? std::vector<double>{0.2} : std::vector<double>{-0.1, 0.2}) {
+  for (double d : test_scale::pick<std::vector<double>>({-0.1, 0.2}, {0.2})) {
     const std::function<double(const Vec3&)> f = [&](const Vec3& p) { return fast(p) - d; };
     std::vector<Vec3> torus_seeds = level_set_seeds(f, Vec3(1.0, 0.0, 0.0), 1.5, 32);
     std::vector<Vec3> all = torus_seeds;
