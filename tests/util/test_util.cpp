@@ -30,13 +30,29 @@ std::string read_all(const std::string& path) {
   return ss.str();
 }
 
-std::string temp_dir() {
-  auto dir = std::filesystem::temp_directory_path() / ("cdbench_util_" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  return dir.string();
-}
+// One directory per test, removed afterwards (a directory per process was left behind by every run).
+class ScratchDir : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() /
+           ("cdbench_util_" + std::to_string(getpid()) + "_" + info->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
+  }
+  std::string temp_dir() const { return dir_.string(); }
 
-TEST(AtomicFile, WritesAndReplaces) {
+ private:
+  std::filesystem::path dir_;
+};
+using AtomicFile = ScratchDir;
+using Sha256 = ScratchDir;
+
+TEST_F(AtomicFile, WritesAndReplaces) {
   const std::string path = temp_dir() + "/a.txt";
   write_file_atomically(path, [](std::ostream& o) { o << "first"; });
   EXPECT_EQ(read_all(path), "first");
@@ -44,7 +60,7 @@ TEST(AtomicFile, WritesAndReplaces) {
   EXPECT_EQ(read_all(path), "second");
 }
 
-TEST(AtomicFile, FailureLeavesTargetAndNoTemporary) {
+TEST_F(AtomicFile, FailureLeavesTargetAndNoTemporary) {
   const std::string dir = temp_dir();
   const std::string path = dir + "/b.txt";
   write_file_atomically(path, [](std::ostream& o) { o << "kept"; });
@@ -59,7 +75,7 @@ TEST(AtomicFile, FailureLeavesTargetAndNoTemporary) {
     EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
 }
 
-TEST(AtomicFile, MissingDirectoryIsAnInputError) {
+TEST_F(AtomicFile, MissingDirectoryIsAnInputError) {
   EXPECT_THROW(write_file_atomically("/nonexistent-dir/x.txt", [](std::ostream& o) { o << "x"; }), InputError);
 }
 
@@ -164,7 +180,7 @@ TEST(DynamicMakespan, ItemsGoToTheThreadThatFreesUpFirst) {
   }
 }
 
-TEST(Sha256, KnownVectors) {
+TEST_F(Sha256, KnownVectors) {
   EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
   EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
   const std::string path = temp_dir() + "/h.txt";
