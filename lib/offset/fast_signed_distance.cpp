@@ -134,6 +134,30 @@ bool point_on_level_near(const FastSignedDistance& fast, double d, const Vec3& x
   return false;
 }
 
+bool point_on_level_along(const FastSignedDistance& fast, double d, const Vec3& x, const Vec3& u, double max_length,
+                          Vec3& on) {
+  const double fx = fast(x) - d;
+  if (!std::isfinite(fx)) return false;
+  if (fx == 0.0) {
+    on = x;
+    return true;
+  }
+  Vec3 last = x;
+  double t = 0.0, ft = fx;
+  for (int it = 0; it < 100; ++it) {
+    t += 1.5 * std::abs(ft);
+    if (!(t <= max_length)) return false;
+    const Vec3 y = x + t * u;
+    ft = fast(y) - d;
+    if ((ft < 0) != (fx < 0)) {
+      on = bisect_to_level(fast, d, last, y, fx);
+      return true;
+    }
+    last = y;
+  }
+  return false;
+}
+
 void points_on_level_around(const FastSignedDistance& fast, double d, const Vec3& x, std::vector<Vec3>& out) {
   const double fx = fast(x) - d;
   if (!(fx != 0.0) || !std::isfinite(fx)) return;

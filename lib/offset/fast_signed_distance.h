@@ -31,6 +31,13 @@ class FastSignedDistance {
 // candidates). False when the three overshoots do not change the sign.
 bool point_on_level_near(const FastSignedDistance& fast, double d, const Vec3& x, Vec3& on);
 
+// The first point of {fast = d} along the ray from x in the unit direction u, within `max_length`:
+// steps of 1.5 |fast - d| (fast is 1-Lipschitz: a step of |fast - d| cannot cross the level set,
+// so only a sheet thinner than half a step can be passed over), then bisection to the last double
+// (uncertified; new vertices of offset candidates). False when the ray leaves `max_length` first.
+bool point_on_level_along(const FastSignedDistance& fast, double d, const Vec3& x, const Vec3& u, double max_length,
+                          Vec3& on);
+
 // Points of {fast = d} all around x (fast - d != 0 at x): along each of 14 directions (the axes and
 // the cube's diagonals), the first sign change found at distances 2, 4, ..., 2^12 times |fast(x) -
 // d|, located by bisection; appended to `out`. Seeds for a small component of a level set that the

@@ -1,6 +1,7 @@
 #include "offset/refine_offset.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <unordered_map>
 
@@ -8,8 +9,7 @@
 
 namespace cdbench {
 
-RefinedMesh refine_faces(const TriangleMesh& mesh, const std::vector<char>& wide,
-                         const std::function<Vec3(const Vec3& a, const Vec3& b)>& midpoint) {
+RefinedMesh refine_faces(const TriangleMesh& mesh, const std::vector<char>& wide, const PlaceEdgeVertex& place) {
   const std::size_t n = mesh.faces.size();
   // Edge ids in order of first appearance (deterministic).
   std::unordered_map<std::uint64_t, std::uint32_t> edge_id;
@@ -49,11 +49,24 @@ RefinedMesh refine_faces(const TriangleMesh& mesh, const std::vector<char>& wide
       to_split.push_back(e);
     }
   out.split_edges = to_split.size();
+  // Each split edge's normal: the sum of its faces' unit normals (the placement's search direction).
+  std::vector<Vec3> edge_normal(edges.size(), Vec3::Zero());
+  for (std::size_t f = 0; f < n; ++f) {
+    const auto& e = face_edges[f];
+    if (!(split[e[0]] || split[e[1]] || split[e[2]])) continue;
+    const Face& v = mesh.faces[f];
+    const Vec3 c = (mesh.vertices[v[1]] - mesh.vertices[v[0]]).cross(mesh.vertices[v[2]] - mesh.vertices[v[0]]);
+    const double len = c.norm();
+    if (!(len > 0.0) || !std::isfinite(len)) continue;
+    for (int k = 0; k < 3; ++k)
+      if (split[e[k]]) edge_normal[e[k]] += c / len;
+  }
   out.mesh.vertices.resize(mesh.vertices.size() + to_split.size());
   // Placing a vertex may cost a few dozen distance queries: in parallel, each into its own slot.
   tbb::parallel_for(std::size_t{0}, to_split.size(), [&](std::size_t k) {
     const auto& ab = edges[to_split[k]];
-    out.mesh.vertices[mesh.vertices.size() + k] = midpoint(mesh.vertices[ab[0]], mesh.vertices[ab[1]]);
+    out.mesh.vertices[mesh.vertices.size() + k] =
+        place(mesh.vertices[ab[0]], mesh.vertices[ab[1]], edge_normal[to_split[k]]);
   });
   auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, bool fresh, std::size_t from) {
     out.mesh.faces.push_back({a, b, c});

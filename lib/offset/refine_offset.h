@@ -22,10 +22,11 @@ struct RefinedMesh {
 
 // Splits every edge of every face with wide[f] != 0, then, until no face has exactly two split
 // edges, the third edge of such faces (closure). Faces with three split edges become four, faces
-// with one become two; the others are kept. The new vertex of edge (a, b) is midpoint(a, b).
-// Orientation is preserved; deterministic (faces and new vertices in input order). `midpoint` is
-// called from several threads at once.
-RefinedMesh refine_faces(const TriangleMesh& mesh, const std::vector<char>& wide,
-                         const std::function<Vec3(const Vec3& a, const Vec3& b)>& midpoint);
+// with one become two; the others are kept. The new vertex of edge (a, b) is place(a, b, n), where
+// n is the sum of the unit normals of the faces on the edge (outward for an outward mesh; zero
+// for degenerate faces). Orientation is preserved; deterministic (faces and new vertices in input
+// order). `place` is called from several threads at once.
+using PlaceEdgeVertex = std::function<Vec3(const Vec3& a, const Vec3& b, const Vec3& normal)>;
+RefinedMesh refine_faces(const TriangleMesh& mesh, const std::vector<char>& wide, const PlaceEdgeVertex& place);
 
 }  // namespace cdbench

@@ -178,6 +178,32 @@ TEST(FastSignedDistance, PointsFarOutsideArePositive) {
   }
 }
 
+// A new vertex of a repaired candidate in a sheet of the level set thinner than the band: the
+// level set's nearest point is on the sheet's other side, the one along the face's normal is on the
+// face's own side (boeing -20 %: placed by the gradient, new faces folded through old ones).
+TEST(FastSignedDistance, PointsAlongARayReachTheSheetInFront) {
+  // Slab |z| <= 0.1; the level -0.09 is the two planes z = +-0.01.
+  const SignedDistance sdf(make_box(Vec3(-1.0, -1.0, -0.1), Vec3(1.0, 1.0, 0.1)));
+  const FastSignedDistance fast(sdf);
+  const double d = -0.09;
+  const Vec3 x(0.2, -0.1, -0.003);  // inside the thin sheet, nearer its lower plane
+  Vec3 near, along;
+  ASSERT_TRUE(point_on_level_near(fast, d, x, near));
+  EXPECT_NEAR(near.z(), -0.01, 1e-12);
+  ASSERT_TRUE(point_on_level_along(fast, d, x, Vec3(0.0, 0.0, 1.0), 0.1, along));
+  EXPECT_NEAR(along.z(), 0.01, 1e-12);
+  EXPECT_NEAR(along.x(), x.x(), 1e-15);
+  EXPECT_NEAR(fast(along), d, 1e-12);
+  // Slanted rays too, from outside the sheet (the level set is then reached from above).
+  const Vec3 above(0.0, 0.0, 0.05);
+  const Vec3 u = Vec3(0.6, 0.0, -0.8);
+  ASSERT_TRUE(point_on_level_along(fast, d, above, u, 1.0, along));
+  EXPECT_NEAR(along.z(), 0.01, 1e-12);
+  EXPECT_NEAR((along - above).normalized().dot(u), 1.0, 1e-9);
+  // Not within the length asked for: no point.
+  EXPECT_FALSE(point_on_level_along(fast, d, x, Vec3(0.0, 0.0, 1.0), 0.005, along));
+}
+
 TEST(MeshLevelSet, SphereOffsetsAreValidAndNearTheLevel) {
   const TriangleMesh sphere = make_icosphere(1.0, 2);
   const SignedDistance sdf(sphere);
@@ -286,7 +312,7 @@ TEST(RefineFaces, ConformingOrientedAndKeepsTheRest) {
   for (std::size_t stride : {1u, 2u, 7u, 50u}) {
     std::vector<char> wide(sphere.faces.size(), 0);
     for (std::size_t i = 0; i < wide.size(); i += stride) wide[i] = 1;
-    const RefinedMesh r = refine_faces(sphere, wide, [](const Vec3& a, const Vec3& b) { return 0.5 * (a + b); });
+    const RefinedMesh r = refine_faces(sphere, wide, [](const Vec3& a, const Vec3& b, const Vec3&) { return 0.5 * (a + b); });
     const ValidatedMesh after = validate_mesh(r.mesh);
     ASSERT_TRUE(after.report.valid()) << "stride " << stride << ": " << after.report.errors[0].message;
     EXPECT_EQ(after.report.genus, 0);
