@@ -158,14 +158,15 @@ bool point_on_level_along(const FastSignedDistance& fast, double d, const Vec3& 
   return false;
 }
 
-void points_on_level_around(const FastSignedDistance& fast, double d, const Vec3& x, std::vector<Vec3>& out) {
+void points_on_level_around(const FastSignedDistance& fast, double d, const Vec3& x, std::vector<Vec3>& out,
+                            int max_doublings) {
   const double fx = fast(x) - d;
   if (!(fx != 0.0) || !std::isfinite(fx)) return;
   for (int k = 0; k < 14; ++k) {
     Vec3 u = Vec3::Zero();
     if (k < 6) u[k / 2] = k % 2 ? -1.0 : 1.0;
     else u = Vec3(k & 1 ? -1.0 : 1.0, k & 2 ? -1.0 : 1.0, k & 4 ? -1.0 : 1.0).normalized();
-    for (int j = 1; j <= 12; ++j) {
+    for (int j = 1; j <= max_doublings; ++j) {
       const Vec3 y = x + std::ldexp(std::abs(fx), j) * u;
       if ((fast(y) - d < 0) == (fx < 0)) continue;
       out.push_back(bisect_to_level(fast, d, x, y, fx));

@@ -39,10 +39,12 @@ bool point_on_level_along(const FastSignedDistance& fast, double d, const Vec3& 
                           Vec3& on);
 
 // Points of {fast = d} all around x (fast - d != 0 at x): along each of 14 directions (the axes and
-// the cube's diagonals), the first sign change found at distances 2, 4, ..., 2^12 times |fast(x) -
-// d|, located by bisection; appended to `out`. Seeds for a small component of a level set that the
-// mesher missed: one seed on it gives Surface_mesher no facet to refine, a ring of them does
-// (uncertified; only the candidate depends on them).
-void points_on_level_around(const FastSignedDistance& fast, double d, const Vec3& x, std::vector<Vec3>& out);
+// the cube's diagonals), the first sign change found at distances 2, 4, ..., 2^max_doublings times
+// |fast(x) - d|, located by bisection; appended to `out`. Seeds for a small component of a level
+// set that the mesher missed: one seed on it gives Surface_mesher no facet to refine, a ring of
+// them does (uncertified; only the candidate depends on them). A small `max_doublings` keeps the
+// ring on x's own component (far sign changes are often other components).
+void points_on_level_around(const FastSignedDistance& fast, double d, const Vec3& x, std::vector<Vec3>& out,
+                            int max_doublings = 12);
 
 }  // namespace cdbench

@@ -1,6 +1,8 @@
 #include "offset/offset_level.h"
 
 #include <algorithm>
+#include <atomic>
+#include <cstdint>
 #include <cmath>
 #include <iterator>
 #include <limits>
@@ -130,6 +132,120 @@ bool repair_band(const SignedDistance& sdf, const FastSignedDistance& fast, doub
   return true;
 }
 
+// Seeds on the level set at and around each point of `missed` (the ring too: a small closed
+// component, a pocket between an offset's folds or an island of a deep level, needs several for
+// the mesher to find facets on it). Returns how many were appended.
+std::size_t seeds_at(const FastSignedDistance& fast, double d, const std::vector<Vec3>& missed, std::vector<Vec3>& seeds,
+                     int max_doublings = 12) {
+  const std::size_t before = seeds.size();
+  for (const Vec3& x : missed) {
+    Vec3 s;
+    if (point_on_level_near(fast, d, x, s)) seeds.push_back(s);
+    points_on_level_around(fast, d, x, seeds, max_doublings);
+  }
+  return seeds.size() - before;
+}
+
+// The completeness search found regions of the level set outside the candidate. Where they are
+// components of their own (islands of a deep level that no seed reached: boeing -20 %'s engines),
+// meshing them alone and adding them costs a fraction of a re-mesh of the whole level. The union
+// is a candidate like any other: validated in full (a region that belongs to a component already
+// meshed gives a second copy of it, which meets the first: rejected, and the caller re-meshes),
+// the added faces' band certified (the kept faces keep theirs), completeness searched again. On
+// success `v`, `band` and `comp` describe the union.
+// Such a region is often a lobe of a component already meshed (femur and homer +5 %, rotor -20 %):
+// the mesher then meshes that whole component again, as many faces as the candidate, before the
+// union is rejected. So it may evaluate the distance at most `max_evaluations` times (a third of
+// the candidate's meshing, at least 50,000, about a quarter of a second): an island is far smaller.
+struct MeshingBudgetSpent {};
+
+bool add_missed_regions(const SignedDistance& sdf, const FastSignedDistance& fast,
+                        const std::function<double(const Vec3&)>& f, const Vec3& center, double radius, double d,
+                        double tol, const LevelSetMeshOptions& mo, const OffsetOptions& options,
+                        std::uint64_t max_evaluations, ValidatedMesh& v, BandResult& band, CompletenessResult& comp,
+                        OffsetLevel& level, const std::function<void(const std::string&)>& log) {
+  // Rings within 8 |s - d| of each missed point: farther sign changes are mostly on components
+  // already meshed, which the island's mesher would then mesh again.
+  std::vector<Vec3> seeds;
+  seeds_at(fast, d, comp.missed, seeds, 3);
+  if (seeds.size() < 4) return false;
+  Timer t_mesh;
+  TriangleMesh island;
+  std::atomic<std::uint64_t> evaluations{0};
+  const std::function<double(const Vec3&)> g = [&](const Vec3& p) {
+    if (evaluations.fetch_add(1, std::memory_order_relaxed) >= max_evaluations) throw MeshingBudgetSpent{};
+    return f(p);
+  };
+  // Always Surface_mesher, on this thread: the budget stops it by an exception, which Mesh_3's
+  // parallel mode does not survive (a task that throws while holding a cell lock leaves the others
+  // waiting for it: the test hung), and an island is too small to share out.
+  try {
+    island = mesh_level_set(g, center, radius, seeds, mo);
+  } catch (const MeshingBudgetSpent&) {
+    level.seconds_mesh += t_mesh.seconds();
+    log("the missed regions alone: more than " + std::to_string(max_evaluations) +
+        " distance evaluations after " + num(t_mesh.seconds()) + " s: not an island");
+    return false;
+  } catch (const std::exception& e) {
+    level.seconds_mesh += t_mesh.seconds();
+    log("the missed regions alone: the mesher failed: " + first_line(e.what()));
+    return false;
+  }
+  // Oriented alone first (as a mesher's output always is), so that the union's validation has
+  // nothing to change unless the parts meet or nest.
+  const ValidatedMesh iv = validate_mesh(island);
+  if (iv.report.valid()) island = iv.mesh;
+  TriangleMesh both = v.mesh;
+  const std::uint32_t base = static_cast<std::uint32_t>(both.vertices.size());
+  both.vertices.insert(both.vertices.end(), island.vertices.begin(), island.vertices.end());
+  for (const Face& g : island.faces) both.faces.push_back({g[0] + base, g[1] + base, g[2] + base});
+  ValidatedMesh uv = validate_mesh(both);
+  level.seconds_mesh += t_mesh.seconds();
+  const std::string what = "the missed regions alone: " + std::to_string(island.faces.size()) + " faces (" +
+                           std::to_string(seeds.size()) + " seeds, " + std::to_string(evaluations.load()) +
+                           " distance evaluations) in " + num(t_mesh.seconds()) + " s";
+  // Validation must keep the union as it is, so that the kept faces' bands still belong to them.
+  if (island.faces.empty() || !uv.report.valid() || uv.mesh.faces != both.faces || uv.mesh.vertices != both.vertices) {
+    std::string why = "nothing meshed";
+    if (!island.faces.empty())
+      why = !uv.report.valid() ? "the union is not valid: " + uv.report.errors[0].message
+            : uv.mesh.vertices != both.vertices ? std::string("validation changed the union's vertices")
+                                                : std::string("validation reoriented the union's faces (nested parts)");
+    log(what + ", not added: " + why);
+    return false;
+  }
+  Timer t_band;
+  const BandOptions bo = offset_band_options(tol);
+  const BandResult ib = certify_band(sdf, island, d, bo);
+  level.seconds_band += t_band.seconds();
+  level.band_pieces += ib.pieces;
+  BandResult merged = band;
+  merged.pieces += ib.pieces;
+  for (std::size_t i = 0; i < ib.face_epsilon.size(); ++i) {
+    merged.face_epsilon.push_back(ib.face_epsilon[i]);
+    if (ib.face_epsilon[i] > merged.epsilon) {
+      merged.epsilon = ib.face_epsilon[i];
+      merged.worst_face = band.face_epsilon.size() + i;
+    }
+  }
+  merged.faces_touching += ib.faces_touching;
+  log(what + ", added; band " + num(merged.epsilon / sdf.bbox().diagonal()) + " x diagonal");
+  if (merged.epsilon > tol &&
+      !(options.local_repair && merged.faces_touching == 0 && repair_band(sdf, fast, d, tol, bo, uv, merged, level, log)))
+    return false;
+  Timer t_comp;
+  CompletenessResult uc = certify_completeness(sdf, uv.mesh, d, std::max(merged.epsilon, 1e-9 * sdf.bbox().diagonal()));
+  level.seconds_completeness += t_comp.seconds();
+  level.completeness_cells += uc.cells;
+  log(std::string(uc.complete ? "complete" : "NOT complete") + " with the missed regions added (" +
+      std::to_string(uc.cells) + " cells, " + std::to_string(uc.missed.size()) + " missed, " +
+      std::to_string(uc.unresolved.size()) + " unresolved) in " + num(t_comp.seconds()) + " s");
+  v = std::move(uv);
+  band = std::move(merged);
+  comp = std::move(uc);
+  return true;
+}
+
 }  // namespace
 
 BandOptions offset_band_options(double tol) {
@@ -223,10 +339,11 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
       continue;
     }
     double eps = 0.0;
+    BandResult band;
     if (!v.mesh.faces.empty()) {
       Timer t_band;
       const BandOptions bo = offset_band_options(tol);
-      BandResult band = certify_band(sdf, v.mesh, d, bo);
+      band = certify_band(sdf, v.mesh, d, bo);
       level.seconds_band += t_band.seconds();
       level.band_pieces += band.pieces;
       const auto wide = std::count_if(band.face_epsilon.begin(), band.face_epsilon.end(), [&](double e) { return e > tol; });
@@ -251,30 +368,22 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
     // Completeness for the certified band (at least a tiny positive width for an empty mesh).
     Timer t_comp;
     const double eps_c = std::max(eps, 1e-9 * diag);
-    const CompletenessResult comp = certify_completeness(sdf, v.mesh, d, eps_c);
+    CompletenessResult comp = certify_completeness(sdf, v.mesh, d, eps_c);
     level.seconds_completeness += t_comp.seconds();
     level.completeness_cells += comp.cells;
     log(std::string(comp.complete ? "complete" : "NOT complete") + " (" + std::to_string(comp.cells) + " cells, " +
         std::to_string(comp.missed.size()) + " missed, " + std::to_string(comp.unresolved.size()) + " unresolved) in " +
         num(t_comp.seconds()) + " s");
+    if (!comp.complete && !comp.missed.empty() && !v.mesh.faces.empty() && options.mesh_missed_regions_alone &&
+        add_missed_regions(sdf, fast, f, center, radius, d, tol, mo, options, std::max<std::uint64_t>(stats.evaluations / 3, 50000), v, band, comp,
+                           level, log))
+      eps = band.epsilon;
     if (!comp.complete) {
       // The next candidate starts from this one's vertices as well as the seeds: it keeps the parts
       // of the level set this one found. A fresh mesh with the new seeds found the missed part but
       // lost another, reached through a narrow neck (boeing -20 %: one wing per attempt, 4 attempts).
       carried = v.mesh.vertices;
-      std::size_t added = 0;
-      for (const Vec3& x : comp.missed) {
-        Vec3 s;
-        if (point_on_level_near(fast, d, x, s)) {
-          seeds.push_back(s);
-          ++added;
-        }
-        // A ring of seeds too: a small closed component (a pocket between an offset's folds, an
-        // island of a deep level) needs several for the mesher to find facets on it.
-        const std::size_t before = seeds.size();
-        points_on_level_around(fast, d, x, seeds);
-        added += seeds.size() - before;
-      }
+      const std::size_t added = seeds_at(fast, d, comp.missed, seeds);
       std::ostringstream os;
       os.precision(9);
       if (!comp.missed.empty()) {

@@ -24,6 +24,9 @@ struct OffsetOptions {
   // (refine_offset.h) before a whole re-mesh with a finer distance bound.
   bool local_repair = true;
   int seeds = 64;
+  // Regions of the level set that a candidate missed are first meshed alone and added to it (an
+  // island no seed reached), before a re-mesh of the whole level from the candidate's vertices.
+  bool mesh_missed_regions_alone = true;
   // The candidate mesher: Surface_mesher (one thread, reproducible) or Mesh_3 in parallel mode.
   bool parallel_mesher = false;
   // Called with a line per attempt and phase (what was done, how long, the outcome); may be empty.

@@ -135,9 +135,13 @@ TEST_P(BothMeshers, TwoComponentInputKeepsBoth) {
 // search finds it, and the retry must mesh it. One seed on it gave Surface_mesher nothing to
 // refine (CGAL's homer at +5 %, dino at -20 %: four attempts, then failed); a ring of seeds all
 // around it does.
+// (Regions missed are first meshed alone and added, which can find this one in the first attempt:
+// off here, so that the re-meshing path is the one tested.)
 TEST_P(BothMeshers, SmallComponentMissedFirstIsSeededAllAround) {
   const Solid s(merge_meshes(make_icosphere(1.0, 2), make_icosphere(0.08, 2, Vec3(1.6, 0.3, 0.2))));
-  const OffsetLevel l = compute_offset_level(s.sdf, s.mp, -0.04, options());
+  OffsetOptions o = options();
+  o.mesh_missed_regions_alone = false;
+  const OffsetLevel l = compute_offset_level(s.sdf, s.mp, -0.04, o);
   ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
   EXPECT_GT(l.attempts, 1) << "the first candidate was expected to miss the small component";
   EXPECT_EQ(l.report.components, 2u);
@@ -163,11 +167,11 @@ TEST(PointsOnLevelAround, OnePointPerDirectionOnTheLevel) {
   }
 }
 
-TEST(OffsetLevel, DumbbellSplitsInwards) {
-  // Two balls joined by a thin bar, wrapped into one closed solid; inwards past the bar's
-  // half-thickness the offset has two components, and both must be found.
-  const TriangleMesh a = make_icosphere(1.0, 3), b = make_icosphere(1.0, 3, Vec3(4, 0, 0));
-  const TriangleMesh bar = make_box(Vec3(0.5, -0.15, -0.15), Vec3(3.5, 0.15, 0.15));
+// A unit ball at the origin and a ball of radius r at (x, 0, 0), joined by a bar 0.3 thick from
+// 0.5 to `bar_end`, wrapped into one closed solid.
+ValidatedMesh dumbbell_solid(double r, double x, double bar_end) {
+  const TriangleMesh a = make_icosphere(1.0, 3), b = make_icosphere(r, 3, Vec3(x, 0, 0));
+  const TriangleMesh bar = make_box(Vec3(0.5, -0.15, -0.15), Vec3(bar_end, 0.15, 0.15));
   PolygonSoup soup;
   for (const TriangleMesh* m : {&a, &b, &bar}) {
     const std::size_t base = soup.points.size();
@@ -177,7 +181,12 @@ TEST(OffsetLevel, DumbbellSplitsInwards) {
   AlphaWrapOptions wo;
   wo.alpha = 0.2;
   wo.offset = 0.01;
-  const ValidatedMesh dumbbell = validate_mesh(alpha_wrap(soup, wo).mesh);
+  return validate_mesh(alpha_wrap(soup, wo).mesh);
+}
+
+TEST(OffsetLevel, DumbbellSplitsInwards) {
+  // Inwards past the bar's half-thickness the offset has two components, and both must be found.
+  const ValidatedMesh dumbbell = dumbbell_solid(1.0, 4.0, 3.5);
   ASSERT_TRUE(dumbbell.report.valid());
   ASSERT_EQ(dumbbell.report.components, 1u);
   const Solid s(dumbbell.mesh);
@@ -185,6 +194,29 @@ TEST(OffsetLevel, DumbbellSplitsInwards) {
   ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
   EXPECT_EQ(l.report.components, 2u);
   EXPECT_TRUE(l.complete);
+}
+
+// A deep level of a dumbbell with a small ball: the seeds (rays from the deepest point, in the
+// large ball) all land on the large ball's island, so the first candidate misses the small one;
+// meshed alone and added, it completes the level in that one attempt. Control: without adding
+// missed regions alone one attempt is not enough.
+TEST(OffsetLevel, AMissedIslandIsAddedToTheCandidate) {
+  const ValidatedMesh dumbbell = dumbbell_solid(0.6, 3.0, 2.7);
+  ASSERT_TRUE(dumbbell.report.valid());
+  const Solid s(dumbbell.mesh);
+  OffsetOptions o = coarse();
+  o.max_attempts = 1;
+  o.mesh_missed_regions_alone = false;
+  const OffsetLevel plain = compute_offset_level(s.sdf, s.mp, -0.4, o);
+  ASSERT_EQ(plain.status, OffsetStatus::Failed) << "the control must miss the small island";
+  o.mesh_missed_regions_alone = true;
+  const OffsetLevel l = compute_offset_level(s.sdf, s.mp, -0.4, o);
+  ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
+  EXPECT_EQ(l.attempts, 1);
+  EXPECT_EQ(l.report.components, 2u);
+  EXPECT_TRUE(l.complete);
+  EXPECT_LE(l.epsilon, o.tolerance_relative * s.sdf.bbox().diagonal());
+  expect_band_holds(s, l);
 }
 
 // A coarse first candidate (distance bound 3x the tolerance) misses the band on some faces; the
