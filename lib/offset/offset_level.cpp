@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <limits>
 #include <sstream>
@@ -146,6 +146,9 @@ std::size_t seeds_at(const FastSignedDistance& fast, double d, const std::vector
   return seeds.size() - before;
 }
 
+// Thrown by the evaluator of a meshing whose budget of distance evaluations is spent.
+struct MeshingBudgetSpent {};
+
 // The completeness search found regions of the level set outside the candidate. Where they are
 // components of their own (islands of a deep level that no seed reached: boeing -20 %'s engines),
 // meshing them alone and adding them costs a fraction of a re-mesh of the whole level. The union
@@ -155,10 +158,8 @@ std::size_t seeds_at(const FastSignedDistance& fast, double d, const std::vector
 // success `v`, `band` and `comp` describe the union.
 // Such a region is often a lobe of a component already meshed (femur and homer +5 %, rotor -20 %):
 // the mesher then meshes that whole component again, as many faces as the candidate, before the
-// union is rejected. So it may evaluate the distance at most `max_evaluations` times (a third of
-// the candidate's meshing, at least 50,000, about a quarter of a second): an island is far smaller.
-struct MeshingBudgetSpent {};
-
+// union is rejected. So it may evaluate the distance at most `max_evaluations` times (the caller:
+// a third of the candidate's meshing, at least 50,000, about a quarter of a second).
 bool add_missed_regions(const SignedDistance& sdf, const FastSignedDistance& fast,
                         const std::function<double(const Vec3&)>& f, const Vec3& center, double radius, double d,
                         double tol, const LevelSetMeshOptions& mo, const OffsetOptions& options,
@@ -198,7 +199,7 @@ bool add_missed_regions(const SignedDistance& sdf, const FastSignedDistance& fas
   TriangleMesh both = v.mesh;
   const std::uint32_t base = static_cast<std::uint32_t>(both.vertices.size());
   both.vertices.insert(both.vertices.end(), island.vertices.begin(), island.vertices.end());
-  for (const Face& g : island.faces) both.faces.push_back({g[0] + base, g[1] + base, g[2] + base});
+  for (const Face& t : island.faces) both.faces.push_back({t[0] + base, t[1] + base, t[2] + base});
   ValidatedMesh uv = validate_mesh(both);
   level.seconds_mesh += t_mesh.seconds();
   const std::string what = "the missed regions alone: " + std::to_string(island.faces.size()) + " faces (" +
@@ -374,9 +375,9 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
     log(std::string(comp.complete ? "complete" : "NOT complete") + " (" + std::to_string(comp.cells) + " cells, " +
         std::to_string(comp.missed.size()) + " missed, " + std::to_string(comp.unresolved.size()) + " unresolved) in " +
         num(t_comp.seconds()) + " s");
+    const std::uint64_t island_budget = std::max<std::uint64_t>(stats.evaluations / 3, 50000);
     if (!comp.complete && !comp.missed.empty() && !v.mesh.faces.empty() && options.mesh_missed_regions_alone &&
-        add_missed_regions(sdf, fast, f, center, radius, d, tol, mo, options, std::max<std::uint64_t>(stats.evaluations / 3, 50000), v, band, comp,
-                           level, log))
+        add_missed_regions(sdf, fast, f, center, radius, d, tol, mo, options, island_budget, v, band, comp, level, log))
       eps = band.epsilon;
     if (!comp.complete) {
       // The next candidate starts from this one's vertices as well as the seeds: it keeps the parts
