@@ -39,6 +39,16 @@ double upper_bound(const SignedDistance& sdf, const Vec3& a, const Vec3& b, cons
 
 }  // namespace
 
+void set_band_maximum(BandResult& band) {
+  band.epsilon = 0.0;
+  band.worst_face = 0;
+  for (std::size_t i = 0; i < band.face_epsilon.size(); ++i)
+    if (band.face_epsilon[i] > band.epsilon) {
+      band.epsilon = band.face_epsilon[i];
+      band.worst_face = i;
+    }
+}
+
 BandResult certify_band(const SignedDistance& sdf, const TriangleMesh& offset, double d, const BandOptions& options) {
   Timer timer;
   BandResult result;
@@ -95,11 +105,8 @@ BandResult certify_band(const SignedDistance& sdf, const TriangleMesh& offset, d
   for (std::size_t i = 0; i < n; ++i) {
     result.pieces += pieces[i];
     result.faces_touching += touching[i];
-    if (result.face_epsilon[i] > result.epsilon) {
-      result.epsilon = result.face_epsilon[i];
-      result.worst_face = i;
-    }
   }
+  set_band_maximum(result);
   result.seconds = timer.seconds();
   return result;
 }

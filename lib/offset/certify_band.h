@@ -26,6 +26,10 @@ struct BandResult {
   double seconds = 0.0;
 };
 
+// Sets epsilon and worst_face from face_epsilon (the first face of the largest value; 0 and 0 for
+// no faces): for bands assembled from several certificates' faces.
+void set_band_maximum(BandResult& band);
+
 // d: the level (signed, nonzero). Uses TBB over faces; deterministic.
 BandResult certify_band(const SignedDistance& sdf, const TriangleMesh& offset, double d, const BandOptions& options);
 

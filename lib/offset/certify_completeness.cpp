@@ -212,16 +212,16 @@ bool increases_along(const SignedDistance& sdf, const Aabb& cell, const Vec3& c,
   return true;
 }
 
+std::string budget_note(const CompletenessResult& r) {
+  return r.budget_exhausted ? " (cell budget reached after " + std::to_string(r.cells) + " cells)" : std::string();
+}
+
 // The vertex bound: a linear function on a triangle peaks at a vertex. The disc bound: with n* the
 // exact unit normal and h* = (c - a).n*, every such p has p - c = u - h* n*, u orthogonal to n*,
 // |u|^2 <= rho^2 - h*^2, so w.(p - c) <= |w - (w.n*) n*| sqrt(rho^2 - h*^2) - h* (w.n*). The
 // computed normal n is within kappa of n* (cross-product rounding relative to |b - a| |q - a|,
 // divided by |N|: large for slivers, where the vertex bound serves); h and w.n are widened by it.
 // -inf when the ball misses the plane (no point of the triangle can be nearest).
-std::string budget_note(const CompletenessResult& r) {
-  return r.budget_exhausted ? " (cell budget reached after " + std::to_string(r.cells) + " cells)" : std::string();
-}
-
 double max_towards(const Vec3& w, const Vec3& c, double rho, const Vec3& a, const Vec3& b, const Vec3& q) {
   double vertices = -kInf;  // each with its rounding (a difference and a 3-term dot product)
   for (const Vec3* v : {&a, &b, &q})

@@ -111,13 +111,9 @@ bool repair_band(const SignedDistance& sdf, const FastSignedDistance& fast, doub
     BandResult merged;
     merged.face_epsilon.resize(r.mesh.faces.size());
     merged.pieces = nb.pieces;
-    for (std::size_t i = 0, j = 0; i < r.mesh.faces.size(); ++i) {
+    for (std::size_t i = 0, j = 0; i < r.mesh.faces.size(); ++i)
       merged.face_epsilon[i] = r.is_new[i] ? nb.face_epsilon[j++] : current_band.face_epsilon[r.kept_from[i]];
-      if (merged.face_epsilon[i] > merged.epsilon) {
-        merged.epsilon = merged.face_epsilon[i];
-        merged.worst_face = i;
-      }
-    }
+    set_band_maximum(merged);
     level.seconds_band += t_band.seconds();
     level.band_pieces += nb.pieces;
     log("repair round " + std::to_string(round) + ": split " + std::to_string(count) + " faces (" +
@@ -222,13 +218,8 @@ bool add_missed_regions(const SignedDistance& sdf, const FastSignedDistance& fas
   level.band_pieces += ib.pieces;
   BandResult merged = band;
   merged.pieces += ib.pieces;
-  for (std::size_t i = 0; i < ib.face_epsilon.size(); ++i) {
-    merged.face_epsilon.push_back(ib.face_epsilon[i]);
-    if (ib.face_epsilon[i] > merged.epsilon) {
-      merged.epsilon = ib.face_epsilon[i];
-      merged.worst_face = band.face_epsilon.size() + i;
-    }
-  }
+  merged.face_epsilon.insert(merged.face_epsilon.end(), ib.face_epsilon.begin(), ib.face_epsilon.end());
+  set_band_maximum(merged);
   merged.faces_touching += ib.faces_touching;
   log(what + ", added; band " + num(merged.epsilon / sdf.bbox().diagonal()) + " x diagonal");
   if (merged.epsilon > tol &&
