@@ -223,7 +223,7 @@ bool add_missed_regions(const SignedDistance& sdf, const FastSignedDistance& fas
   merged.faces_touching += ib.faces_touching;
   log(what + ", added; band " + num(merged.epsilon / sdf.bbox().diagonal()) + " x diagonal");
   if (merged.epsilon > tol &&
-      !(options.local_repair && merged.faces_touching == 0 && repair_band(sdf, fast, d, tol, bo, uv, merged, level, log)))
+      !(options.local_repair && repair_band(sdf, fast, d, tol, bo, uv, merged, level, log)))
     return false;
   Timer t_comp;
   CompletenessResult uc = certify_completeness(sdf, uv.mesh, d, std::max(merged.epsilon, 1e-9 * sdf.bbox().diagonal()));
@@ -341,7 +341,7 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
       const auto wide = std::count_if(band.face_epsilon.begin(), band.face_epsilon.end(), [&](double e) { return e > tol; });
       log("band " + num(band.epsilon / diag) + " x diagonal in " + num(t_band.seconds()) + " s (" +
           std::to_string(wide) + " faces above the tolerance)");
-      if (options.local_repair && band.epsilon > tol && band.faces_touching == 0 && repair_band(sdf, fast, d, tol, bo, v, band, level, log))
+      if (options.local_repair && band.epsilon > tol && repair_band(sdf, fast, d, tol, bo, v, band, level, log))
         ++level.repairs;
       eps = band.epsilon;
       if (eps > tol) {
