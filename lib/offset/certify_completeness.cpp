@@ -4,9 +4,11 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <set>
 
 #include "distance/point_triangle_distance.h"
 #include "mesh/components.h"
@@ -46,7 +48,8 @@ struct Cell : Aabb {
   std::int8_t ref_side_f = 0, ref_side_s = 0;
 };
 
-enum class Verdict : unsigned char { Discard, Split, Missed, Unresolved };
+// Discard: rule (1) or (3), which depend on s alone; Beside: rule (2), which depends on S_d too.
+enum class Verdict : unsigned char { Discard, Beside, Split, Missed, Unresolved };
 
 // The nearest points on triangle `id` of the cell's points, when the disc bound of max_towards
 // fails, by where such a point p lies (doc/offsets.md, rule (3)). In T's interior, x - p is a
@@ -248,152 +251,186 @@ double max_towards(const Vec3& w, const Vec3& c, double rho, const Vec3& a, cons
   return std::min(vertices, disc);
 }
 
-CompletenessResult certify_completeness(const SignedDistance& sdf, const TriangleMesh& offset, double d, double eps,
-                                        const CompletenessOptions& options) {
-  Timer timer;
-  CompletenessResult result;
-  std::unique_ptr<SignedDistance> surface;
-  if (!offset.faces.empty()) surface = std::make_unique<SignedDistance>(offset);
-  // Every bounded component of {s < d - eps} or {s > d + eps} lies in the input's box grown by
-  // max(d, 0): sublevel points are within d of the solid, exterior pockets within its hull.
+namespace {
+
+// Everything a cell's verdict depends on: F, S_d (null when it is empty), the level, the band, the
+// sides searched, the smallest cell.
+struct SearchSetup {
+  const SignedDistance* sdf = nullptr;
+  const SignedDistance* surface = nullptr;
+  double d = 0.0, eps = 0.0;
+  bool need_min = true, need_max = true;  // minima in A, maxima in B
+  double min_size = 0.0;
+};
+
+// Every bounded component of {s < d - eps} or {s > d + eps} lies in the input's box grown by
+// max(d, 0): sublevel points are within d of the solid, exterior pockets within its hull.
+Aabb search_domain(const SignedDistance& sdf, double d, double eps) {
   Aabb domain = sdf.bbox();
   const double grow = std::max(d, 0.0) + eps + 1e-3 * domain.diagonal();
   domain.lo -= Vec3::Constant(grow);
   domain.hi += Vec3::Constant(grow);
-  const double min_size = options.min_cell_relative * domain.diagonal();
+  return domain;
+}
 
-  // Which extrema the search must exclude (doc/offsets.md, "Completeness"). Above the band
-  // (d - eps > 0) a bad component of A has its minimum inside the solid, in a component of the
-  // solid's interior, and those are checked through one point each; below it (d + eps < 0) B's
-  // maxima lie outside the solid, and the exterior's components are checked likewise. The
-  // search then needs only the other side, and cells across F are set aside by s alone.
-  bool need_min = true, need_max = true;  // minima in A, maxima in B
-  if (d - eps > 0.0 || d + eps < 0.0) {
-    const int side = d > 0.0 ? -1 : 1;
-    std::vector<Vec3> points;
-    if (side_points(sdf, side, points)) {
-      for (const Vec3& x : points) {
-        // Off S_d: S_d lies within eps of the level, x on the other side of F.
-        const int sx = !surface ? 1 : surface->side(x, surface->unsigned_distance(x));
-        if (sx != side && result.missed.size() < kMissedReported) result.missed.push_back(x);  // wholly on the wrong side
+std::vector<Cell> root_cells(const Aabb& domain) {
+  std::vector<Cell> roots;
+  const int n = 8;
+  const Vec3 step = domain.extent() / n;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        Cell c;
+        c.lo = domain.lo + Vec3(i * step.x(), j * step.y(), k * step.z());
+        c.hi = domain.lo + Vec3((i + 1) * step.x(), (j + 1) * step.y(), (k + 1) * step.z());
+        if (i == n - 1) c.hi.x() = domain.hi.x();
+        if (j == n - 1) c.hi.y() = domain.hi.y();
+        if (k == n - 1) c.hi.z() = domain.hi.z();
+        roots.push_back(c);
       }
-      if (!result.missed.empty()) {
-        result.cells = 0;
-        result.seconds = timer.seconds();
-        return result;
-      }
-      (d > 0.0 ? need_min : need_max) = false;
+  return roots;
+}
+
+// The eight children of `cell` (split at its rounded midpoint, so they tile it exactly), each with
+// this cell's centre and that centre's sides as its reference.
+template <class Keep>
+void split_cell(const Cell& cell, std::int8_t side_f, std::int8_t side_s, const Keep& keep, std::vector<Cell>& out) {
+  const Vec3 mid = 0.5 * (cell.lo + cell.hi);
+  for (int k = 0; k < 8; ++k) {
+    Cell child;
+    child.ref = mid;
+    child.ref_side_f = side_f;
+    child.ref_side_s = side_s;
+    for (int a = 0; a < 3; ++a) {
+      const bool upper = (k >> a) & 1;
+      child.lo[a] = upper ? mid[a] : cell.lo[a];
+      child.hi[a] = upper ? cell.hi[a] : mid[a];
     }
+    if (keep(child)) out.push_back(child);
   }
+}
 
-  std::vector<Cell> frontier;
-  {
-    const int n = 8;
-    const Vec3 step = domain.extent() / n;
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-          Cell c;
-          c.lo = domain.lo + Vec3(i * step.x(), j * step.y(), k * step.z());
-          c.hi = domain.lo + Vec3((i + 1) * step.x(), (j + 1) * step.y(), (k + 1) * step.z());
-          if (i == n - 1) c.hi.x() = domain.hi.x();
-          if (j == n - 1) c.hi.y() = domain.hi.y();
-          if (k == n - 1) c.hi.z() = domain.hi.z();
-          frontier.push_back(c);
-        }
+// Whether the closed boxes meet.
+bool meets(const Aabb& a, const Aabb& b) {
+  return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
+}
+
+// The verdict on one cell (doc/offsets.md, "(c) Completeness", rules (1)-(3)); `side_f` and
+// `side_s` receive its centre's sides of F and of S_d (0: unknown).
+Verdict classify(const SearchSetup& st, const Cell& cell, std::int8_t& side_f, std::int8_t& side_s,
+                 std::vector<std::uint32_t>& ids) {
+  const SignedDistance& sdf = *st.sdf;
+  const double d = st.d, eps = st.eps;
+  const Vec3 c = 0.5 * (cell.lo + cell.hi);
+  // Covering radius around the rounded centre, rounded up generously.
+  const double r = round_up(0.5 * (cell.hi - cell.lo).norm() * (1 + 1e-12) +
+                            4 * std::numeric_limits<double>::epsilon() * c.cwiseAbs().maxCoeff());
+  const Interval du = sdf.unsigned_distance(c);
+  const int sf = sdf.side(c, du, cell.ref, cell.ref_side_f);
+  side_f = static_cast<std::int8_t>(sf);
+  const Interval s = with_side(du, sf);
+  const double s_min = s.lo - r, s_max = s.hi + r;  // s over the cell (1-Lipschitz)
+  // (1) the cell holds no point of A = {s < d - eps} nor of B = {s > d + eps} (of those searched).
+  if ((!st.need_min || s_min >= d - eps) && (!st.need_max || s_max <= d + eps)) return Verdict::Discard;
+  // (2) the cell misses S_d: all of it is on one side of S_d.
+  const Interval to_surface = st.surface ? st.surface->unsigned_distance(c) : Interval{kInf, kInf};
+  // The centre's side of S_d whenever it is off S_d: the children's reference even when this cell
+  // touches S_d (most split cells do).
+  const int ss =
+      !st.surface ? 1 : (to_surface.lo > 0.0 ? st.surface->side(c, to_surface, cell.ref, cell.ref_side_s) : 0);
+  side_s = static_cast<std::int8_t>(ss);
+  if (to_surface.lo > r) {  // c is off S_d: the cell lies on the side of its centre
+    const bool inside = ss < 0;
+    if (inside ? (!st.need_max || s_max <= d + eps) : (!st.need_min || s_min >= d - eps)) return Verdict::Beside;
+    if (inside ? s.lo - r > d + eps : s.hi + r < d - eps)
+      return Verdict::Missed;  // wholly in B inside S_d, or wholly in A outside S_d
   }
+  // (3) no extremum of s in the cell (it avoids the surface, where s is not smooth).
+  if (std::abs(s.lo) > r && std::abs(s.hi) > r && std::signbit(s.lo) == std::signbit(s.hi) &&
+      no_critical_point(sdf, cell, c, round_up(std::max(std::abs(s.lo), std::abs(s.hi)) + 2 * r),
+                        s.lo > 0.0 ? 1.0 : -1.0, ids))
+    return Verdict::Discard;
+  return (cell.hi - cell.lo).maxCoeff() < st.min_size ? Verdict::Unresolved : Verdict::Split;
+}
+
+// The verdicts on a list of cells, in parallel (each is a function of its cell alone).
+void classify_all(const SearchSetup& st, const std::vector<Cell>& cells, std::vector<Verdict>& verdict,
+                  std::vector<std::int8_t>& side_f, std::vector<std::int8_t>& side_s) {
+  verdict.assign(cells.size(), Verdict::Split);
+  side_f.assign(cells.size(), 0);
+  side_s.assign(cells.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 32), [&](const auto& range) {
+    thread_local std::vector<std::uint32_t> ids;
+    for (std::size_t i = range.begin(); i != range.end(); ++i) verdict[i] = classify(st, cells[i], side_f[i], side_s[i], ids);
+  });
+}
+
+}  // namespace
+
+// What a search stopped by missed cells leaves for resume_completeness.
+struct CompletenessCheckpoint::State {
+  SearchSetup setup;                         // as searched (its pointers are not kept)
+  std::unique_ptr<SignedDistance> surface;   // S_d as searched
+  Aabb domain;
+  int side = 0;                   // the one-sided search's side of F (0: both sides searched)
+  std::vector<Vec3> side_points;  // and its points, one per component of that side
+  std::vector<Cell> frontier;     // the cells not examined, all at depth frontier_depth
+  int frontier_depth = 0;
+  std::vector<Cell> open;         // the missed and unresolved cells
+  double discarded_volume = 0.0;
+};
+
+CompletenessCheckpoint::CompletenessCheckpoint() = default;
+CompletenessCheckpoint::~CompletenessCheckpoint() = default;
+CompletenessCheckpoint::CompletenessCheckpoint(CompletenessCheckpoint&&) noexcept = default;
+CompletenessCheckpoint& CompletenessCheckpoint::operator=(CompletenessCheckpoint&&) noexcept = default;
+
+namespace {
+
+// The branch and bound from `frontier`, level by level, counting on from result.cells. `keep`
+// (optional) receives the cells left when it stops at missed cells.
+void run_search(const SearchSetup& st, std::vector<Cell> frontier, const CompletenessOptions& options,
+                CompletenessResult& result, CompletenessCheckpoint::State* keep) {
   // The budget bounds the cells evaluated and so the memory: a level starts only when it fits, and
   // a cell is split only while its children fit too (the next level would not start otherwise).
   std::vector<Vec3> missed;
+  std::vector<Verdict> verdict;
+  std::vector<std::int8_t> side_f, side_s;  // of each centre
+  int depth = 0;
   while (!frontier.empty() && !result.budget_exhausted) {
     if (result.cells + frontier.size() > options.max_cells) {
       result.budget_exhausted = true;
       break;
     }
-    std::vector<Verdict> verdict(frontier.size(), Verdict::Split);
-    std::vector<std::int8_t> side_f(frontier.size(), 0), side_s(frontier.size(), 0);  // of each centre
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frontier.size(), 32), [&](const auto& range) {
-      thread_local std::vector<std::uint32_t> ids;
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        const Cell& cell = frontier[i];
-        const Vec3 c = 0.5 * (cell.lo + cell.hi);
-        // Covering radius around the rounded centre, rounded up generously.
-        const double r = round_up(0.5 * (cell.hi - cell.lo).norm() * (1 + 1e-12) +
-                                  4 * std::numeric_limits<double>::epsilon() * c.cwiseAbs().maxCoeff());
-        const Interval du = sdf.unsigned_distance(c);
-        const int sf = sdf.side(c, du, cell.ref, cell.ref_side_f);
-        side_f[i] = static_cast<std::int8_t>(sf);
-        const Interval s = with_side(du, sf);
-        const double s_min = s.lo - r, s_max = s.hi + r;  // s over the cell (1-Lipschitz)
-        // (1) the cell holds no point of A = {s < d - eps} nor of B = {s > d + eps} (of those searched).
-        if ((!need_min || s_min >= d - eps) && (!need_max || s_max <= d + eps)) {
-          verdict[i] = Verdict::Discard;
-          continue;
-        }
-        // (2) the cell misses S_d: all of it is on one side of S_d.
-        const Interval to_surface = surface ? surface->unsigned_distance(c) : Interval{kInf, kInf};
-        // The centre's side of S_d whenever it is off S_d: the children's reference even when this
-        // cell touches S_d (most split cells do).
-        const int ss = !surface ? 1 : (to_surface.lo > 0.0 ? surface->side(c, to_surface, cell.ref, cell.ref_side_s) : 0);
-        side_s[i] = static_cast<std::int8_t>(ss);
-        if (to_surface.lo > r) {  // c is off S_d: the cell lies on the side of its centre
-          const bool inside = ss < 0;
-          if (inside ? (!need_max || s_max <= d + eps) : (!need_min || s_min >= d - eps)) {
-            verdict[i] = Verdict::Discard;
-            continue;
-          }
-          if (inside ? s.lo - r > d + eps : s.hi + r < d - eps) {
-            verdict[i] = Verdict::Missed;  // wholly in B inside S_d, or wholly in A outside S_d
-            continue;
-          }
-        }
-        // (3) no extremum of s in the cell (it avoids the surface, where s is not smooth).
-        if (std::abs(s.lo) > r && std::abs(s.hi) > r && std::signbit(s.lo) == std::signbit(s.hi) &&
-            no_critical_point(sdf, cell, c, round_up(std::max(std::abs(s.lo), std::abs(s.hi)) + 2 * r),
-                              s.lo > 0.0 ? 1.0 : -1.0, ids)) {
-          verdict[i] = Verdict::Discard;
-          continue;
-        }
-        if ((cell.hi - cell.lo).maxCoeff() < min_size) verdict[i] = Verdict::Unresolved;
-      }
-    });
+    classify_all(st, frontier, verdict, side_f, side_s);
     std::vector<Cell> next;
     const std::uint64_t level_end = result.cells + frontier.size();
     for (std::size_t i = 0; i < frontier.size(); ++i) {
       ++result.cells;
       const Cell& cell = frontier[i];
       switch (verdict[i]) {
-        case Verdict::Discard: break;
+        case Verdict::Discard:
+        case Verdict::Beside: result.discarded_volume += cell.extent().prod(); break;
         case Verdict::Missed:
           if (missed.size() < kMissedKept) missed.push_back(0.5 * (cell.lo + cell.hi));
+          if (keep) keep->open.push_back(cell);
           break;
         case Verdict::Unresolved:
           if (result.unresolved.size() < kUnresolvedReported) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
+          if (keep) keep->open.push_back(cell);
           break;
-        case Verdict::Split: {
-          const Vec3 mid = 0.5 * (cell.lo + cell.hi);
+        case Verdict::Split:
           if (level_end + next.size() + 8 > options.max_cells) {
             result.budget_exhausted = true;
-            if (result.unresolved.size() < kUnresolvedReported) result.unresolved.push_back(mid);
+            if (result.unresolved.size() < kUnresolvedReported) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
             break;
           }
-          for (int k = 0; k < 8; ++k) {
-            Cell child;
-            child.ref = mid;
-            child.ref_side_f = side_f[i];
-            child.ref_side_s = side_s[i];
-            for (int a = 0; a < 3; ++a) {
-              const bool upper = (k >> a) & 1;
-              child.lo[a] = upper ? mid[a] : cell.lo[a];
-              child.hi[a] = upper ? cell.hi[a] : mid[a];
-            }
-            next.push_back(child);
-          }
+          split_cell(cell, side_f[i], side_s[i], [](const Cell&) { return true; }, next);
           break;
-        }
       }
     }
     frontier = std::move(next);
+    ++depth;
     // A certain violation settles the answer; its points are the seeds the caller needs.
     if (!missed.empty()) break;
   }
@@ -402,6 +439,188 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
     for (const Cell& cell : frontier)
       if (result.unresolved.size() < kUnresolvedReported) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
   result.complete = frontier.empty() && !result.budget_exhausted && result.missed.empty() && result.unresolved.empty();
+  if (keep) {
+    keep->frontier = std::move(frontier);
+    keep->frontier_depth = depth;
+  }
+}
+
+}  // namespace
+
+CompletenessResult certify_completeness(const SignedDistance& sdf, const TriangleMesh& offset, double d, double eps,
+                                        const CompletenessOptions& options, CompletenessCheckpoint* checkpoint) {
+  Timer timer;
+  CompletenessResult result;
+  if (checkpoint) checkpoint->state.reset();
+  std::unique_ptr<SignedDistance> surface;
+  if (!offset.faces.empty()) surface = std::make_unique<SignedDistance>(offset);
+  SearchSetup st;
+  st.sdf = &sdf;
+  st.surface = surface.get();
+  st.d = d;
+  st.eps = eps;
+  const Aabb domain = search_domain(sdf, d, eps);
+  st.min_size = options.min_cell_relative * domain.diagonal();
+  result.domain_volume = domain.extent().prod();
+
+  // Which extrema the search must exclude (doc/offsets.md, "Completeness"). Above the band
+  // (d - eps > 0) a bad component of A has its minimum inside the solid, in a component of the
+  // solid's interior, and those are checked through one point each; below it (d + eps < 0) B's
+  // maxima lie outside the solid, and the exterior's components are checked likewise. The
+  // search then needs only the other side, and cells across F are set aside by s alone.
+  int side = 0;
+  std::vector<Vec3> points;
+  if (options.one_sided && (d - eps > 0.0 || d + eps < 0.0)) {
+    side = d > 0.0 ? -1 : 1;
+    if (side_points(sdf, side, points)) {
+      for (const Vec3& x : points) {
+        // Off S_d: S_d lies within eps of the level, x on the other side of F.
+        const int sx = !surface ? 1 : surface->side(x, surface->unsigned_distance(x));
+        if (sx != side && result.missed.size() < kMissedReported) result.missed.push_back(x);  // wholly on the wrong side
+      }
+      if (!result.missed.empty()) {
+        result.seconds = timer.seconds();
+        return result;
+      }
+      (d > 0.0 ? st.need_min : st.need_max) = false;
+    } else {
+      side = 0;
+      points.clear();
+    }
+  }
+  auto keep = checkpoint ? std::make_unique<CompletenessCheckpoint::State>() : nullptr;
+  run_search(st, root_cells(domain), options, result, keep.get());
+  if (keep && !result.missed.empty() && !result.budget_exhausted) {
+    keep->setup = st;
+    keep->setup.sdf = nullptr;
+    keep->setup.surface = nullptr;
+    keep->surface = std::move(surface);
+    keep->domain = domain;
+    keep->side = side;
+    keep->side_points = std::move(points);
+    keep->discarded_volume = result.discarded_volume;
+    checkpoint->state = std::move(keep);
+  }
+  result.seconds = timer.seconds();
+  return result;
+}
+
+// doc/offsets.md, "Resuming the search". The first search's leaves tile its domain; those set
+// aside by rules (1) and (3) depend on s alone (and hold for a wider band); those set aside by
+// rule (2) hold for the union when they meet none of the added components' boxes (they then miss
+// the added parts and lie outside them, so their side is unchanged). The rest is searched again
+// with the union: the cells left, missed or unresolved, and every rule-(2) leaf that meets a box,
+// found by replaying the first search within the boxes (the same cells with the same references).
+CompletenessResult resume_completeness(const SignedDistance& sdf, const TriangleMesh& offset,
+                                       const TriangleMesh& added, double d, double eps,
+                                       CompletenessCheckpoint& checkpoint, const CompletenessOptions& options) {
+  Timer timer;
+  const std::unique_ptr<CompletenessCheckpoint::State> cp = std::move(checkpoint.state);
+  const auto fresh = [&] { return certify_completeness(sdf, offset, d, eps, options); };
+  if (!cp || added.faces.empty() || d != cp->setup.d || !(eps >= cp->setup.eps) ||
+      offset.faces.size() != cp->surface->mesh().faces.size() + added.faces.size())
+    return fresh();
+  // The one-sided search stays one-sided only while the band keeps clear of F.
+  if (cp->side != 0 && !(d > 0.0 ? d - eps > 0.0 : d + eps < 0.0)) return fresh();
+  const SignedDistance parts(added);
+  // The boxes of the added components: each holds its component and what it encloses.
+  std::size_t count = 0;
+  const std::vector<std::uint32_t> comp = face_components(added, &count);
+  std::vector<Aabb> boxes(count);
+  for (std::size_t i = 0; i < added.faces.size(); ++i)
+    for (std::uint32_t v : added.faces[i]) boxes[comp[i]].extend(added.vertices[v]);
+  const auto near_parts = [&](const Aabb& cell) {
+    return std::any_of(boxes.begin(), boxes.end(), [&](const Aabb& b) { return meets(cell, b); });
+  };
+  // +1 outside the added parts, -1 inside, 0 on them (exact).
+  const auto side_of_parts = [&](const Vec3& p) {
+    const bool in_a_box = std::any_of(boxes.begin(), boxes.end(), [&](const Aabb& b) { return b.contains(p); });
+    return in_a_box ? parts.side(p) : 1;
+  };
+  CompletenessResult result;
+  result.resumed = true;
+  result.domain_volume = cp->domain.extent().prod();
+  result.discarded_volume = cp->discarded_volume;  // less the rule-(2) leaves examined again
+  // The union's side is S_d's, reversed inside the added parts.
+  for (const Vec3& x : cp->side_points) {
+    const int k = side_of_parts(x);
+    if (k == 0) return fresh();
+    if (k < 0 && result.missed.size() < kMissedReported) result.missed.push_back(x);  // now on the wrong side
+  }
+  if (!result.missed.empty()) {
+    result.seconds = timer.seconds();
+    return result;
+  }
+  const auto to_union = [&](Cell& cell) {
+    if (cell.ref_side_s == 0) return;
+    const int k = side_of_parts(cell.ref);
+    cell.ref_side_s = static_cast<std::int8_t>(k == 0 ? 0 : k * cell.ref_side_s);
+  };
+  std::vector<Cell> frontier;
+  for (Cell cell : cp->frontier)
+    if (!near_parts(cell)) {  // those near the added parts are replayed
+      to_union(cell);
+      frontier.push_back(cell);
+    }
+  cp->frontier = std::vector<Cell>();
+  // The missed and unresolved cells are all examined again; those the replay meets again are not
+  // added twice.
+  const auto corners = [](const Cell& c) {
+    return std::array<double, 6>{c.lo.x(), c.lo.y(), c.lo.z(), c.hi.x(), c.hi.y(), c.hi.z()};
+  };
+  std::set<std::array<double, 6>> open_near;
+  for (Cell cell : cp->open) {
+    if (near_parts(cell)) open_near.insert(corners(cell));
+    to_union(cell);
+    frontier.push_back(cell);
+  }
+  // The replay, with S_d as it was: cells near the added parts only, down to the first search's frontier.
+  SearchSetup before = cp->setup;
+  before.sdf = &sdf;
+  before.surface = cp->surface.get();
+  std::vector<Cell> level;
+  for (const Cell& root : root_cells(cp->domain))
+    if (near_parts(root)) level.push_back(root);
+  std::vector<Verdict> verdict;
+  std::vector<std::int8_t> side_f, side_s;
+  for (int depth = 0; !level.empty(); ++depth) {
+    if (depth == cp->frontier_depth) {
+      for (Cell& cell : level) {
+        to_union(cell);
+        frontier.push_back(cell);
+      }
+      break;
+    }
+    if (result.cells + level.size() > options.max_cells) return fresh();
+    classify_all(before, level, verdict, side_f, side_s);
+    std::vector<Cell> next;
+    for (std::size_t i = 0; i < level.size(); ++i) {
+      ++result.cells;
+      switch (verdict[i]) {
+        case Verdict::Discard: break;  // rules (1), (3): s alone
+        case Verdict::Beside:
+        case Verdict::Missed:
+        case Verdict::Unresolved: {
+          Cell cell = level[i];
+          if (verdict[i] == Verdict::Beside) result.discarded_volume -= cell.extent().prod();
+          else if (open_near.count(corners(cell))) break;
+          to_union(cell);
+          frontier.push_back(cell);
+          break;
+        }
+        case Verdict::Split:
+          split_cell(level[i], side_f[i], side_s[i], [&](const Cell& c) { return near_parts(c); }, next);
+          break;
+      }
+    }
+    level = std::move(next);
+  }
+  const SignedDistance both(offset);
+  SearchSetup now = cp->setup;
+  now.sdf = &sdf;
+  now.surface = &both;
+  now.eps = eps;
+  run_search(now, std::move(frontier), options, result, nullptr);
   result.seconds = timer.seconds();
   return result;
 }

@@ -4,6 +4,7 @@
 // See doc/offsets.md for the argument (components of the sub/superlevel sets, their extrema, and
 // a branch and bound that proves where s has no critical point).
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,9 @@ namespace cdbench {
 struct CompletenessOptions {
   std::uint64_t max_cells = 20000000;  // cells evaluated in all, never exceeded; beyond it: not complete
   double min_cell_relative = 1e-7;  // cells smaller than this x diagonal are reported unresolved
+  // Search one side only where one point per component of the solid's interior (or exterior)
+  // settles the other (doc/offsets.md); false: both sides everywhere (tests, A/B).
+  bool one_sided = true;
 };
 
 struct CompletenessResult {
@@ -22,7 +26,23 @@ struct CompletenessResult {
   std::vector<Vec3> unresolved;      // centres of cells that could not be classified
   std::uint64_t cells = 0;
   bool budget_exhausted = false;    // stopped by max_cells (then `unresolved` says where)
+  bool resumed = false;             // resume_completeness took the first search up (not a fresh one)
+  // The domain's volume and the part of it that discarded cells cover (a resumed search counts the
+  // first search's leaves it keeps): equal, up to rounding, when the search is complete. A check
+  // of the tiling for tests.
+  double domain_volume = 0.0, discarded_volume = 0.0;
   double seconds = 0.0;
+};
+
+// What certify_completeness leaves, when it stops at missed cells, for resume_completeness: the
+// cells it had not examined, S_d as it was searched, the sides searched. Opaque; moved from.
+struct CompletenessCheckpoint {
+  CompletenessCheckpoint();
+  ~CompletenessCheckpoint();
+  CompletenessCheckpoint(CompletenessCheckpoint&&) noexcept;
+  CompletenessCheckpoint& operator=(CompletenessCheckpoint&&) noexcept;
+  struct State;
+  std::unique_ptr<State> state;  // null: nothing to resume
 };
 
 // " (cell budget reached after N cells)" when the search stopped at its budget, else "": the same
@@ -54,7 +74,18 @@ bool increases_along(const SignedDistance& sdf, const Aabb& cell, const Vec3& c,
                      const Vec3& w, const std::vector<std::uint32_t>& ids);
 
 // `offset` must be a validated closed surface (it may be empty: then every point is outside it).
+// `checkpoint` (optional) receives what a search stopped by missed cells leaves (else it is emptied).
 CompletenessResult certify_completeness(const SignedDistance& sdf, const TriangleMesh& offset, double d, double eps,
-                                        const CompletenessOptions& options = {});
+                                        const CompletenessOptions& options = {},
+                                        CompletenessCheckpoint* checkpoint = nullptr);
+
+// The same certificate for `offset` = the surface `checkpoint`'s search was given plus `added`
+// (closed components disjoint from it: the union validated unchanged) with band eps (at least the
+// first search's): that search taken up where it stopped, with only the cells near the added parts
+// examined again (doc/offsets.md, "Resuming the search"). A fresh search when it cannot be taken
+// up (no checkpoint, another level, a narrower band). Consumes the checkpoint.
+CompletenessResult resume_completeness(const SignedDistance& sdf, const TriangleMesh& offset,
+                                       const TriangleMesh& added, double d, double eps,
+                                       CompletenessCheckpoint& checkpoint, const CompletenessOptions& options = {});
 
 }  // namespace cdbench

@@ -160,7 +160,8 @@ bool add_missed_regions(const SignedDistance& sdf, const FastSignedDistance& fas
                         const std::function<double(const Vec3&)>& f, const Vec3& center, double radius, double d,
                         double tol, const LevelSetMeshOptions& mo, const OffsetOptions& options,
                         std::uint64_t max_evaluations, ValidatedMesh& v, BandResult& band, CompletenessResult& comp,
-                        OffsetLevel& level, const std::function<void(const std::string&)>& log) {
+                        CompletenessCheckpoint& checkpoint, OffsetLevel& level,
+                        const std::function<void(const std::string&)>& log) {
   // Rings within 8 |s - d| of each missed point: farther sign changes are mostly on components
   // already meshed, which the island's mesher would then mesh again.
   std::vector<Vec3> seeds;
@@ -222,16 +223,20 @@ bool add_missed_regions(const SignedDistance& sdf, const FastSignedDistance& fas
   set_band_maximum(merged);
   merged.faces_touching += ib.faces_touching;
   log(what + ", added; band " + num(merged.epsilon / sdf.bbox().diagonal()) + " x diagonal");
-  if (merged.epsilon > tol &&
-      !(options.local_repair && repair_band(sdf, fast, d, tol, bo, uv, merged, level, log)))
-    return false;
+  const bool repaired = merged.epsilon > tol;  // then faces get split: the union is no longer the two parts
+  if (repaired && !(options.local_repair && repair_band(sdf, fast, d, tol, bo, uv, merged, level, log))) return false;
+  // The search that found the regions is taken up where it stopped: only the cells near the added
+  // faces are examined again (boeing -20 %: 0.9 s instead of a second search of 17 s).
   Timer t_comp;
-  CompletenessResult uc = certify_completeness(sdf, uv.mesh, d, std::max(merged.epsilon, 1e-9 * sdf.bbox().diagonal()));
+  const double eps_c = std::max(merged.epsilon, 1e-9 * sdf.bbox().diagonal());
+  CompletenessResult uc = repaired ? certify_completeness(sdf, uv.mesh, d, eps_c)
+                                   : resume_completeness(sdf, uv.mesh, island, d, eps_c, checkpoint);
   level.seconds_completeness += t_comp.seconds();
   level.completeness_cells += uc.cells;
   log(std::string(uc.complete ? "complete" : "NOT complete") + " with the missed regions added (" +
-      std::to_string(uc.cells) + " cells, " + std::to_string(uc.missed.size()) + " missed, " +
-      std::to_string(uc.unresolved.size()) + " unresolved) in " + num(t_comp.seconds()) + " s");
+      std::to_string(uc.cells) + " cells" + (uc.resumed ? " more, the search resumed" : "") + ", " +
+      std::to_string(uc.missed.size()) + " missed, " + std::to_string(uc.unresolved.size()) + " unresolved) in " +
+      num(t_comp.seconds()) + " s");
   v = std::move(uv);
   band = std::move(merged);
   comp = std::move(uc);
@@ -360,7 +365,9 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
     // Completeness for the certified band (at least a tiny positive width for an empty mesh).
     Timer t_comp;
     const double eps_c = std::max(eps, 1e-9 * diag);
-    CompletenessResult comp = certify_completeness(sdf, v.mesh, d, eps_c);
+    CompletenessCheckpoint checkpoint;
+    CompletenessResult comp =
+        certify_completeness(sdf, v.mesh, d, eps_c, {}, options.mesh_missed_regions_alone ? &checkpoint : nullptr);
     level.seconds_completeness += t_comp.seconds();
     level.completeness_cells += comp.cells;
     log(std::string(comp.complete ? "complete" : "NOT complete") + " (" + std::to_string(comp.cells) + " cells, " +
@@ -368,7 +375,8 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
         num(t_comp.seconds()) + " s");
     const std::uint64_t island_budget = std::max<std::uint64_t>(stats.evaluations / 3, 50000);
     if (!comp.complete && !comp.missed.empty() && !v.mesh.faces.empty() && options.mesh_missed_regions_alone &&
-        add_missed_regions(sdf, fast, f, center, radius, d, tol, mo, options, island_budget, v, band, comp, level, log))
+        add_missed_regions(sdf, fast, f, center, radius, d, tol, mo, options, island_budget, v, band, comp, checkpoint, level,
+                           log))
       eps = band.epsilon;
     if (!comp.complete) {
       // The next candidate starts from this one's vertices as well as the seeds: it keeps the parts

@@ -36,6 +36,13 @@ NearSearch search_near(const SignedDistance& sdf, const Vec3& center, double rad
   return n;
 }
 
+// A complete search's discarded cells tile its domain (their volumes add up to the domain's).
+void expect_tiled(const CompletenessResult& r) {
+  ASSERT_TRUE(r.complete);
+  EXPECT_GT(r.domain_volume, 0.0);
+  EXPECT_NEAR(r.discarded_volume / r.domain_volume, 1.0, 1e-9);
+}
+
 TEST(CertifyCompleteness, SphereOffsetsAreComplete) {
   const SignedDistance sdf(make_icosphere(1.0, 2));
   for (double d : {-0.4, 0.3}) {
@@ -43,6 +50,7 @@ TEST(CertifyCompleteness, SphereOffsetsAreComplete) {
     const double eps = certify_band(sdf, m, d, BandOptions{}).epsilon;
     const CompletenessResult r = certify_completeness(sdf, m, d, eps);
     EXPECT_TRUE(r.complete) << "missed " << r.missed.size() << ", unresolved " << r.unresolved.size();
+    expect_tiled(r);
   }
 }
 
@@ -160,6 +168,150 @@ TEST(CertifyCompleteness, InwardLevelMissingCavityIsFoundFromTheExterior) {
   ASSERT_LT(eps2, 0.05);
   const CompletenessResult r2 = certify_completeness(sdf, both, d, eps2);
   EXPECT_TRUE(r2.complete) << "missed " << r2.missed.size() << ", unresolved " << r2.unresolved.size();
+}
+
+// A first search against `first`, stopped by a missed region, then the union with `added` (its
+// offset of the missing part, or not quite) searched afresh and resumed from the first.
+struct Resumption {
+  double eps = 0.0, eps2 = 0.0;  // the first part's band, the union's
+  CompletenessResult first, fresh, resumed;
+};
+Resumption search_then_resume(const SignedDistance& sdf, const TriangleMesh& first, const TriangleMesh& added,
+                              double d, const CompletenessOptions& o = {}) {
+  Resumption r;
+  r.eps = certify_band(sdf, first, d, BandOptions{}).epsilon;
+  r.eps2 = std::max(r.eps, certify_band(sdf, added, d, BandOptions{}).epsilon);
+  CompletenessCheckpoint checkpoint;
+  r.first = certify_completeness(sdf, first, d, r.eps, o, &checkpoint);
+  EXPECT_FALSE(r.first.complete);
+  EXPECT_FALSE(r.first.missed.empty());
+  EXPECT_TRUE(checkpoint.state);
+  const TriangleMesh both = merge_meshes(first, added);
+  r.fresh = certify_completeness(sdf, both, d, r.eps2, o);
+  r.resumed = resume_completeness(sdf, both, added, d, r.eps2, checkpoint, o);
+  EXPECT_FALSE(checkpoint.state);  // consumed
+  EXPECT_TRUE(r.resumed.resumed);
+  std::printf("cells: first search %llu, resumed %llu, fresh %llu\n", static_cast<unsigned long long>(r.first.cells),
+              static_cast<unsigned long long>(r.resumed.cells), static_cast<unsigned long long>(r.fresh.cells));
+  return r;
+}
+
+// A search stopped by a missed component, taken up once that component's offset is added: complete
+// like a fresh search of the union, with fewer cells (those set aside far from the added part are
+// not examined again), its leaves and the first search's kept ones tiling the domain.
+TEST(ResumeCompleteness, AddedComponentCompletesTheSearch) {
+  const TriangleMesh two = merge_meshes(make_icosphere(1.0, 2), make_icosphere(0.6, 2, Vec3(4, 0, 0)));
+  const SignedDistance sdf(two);
+  const double d = -0.2;
+  const TriangleMesh first = offset_near(sdf, Vec3::Zero(), 1.5, d);
+  const TriangleMesh island = offset_near(sdf, Vec3(4, 0, 0), 1.0, d);
+  const Resumption r = search_then_resume(sdf, first, island, d);
+  expect_tiled(r.fresh);
+  expect_tiled(r.resumed);
+  EXPECT_LT(r.resumed.cells, r.fresh.cells);
+  // Without a checkpoint, or with a narrower band than the first search's, it is a fresh search.
+  const TriangleMesh both = merge_meshes(first, island);
+  CompletenessCheckpoint none;
+  const CompletenessResult again = resume_completeness(sdf, both, island, d, r.eps2, none);
+  EXPECT_FALSE(again.resumed);
+  EXPECT_TRUE(again.complete);
+  EXPECT_EQ(again.cells, r.fresh.cells);
+  CompletenessCheckpoint second;
+  certify_completeness(sdf, first, d, r.eps, {}, &second);
+  ASSERT_TRUE(second.state);
+  EXPECT_FALSE(resume_completeness(sdf, both, island, d, 0.5 * r.eps, second).resumed);
+}
+
+// Two balls missed at the same depth, one added: the resumed search still finds the other.
+TEST(ResumeCompleteness, AComponentStillMissingIsFound) {
+  const TriangleMesh three = merge_meshes(merge_meshes(make_icosphere(1.0, 2), make_icosphere(1.5, 2, Vec3(0, 0, -5))),
+                                          make_icosphere(1.2, 2, Vec3(0, 0, 5)));
+  const SignedDistance sdf(three);
+  const double d = -0.2;
+  const Resumption r =
+      search_then_resume(sdf, offset_near(sdf, Vec3::Zero(), 1.5, d), offset_near(sdf, Vec3(0, 0, -5), 2.0, d), d);
+  EXPECT_FALSE(r.fresh.complete);
+  EXPECT_FALSE(r.resumed.complete);
+  ASSERT_FALSE(r.resumed.missed.empty());
+  for (const Vec3& x : r.resumed.missed) EXPECT_LT((x - Vec3(0, 0, 5)).norm(), 1.2) << x.transpose();
+}
+
+// A hollow ball (outer radius `outer`, a cavity of radius 0.5 about `at`), for both sides searched.
+TriangleMesh hollow_ball(double outer, const Vec3& at) {
+  TriangleMesh cavity = make_icosphere(0.5, 3, at);
+  for (Face& f : cavity.faces) std::swap(f[1], f[2]);
+  const ValidatedMesh hollow = validate_mesh(merge_meshes(make_icosphere(outer, 3, at), cavity));
+  EXPECT_TRUE(hollow.report.valid());
+  return hollow.mesh;
+}
+
+CompletenessOptions both_sides() {
+  CompletenessOptions o;
+  o.one_sided = false;
+  return o;
+}
+
+// Both sides searched (no one-sided shortcut): a hollow ball's inner offset (about its cavity)
+// missing, the search stops at cells of the cavity inside the outer offset; with the inner offset
+// added the resumed search replays the cells about it (set aside by rule (2) against the outer
+// offset alone) and completes, as a fresh search does.
+TEST(ResumeCompleteness, BothSidesAboutAnAddedInnerOffset) {
+  const SignedDistance sdf(hollow_ball(2.0, Vec3::Zero()));
+  TriangleMesh inner = make_icosphere(0.6, 3);
+  for (Face& f : inner.faces) std::swap(f[1], f[2]);
+  const Resumption r = search_then_resume(sdf, make_icosphere(1.9, 3), inner, -0.1, both_sides());
+  ASSERT_LT(r.eps2, 0.05);
+  EXPECT_GT(r.first.cells, 0u);
+  ASSERT_FALSE(r.first.missed.empty());
+  EXPECT_LT(r.first.missed[0].norm(), 0.6);
+  expect_tiled(r.fresh);
+  expect_tiled(r.resumed);
+  EXPECT_LT(r.resumed.cells, r.fresh.cells);
+}
+
+// The cells the first search set aside by rule (2) near the added parts are examined again: a
+// sphere within the band nested inside a ball's (correct) offset leaves the ball's deep core outside
+// the union, which the first search had set aside as inside the offset. The resumed search must
+// find it, as a fresh one does (stopped first by a small ball's missing offset, far away).
+TEST(ResumeCompleteness, CellsSetAsideNearTheAddedPartsAreExaminedAgain) {
+  const TriangleMesh two = merge_meshes(make_icosphere(2.0, 3), make_icosphere(0.6, 2, Vec3(5, 0, 0)));
+  const SignedDistance sdf(two);
+  const double d = -0.5;
+  const TriangleMesh first = make_icosphere(1.5, 3);
+  double inscribed = 1.5;  // of the first sphere's faces
+  for (const Face& f : first.faces) {
+    const Vec3 &a = first.vertices[f[0]], &b = first.vertices[f[1]], &c = first.vertices[f[2]];
+    inscribed = std::min(inscribed, std::abs((b - a).cross(c - a).normalized().dot(a)));
+  }
+  TriangleMesh nested = make_icosphere(0.999 * inscribed, 3);
+  for (Face& f : nested.faces) std::swap(f[1], f[2]);
+  const TriangleMesh added = merge_meshes(nested, offset_near(sdf, Vec3(5, 0, 0), 1.0, d));
+  const TriangleMesh both = merge_meshes(first, added);
+  const ValidatedMesh v = validate_mesh(both);
+  ASSERT_TRUE(v.report.valid());
+  ASSERT_EQ(v.mesh.faces, both.faces);  // nested parts, oriented as given
+  const Resumption r = search_then_resume(sdf, first, added, d);
+  ASSERT_LT(r.eps2, 0.2);  // the core |x| < 1.5 - eps2 is in A
+  ASSERT_FALSE(r.first.missed.empty());
+  EXPECT_GT(r.first.missed[0].x(), 4.0);
+  EXPECT_FALSE(r.fresh.complete);
+  EXPECT_FALSE(r.resumed.complete);
+  ASSERT_FALSE(r.resumed.missed.empty());
+  for (const Vec3& x : r.resumed.missed) EXPECT_LT(x.norm(), 1.5) << x.transpose();
+}
+
+// Both sides searched, a far hollow ball's two inner offsets missing: with only the outer one
+// added, the resumed search still finds its cavity inside the union.
+TEST(ResumeCompleteness, AnAddedPartsCavityIsSearchedAgain) {
+  const SignedDistance sdf(merge_meshes(make_icosphere(1.0, 2), hollow_ball(1.2, Vec3(5, 0, 0))));
+  const double d = -0.1;
+  const Resumption r = search_then_resume(sdf, offset_near(sdf, Vec3::Zero(), 1.5, d),
+                                          make_icosphere(1.1, 3, Vec3(5, 0, 0)), d, both_sides());
+  ASSERT_LT(r.eps2, 0.05);
+  EXPECT_FALSE(r.fresh.complete);
+  EXPECT_FALSE(r.resumed.complete);
+  ASSERT_FALSE(r.resumed.missed.empty());
+  for (const Vec3& x : r.resumed.missed) EXPECT_LT((x - Vec3(5, 0, 0)).norm(), 0.6) << x.transpose();
 }
 
 // An L-shaped prism: its reflex edge along z at (1, 1) is where the disc bound fails (both walls'
