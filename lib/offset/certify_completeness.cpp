@@ -42,10 +42,24 @@ std::vector<Vec3> spread_points(const std::vector<Vec3>& points, std::size_t n) 
 // Cells are boxes with exact double corners; children split at the rounded midpoint, so they tile
 // exactly. Each keeps its parent's centre and that centre's sides of F and of S_d (0: unknown): a
 // centre's side is then the crossing parity of the short segment from it instead of a ray out of
-// the bounding box (SignedDistance::side with a reference point; exact either way).
+// the bounding box (SignedDistance::side with a reference point; exact either way). Where the
+// parent's covering ball missed F (or S_d), the segment lies in that ball and crosses nothing: the
+// side is the parent's, with no query (`same_f`, `same_s`).
+// `hint`: the triangle of F nearest to the parent's centre, which the distance query tries first
+// (it only orders the search: the same enclosure).
 struct Cell : Aabb {
   Vec3 ref = Vec3::Zero();
   std::int8_t ref_side_f = 0, ref_side_s = 0;
+  bool same_f = false, same_s = false;
+  std::int32_t hint = -1;
+};
+
+// What a cell's classification leaves for its children: its centre's sides of F and of S_d (0:
+// unknown), whether its covering ball missed each, and F's triangle nearest to it.
+struct CellSides {
+  std::int8_t f = 0, s = 0;
+  bool off_f = false, off_s = false;
+  std::int32_t nearest = -1;
 };
 
 // Discard: rule (1) or (3), which depend on s alone; Beside: rule (2), which depends on S_d too.
@@ -294,13 +308,16 @@ std::vector<Cell> root_cells(const Aabb& domain) {
 // The eight children of `cell` (split at its rounded midpoint, so they tile it exactly), each with
 // this cell's centre and that centre's sides as its reference.
 template <class Keep>
-void split_cell(const Cell& cell, std::int8_t side_f, std::int8_t side_s, const Keep& keep, std::vector<Cell>& out) {
+void split_cell(const Cell& cell, const CellSides& sides, const Keep& keep, std::vector<Cell>& out) {
   const Vec3 mid = 0.5 * (cell.lo + cell.hi);
   for (int k = 0; k < 8; ++k) {
     Cell child;
     child.ref = mid;
-    child.ref_side_f = side_f;
-    child.ref_side_s = side_s;
+    child.ref_side_f = sides.f;
+    child.ref_side_s = sides.s;
+    child.same_f = sides.off_f && sides.f != 0;
+    child.same_s = sides.off_s && sides.s != 0;
+    child.hint = sides.nearest;
     for (int a = 0; a < 3; ++a) {
       const bool upper = (k >> a) & 1;
       child.lo[a] = upper ? mid[a] : cell.lo[a];
@@ -315,32 +332,39 @@ bool meets(const Aabb& a, const Aabb& b) {
   return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
 }
 
-// The verdict on one cell (doc/offsets.md, "(c) Completeness", rules (1)-(3)); `side_f` and
-// `side_s` receive its centre's sides of F and of S_d (0: unknown).
-Verdict classify(const SearchSetup& st, const Cell& cell, std::int8_t& side_f, std::int8_t& side_s,
-                 std::vector<std::uint32_t>& ids) {
+// The verdict on one cell (doc/offsets.md, "(c) Completeness", rules (1)-(3)); `sides` receives
+// what its children need.
+Verdict classify(const SearchSetup& st, const Cell& cell, CellSides& sides, std::vector<std::uint32_t>& ids) {
   const SignedDistance& sdf = *st.sdf;
   const double d = st.d, eps = st.eps;
   const Vec3 c = 0.5 * (cell.lo + cell.hi);
   // Covering radius around the rounded centre, rounded up generously.
   const double r = round_up(0.5 * (cell.hi - cell.lo).norm() * (1 + 1e-12) +
                             4 * std::numeric_limits<double>::epsilon() * c.cwiseAbs().maxCoeff());
-  const Interval du = sdf.unsigned_distance(c);
-  const int sf = sdf.side(c, du, cell.ref, cell.ref_side_f);
-  side_f = static_cast<std::int8_t>(sf);
+  std::uint32_t nearest = 0;
+  const Interval du = sdf.unsigned_distance(c, &nearest, cell.hint);
+  sides.nearest = static_cast<std::int32_t>(nearest);
+  const int sf = cell.same_f ? cell.ref_side_f : sdf.side(c, du, cell.ref, cell.ref_side_f);
+  sides.f = static_cast<std::int8_t>(sf);
+  sides.off_f = du.lo > r;
   const Interval s = with_side(du, sf);
   const double s_min = s.lo - r, s_max = s.hi + r;  // s over the cell (1-Lipschitz)
   // (1) the cell holds no point of A = {s < d - eps} nor of B = {s > d + eps} (of those searched).
   if ((!st.need_min || s_min >= d - eps) && (!st.need_max || s_max <= d + eps)) return Verdict::Discard;
-  // (2) the cell misses S_d: all of it is on one side of S_d.
-  const Interval to_surface = st.surface ? st.surface->unsigned_distance(c) : Interval{kInf, kInf};
-  // The centre's side of S_d whenever it is off S_d: the children's reference even when this cell
-  // touches S_d (most split cells do).
-  const int ss =
-      !st.surface ? 1 : (to_surface.lo > 0.0 ? st.surface->side(c, to_surface, cell.ref, cell.ref_side_s) : 0);
-  side_s = static_cast<std::int8_t>(ss);
-  if (to_surface.lo > r) {  // c is off S_d: the cell lies on the side of its centre
-    const bool inside = ss < 0;
+  // (2) the cell misses S_d: all of it is on one side of S_d. A lower bound of dist(c, S_d) that
+  // stops below r suffices (no nearest triangle needed: far cheaper on a large S_d).
+  const double to_surface = !st.surface ? kInf : st.surface->distance_lower(c, 2.0 * r, r);
+  sides.off_s = to_surface > r;
+  // The centre's side of S_d, when it is off S_d: needed here when the cell misses S_d, and as the
+  // children's reference when the cell is split.
+  const auto side_of_surface = [&](double lower) {
+    if (!st.surface) return 1;
+    if (cell.same_s) return static_cast<int>(cell.ref_side_s);
+    return lower > 0.0 ? st.surface->side(c, Interval{lower, kInf}, cell.ref, cell.ref_side_s) : 0;
+  };
+  if (sides.off_s) {  // the cell lies on the side of its centre
+    sides.s = static_cast<std::int8_t>(side_of_surface(to_surface));
+    const bool inside = sides.s < 0;
     if (inside ? (!st.need_max || s_max <= d + eps) : (!st.need_min || s_min >= d - eps)) return Verdict::Beside;
     if (inside ? s.lo - r > d + eps : s.hi + r < d - eps)
       return Verdict::Missed;  // wholly in B inside S_d, or wholly in A outside S_d
@@ -350,18 +374,21 @@ Verdict classify(const SearchSetup& st, const Cell& cell, std::int8_t& side_f, s
       no_critical_point(sdf, cell, c, round_up(std::max(std::abs(s.lo), std::abs(s.hi)) + 2 * r),
                         s.lo > 0.0 ? 1.0 : -1.0, ids))
     return Verdict::Discard;
-  return (cell.hi - cell.lo).maxCoeff() < st.min_size ? Verdict::Unresolved : Verdict::Split;
+  if ((cell.hi - cell.lo).maxCoeff() < st.min_size) return Verdict::Unresolved;
+  // Split: the children's reference side, when the centre is off S_d (most split cells touch S_d).
+  if (!sides.off_s)
+    sides.s = static_cast<std::int8_t>(side_of_surface(!st.surface ? kInf : st.surface->distance_lower(c, r)));
+  return Verdict::Split;
 }
 
 // The verdicts on a list of cells, in parallel (each is a function of its cell alone).
 void classify_all(const SearchSetup& st, const std::vector<Cell>& cells, std::vector<Verdict>& verdict,
-                  std::vector<std::int8_t>& side_f, std::vector<std::int8_t>& side_s) {
+                  std::vector<CellSides>& sides) {
   verdict.assign(cells.size(), Verdict::Split);
-  side_f.assign(cells.size(), 0);
-  side_s.assign(cells.size(), 0);
+  sides.assign(cells.size(), CellSides{});
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 32), [&](const auto& range) {
     thread_local std::vector<std::uint32_t> ids;
-    for (std::size_t i = range.begin(); i != range.end(); ++i) verdict[i] = classify(st, cells[i], side_f[i], side_s[i], ids);
+    for (std::size_t i = range.begin(); i != range.end(); ++i) verdict[i] = classify(st, cells[i], sides[i], ids);
   });
 }
 
@@ -395,14 +422,14 @@ void run_search(const SearchSetup& st, std::vector<Cell> frontier, const Complet
   // a cell is split only while its children fit too (the next level would not start otherwise).
   std::vector<Vec3> missed;
   std::vector<Verdict> verdict;
-  std::vector<std::int8_t> side_f, side_s;  // of each centre
+  std::vector<CellSides> sides;
   int depth = 0;
   while (!frontier.empty() && !result.budget_exhausted) {
     if (result.cells + frontier.size() > options.max_cells) {
       result.budget_exhausted = true;
       break;
     }
-    classify_all(st, frontier, verdict, side_f, side_s);
+    classify_all(st, frontier, verdict, sides);
     std::vector<Cell> next;
     const std::uint64_t level_end = result.cells + frontier.size();
     for (std::size_t i = 0; i < frontier.size(); ++i) {
@@ -425,7 +452,7 @@ void run_search(const SearchSetup& st, std::vector<Cell> frontier, const Complet
             if (result.unresolved.size() < kUnresolvedReported) result.unresolved.push_back(0.5 * (cell.lo + cell.hi));
             break;
           }
-          split_cell(cell, side_f[i], side_s[i], [](const Cell&) { return true; }, next);
+          split_cell(cell, sides[i], [](const Cell&) { return true; }, next);
           break;
       }
     }
@@ -552,6 +579,7 @@ CompletenessResult resume_completeness(const SignedDistance& sdf, const Triangle
     return result;
   }
   const auto to_union = [&](Cell& cell) {
+    cell.same_s = false;  // the segment from the reference may cross the added parts
     if (cell.ref_side_s == 0) return;
     const int k = side_of_parts(cell.ref);
     cell.ref_side_s = static_cast<std::int8_t>(k == 0 ? 0 : k * cell.ref_side_s);
@@ -582,7 +610,7 @@ CompletenessResult resume_completeness(const SignedDistance& sdf, const Triangle
   for (const Cell& root : root_cells(cp->domain))
     if (near_parts(root)) level.push_back(root);
   std::vector<Verdict> verdict;
-  std::vector<std::int8_t> side_f, side_s;
+  std::vector<CellSides> sides;
   for (int depth = 0; !level.empty(); ++depth) {
     if (depth == cp->frontier_depth) {
       for (Cell& cell : level) {
@@ -592,7 +620,7 @@ CompletenessResult resume_completeness(const SignedDistance& sdf, const Triangle
       break;
     }
     if (result.cells + level.size() > options.max_cells) return fresh();
-    classify_all(before, level, verdict, side_f, side_s);
+    classify_all(before, level, verdict, sides);
     std::vector<Cell> next;
     for (std::size_t i = 0; i < level.size(); ++i) {
       ++result.cells;
@@ -609,7 +637,7 @@ CompletenessResult resume_completeness(const SignedDistance& sdf, const Triangle
           break;
         }
         case Verdict::Split:
-          split_cell(level[i], side_f[i], side_s[i], [&](const Cell& c) { return near_parts(c); }, next);
+          split_cell(level[i], sides[i], [&](const Cell& c) { return near_parts(c); }, next);
           break;
       }
     }
