@@ -356,10 +356,12 @@ Verdict classify(const SearchSetup& st, const Cell& cell, CellSides& sides, std:
   const double to_surface = !st.surface ? kInf : st.surface->distance_lower(c, 2.0 * r, r);
   sides.off_s = to_surface > r;
   // The centre's side of S_d, when it is off S_d: needed here when the cell misses S_d, and as the
-  // children's reference when the cell is split.
+  // children's reference when the cell is split. `lower`: a lower bound of dist(c, S_d), or
+  // negative for one found here (only when the side is not the parent's).
   const auto side_of_surface = [&](double lower) {
     if (!st.surface) return 1;
     if (cell.same_s) return static_cast<int>(cell.ref_side_s);
+    if (lower < 0.0) lower = st.surface->distance_lower(c, r);
     return lower > 0.0 ? st.surface->side(c, Interval{lower, kInf}, cell.ref, cell.ref_side_s) : 0;
   };
   if (sides.off_s) {  // the cell lies on the side of its centre
@@ -376,8 +378,7 @@ Verdict classify(const SearchSetup& st, const Cell& cell, CellSides& sides, std:
     return Verdict::Discard;
   if ((cell.hi - cell.lo).maxCoeff() < st.min_size) return Verdict::Unresolved;
   // Split: the children's reference side, when the centre is off S_d (most split cells touch S_d).
-  if (!sides.off_s)
-    sides.s = static_cast<std::int8_t>(side_of_surface(!st.surface ? kInf : st.surface->distance_lower(c, r)));
+  if (!sides.off_s) sides.s = static_cast<std::int8_t>(side_of_surface(-1.0));
   return Verdict::Split;
 }
 
@@ -398,7 +399,6 @@ void classify_all(const SearchSetup& st, const std::vector<Cell>& cells, std::ve
 struct CompletenessCheckpoint::State {
   SearchSetup setup;                         // as searched (its pointers are not kept)
   std::unique_ptr<SignedDistance> surface;   // S_d as searched
-  Aabb domain;
   int side = 0;                   // the one-sided search's side of F (0: both sides searched)
   std::vector<Vec3> side_points;  // and its points, one per component of that side
   std::vector<Cell> frontier;     // the cells not examined, all at depth frontier_depth
@@ -522,7 +522,6 @@ CompletenessResult certify_completeness(const SignedDistance& sdf, const Triangl
     keep->setup.sdf = nullptr;
     keep->setup.surface = nullptr;
     keep->surface = std::move(surface);
-    keep->domain = domain;
     keep->side = side;
     keep->side_points = std::move(points);
     keep->discarded_volume = result.discarded_volume;
@@ -549,6 +548,7 @@ CompletenessResult resume_completeness(const SignedDistance& sdf, const Triangle
     return fresh();
   // The one-sided search stays one-sided only while the band keeps clear of F.
   if (cp->side != 0 && !(d > 0.0 ? d - eps > 0.0 : d + eps < 0.0)) return fresh();
+  const Aabb domain = search_domain(sdf, d, cp->setup.eps);  // the first search's
   const SignedDistance parts(added);
   // The boxes of the added components: each holds its component and what it encloses.
   std::size_t count = 0;
@@ -566,7 +566,7 @@ CompletenessResult resume_completeness(const SignedDistance& sdf, const Triangle
   };
   CompletenessResult result;
   result.resumed = true;
-  result.domain_volume = cp->domain.extent().prod();
+  result.domain_volume = domain.extent().prod();
   result.discarded_volume = cp->discarded_volume;  // less the rule-(2) leaves examined again
   // The union's side is S_d's, reversed inside the added parts.
   for (const Vec3& x : cp->side_points) {
@@ -607,7 +607,7 @@ CompletenessResult resume_completeness(const SignedDistance& sdf, const Triangle
   before.sdf = &sdf;
   before.surface = cp->surface.get();
   std::vector<Cell> level;
-  for (const Cell& root : root_cells(cp->domain))
+  for (const Cell& root : root_cells(domain))
     if (near_parts(root)) level.push_back(root);
   std::vector<Verdict> verdict;
   std::vector<CellSides> sides;
