@@ -13,6 +13,7 @@ namespace {
 
 struct FastNearest {
   const TriangleMesh& mesh;
+  const std::vector<Vec3>& normal;  // unit face normals
   Vec3 p;
   double best_sq;
   std::uint32_t best_face;
@@ -23,6 +24,13 @@ struct FastNearest {
   bool done() const { return false; }
   void leaf(std::uint32_t f) {
     const Face& t = mesh.faces[f];
+    // A triangle is no nearer than its plane. Skipped only when the plane is beyond the best by a
+    // margin far above the rounding of either distance, so that no tie or near-tie is decided by
+    // the skip: the result stays independent of the warm start.
+    const Vec3 w = p - mesh.vertices[t[0]];
+    const double scale = p.cwiseAbs().maxCoeff() + mesh.vertices[t[0]].cwiseAbs().maxCoeff();
+    const double plane = std::abs(normal[f].dot(w)) - 1e-12 * scale;
+    if (plane > 0.0 && plane * plane > best_sq * (1.0 + 1e-9)) return;
     int feature = 6;
     const Vec3 q = closest_point_on_triangle(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], &feature);
     const double d2 = (p - q).squaredNorm();
@@ -82,7 +90,7 @@ double FastSignedDistance::value_and_gradient(const Vec3& p, Vec3& gradient) con
     owner = this;
     hint = 0;
   }
-  FastNearest q{m, p, std::numeric_limits<double>::infinity(), hint, p};
+  FastNearest q{m, face_normal_, p, std::numeric_limits<double>::infinity(), hint, p};
   q.leaf(hint);
   // Prune with a bound one ulp above the hint's distance: every triangle at least as near as the
   // hint is still visited (node bounds are rounded down), so the tie-break above decides.

@@ -58,6 +58,8 @@ struct Evaluator {
       double bound = 0.0;  // the largest magnitude known to keep its sign at p
       const double p_size = p.cwiseAbs().maxCoeff();
       for (int k = 0; k < recent_count; ++k) {
+        // b below is at most v - margin: a point that cannot beat the bound costs no norm.
+        if (std::abs(recent[k].value) - margin <= std::abs(bound)) continue;
         const double v = std::abs(recent[k].value), step = lipschitz * (p - recent[k].p).norm();
         // The rounding of f and of this difference is relative to the magnitudes involved: the
         // mesher asks about circumcentres of flat tetrahedra as far out as 1e15.
