@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include <tbb/parallel_for.h>
+
 #include "mesh/text_numbers.h"
 #include "util/error.h"
 
@@ -75,23 +77,28 @@ bool parse_int(std::string_view t, long long& v) {
 }
 
 // Lines of a text, with their numbers; '\r' is whitespace for the tokenizer.
+// Lines of a text from byte `start` to byte `stop` (the end), with their numbers (the line before
+// `start` is number `number`); '\r' is whitespace for the tokenizer.
 class Lines {
  public:
-  Lines(const std::string& bytes, std::size_t start) : s_(bytes), pos_(start) {}
+  Lines(const std::string& bytes, std::size_t start, std::size_t stop = std::string::npos, std::size_t number = 0)
+      : s_(bytes), pos_(start), stop_(std::min(stop, bytes.size())), number_(number) {}
   bool next(std::string_view& line) {
-    if (pos_ >= s_.size()) return false;
+    if (pos_ >= stop_) return false;
     std::size_t end = s_.find('\n', pos_);
-    if (end == std::string::npos) end = s_.size();
+    if (end == std::string::npos || end > stop_) end = stop_;
     line = std::string_view(s_).substr(pos_, end - pos_);
     pos_ = end + 1;
     ++number_;
     return true;
   }
   std::size_t number() const { return number_; }
+  std::size_t position() const { return std::min(pos_, stop_); }  // the start of the next line
 
  private:
   const std::string& s_;
   std::size_t pos_;
+  std::size_t stop_;
   std::size_t number_ = 0;
 };
 
@@ -272,41 +279,89 @@ PolygonSoup read_off(const std::string& bytes, const std::string& name) {
   if (nv > size / 6 || nf > size / 8 || nv * 6 + nf * 8 > size)
     fail(name, "OFF header announces " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
                    " faces, more than a file of " + std::to_string(size) + " bytes can hold");
-  PolygonSoup soup;
-  soup.points.reserve(static_cast<std::size_t>(nv));
-  soup.polygons.reserve(static_cast<std::size_t>(nf));
-  for (long long v = 0; v < nv; ++v) {
-    if (!next_tokens(lines, t))
-      fail(name, "truncated: the header announces " + std::to_string(nv) + " vertices, the file ends after " +
-                     std::to_string(v));
-    double x, y, z;
-    if (t.size() < 3 || !parse_double(t[0], x) || !parse_double(t[1], y) || !parse_double(t[2], z))
-      fail(name, at_line(lines.number()) + "vertex " + std::to_string(v) + " needs three finite coordinates");
-    soup.points.emplace_back(x, y, z);  // colours or normals after the coordinates are ignored
+  // The records (vertex and face lines) are parsed in chunks of lines on all threads; each record's
+  // index, and so its kind, comes from the counts of the chunks before it, and the error reported
+  // is that of the first bad record, as a serial reading would report it.
+  const std::size_t body = lines.position(), first_line = lines.number();
+  std::vector<std::size_t> cuts{body};  // chunk starts, each at the start of a line
+  const std::size_t chunk = std::max<std::size_t>(std::size_t{1} << 18, (bytes.size() - body) / 256 + 1);
+  while (cuts.back() < bytes.size()) {
+    const std::size_t nl = bytes.find('\n', std::min(bytes.size(), cuts.back() + chunk));
+    cuts.push_back(nl == std::string::npos ? bytes.size() : nl + 1);
   }
-  for (long long f = 0; f < nf; ++f) {
-    if (!next_tokens(lines, t))
-      fail(name, "truncated: the header announces " + std::to_string(nf) + " faces, the file ends after " +
-                     std::to_string(f));
-    long long k = 0;
-    if (!parse_count(t[0], k) || k + 1 > static_cast<long long>(t.size()))
-      fail(name, at_line(lines.number()) + "face " + std::to_string(f) + " announces '" +
-                     std::string(t[0].substr(0, 20)) + "' corners but the line holds " + std::to_string(t.size() - 1) +
-                     " indices");
-    if (k < 3)
-      fail(name, at_line(lines.number()) + "face " + std::to_string(f) + " has " + std::to_string(k) +
-                     " corners; a face needs at least 3");
-    std::vector<std::size_t> poly(static_cast<std::size_t>(k));
-    for (long long j = 1; j <= k; ++j) {
-      long long id = 0;
-      if (!parse_count(t[j], id) || id >= nv)
-        fail(name, at_line(lines.number()) + "face " + std::to_string(f) + " refers to vertex '" +
-                       std::string(t[j].substr(0, 20)) + "', but vertex indices run from 0 to " +
-                       std::to_string(nv - 1));
-      poly[static_cast<std::size_t>(j - 1)] = static_cast<std::size_t>(id);
+  const std::size_t chunks = cuts.size() - 1;
+  std::vector<std::size_t> records(chunks + 1, 0), line_count(chunks + 1, 0);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    // Lines, and lines whose first non-blank character is not '#' (those next_tokens returns).
+    std::size_t count = 0, newlines = 0;
+    for (std::size_t i = cuts[c]; i < cuts[c + 1];) {
+      const void* nl = std::memchr(bytes.data() + i, '\n', cuts[c + 1] - i);
+      const std::size_t end = nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - bytes.data()) : cuts[c + 1];
+      std::size_t k = i;
+      while (k < end && is_space(bytes[k])) ++k;
+      count += k < end && bytes[k] != '#';
+      newlines += nl != nullptr;
+      i = end + 1;
     }
-    soup.polygons.push_back(std::move(poly));  // colours after the indices are ignored
+    records[c + 1] = count;
+    line_count[c + 1] = newlines;
+  });
+  for (std::size_t c = 0; c < chunks; ++c) {
+    records[c + 1] += records[c];
+    line_count[c + 1] += line_count[c];
   }
+  const long long total = static_cast<long long>(records[chunks]);
+  if (total < nv)
+    fail(name, "truncated: the header announces " + std::to_string(nv) + " vertices, the file ends after " +
+                   std::to_string(total));
+  if (total < nv + nf)
+    fail(name, "truncated: the header announces " + std::to_string(nf) + " faces, the file ends after " +
+                   std::to_string(total - nv));
+  PolygonSoup soup;
+  soup.points.resize(static_cast<std::size_t>(nv));
+  soup.polygons.resize(static_cast<std::size_t>(nf));
+  std::vector<std::string> error(chunks);  // each chunk's first error: the first non-empty one is the file's
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    Lines lines(bytes, cuts[c], cuts[c + 1], first_line + line_count[c]);
+    std::vector<std::string_view> t;
+    for (long long r = static_cast<long long>(records[c]); r < nv + nf && next_tokens(lines, t); ++r) {
+      if (r < nv) {
+        double x, y, z;
+        if (t.size() < 3 || !parse_double(t[0], x) || !parse_double(t[1], y) || !parse_double(t[2], z)) {
+          error[c] = at_line(lines.number()) + "vertex " + std::to_string(r) + " needs three finite coordinates";
+          return;
+        }
+        soup.points[static_cast<std::size_t>(r)] = Vec3(x, y, z);  // colours or normals after them are ignored
+        continue;
+      }
+      const long long f = r - nv;
+      long long k = 0;
+      if (!parse_count(t[0], k) || k + 1 > static_cast<long long>(t.size())) {
+        error[c] = at_line(lines.number()) + "face " + std::to_string(f) + " announces '" +
+                   std::string(t[0].substr(0, 20)) + "' corners but the line holds " + std::to_string(t.size() - 1) +
+                   " indices";
+        return;
+      }
+      if (k < 3) {
+        error[c] = at_line(lines.number()) + "face " + std::to_string(f) + " has " + std::to_string(k) +
+                   " corners; a face needs at least 3";
+        return;
+      }
+      std::vector<std::size_t> poly(static_cast<std::size_t>(k));
+      for (long long j = 1; j <= k; ++j) {
+        long long id = 0;
+        if (!parse_count(t[j], id) || id >= nv) {
+          error[c] = at_line(lines.number()) + "face " + std::to_string(f) + " refers to vertex '" +
+                     std::string(t[j].substr(0, 20)) + "', but vertex indices run from 0 to " + std::to_string(nv - 1);
+          return;
+        }
+        poly[static_cast<std::size_t>(j - 1)] = static_cast<std::size_t>(id);
+      }
+      soup.polygons[static_cast<std::size_t>(f)] = std::move(poly);  // colours after the indices are ignored
+    }
+  });
+  for (const std::string& e : error)
+    if (!e.empty()) fail(name, e);
   return soup;
 }
 

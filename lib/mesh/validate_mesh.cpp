@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <memory>
 #include <numeric>
 #include <sstream>
 
@@ -307,26 +308,38 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
   // Sorted by (lo, hi, face, forward): bucketed by lo (a counting sort, linear), then each bucket,
   // a vertex's few edges, sorted (a comparison sort of 2.5 million edges took 0.6 s at 832K faces).
   std::vector<HalfEdge> edges;
+  std::vector<std::uint32_t> start(mesh.vertices.size() + 1, 0);  // vertex v's edges (lo = v) from start[v]
   {
-    std::vector<std::uint32_t> start(mesh.vertices.size() + 1, 0);
+    // On all threads: each bucket's count, then each edge placed at its bucket's next free slot (an
+    // order within the bucket that varies from run to run, fixed by the bucket's sort below).
     const auto for_each_edge = [&](const auto& emit) {
-      for (std::uint32_t i = 0; i < faces.size(); ++i)
-        for (int k = 0; k < 3; ++k) {
-          const std::uint32_t a = faces[i][k], b = faces[i][(k + 1) % 3];
-          if (a != b) emit(HalfEdge{std::min(a, b), std::max(a, b), i, a < b});
-        }
+      tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(faces.size()), 8192),
+                        [&](const auto& r) {
+                          for (std::uint32_t i = r.begin(); i != r.end(); ++i)
+                            for (int k = 0; k < 3; ++k) {
+                              const std::uint32_t a = faces[i][k], b = faces[i][(k + 1) % 3];
+                              if (a != b) emit(HalfEdge{std::min(a, b), std::max(a, b), i, a < b});
+                            }
+                        });
     };
-    for_each_edge([&](const HalfEdge& e) { ++start[e.lo + 1]; });
-    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) start[v + 1] += start[v];
+    {
+      std::unique_ptr<std::atomic<std::uint32_t>[]> count(new std::atomic<std::uint32_t>[mesh.vertices.size()]);
+      for (std::size_t v = 0; v < mesh.vertices.size(); ++v) count[v].store(0, std::memory_order_relaxed);
+      for_each_edge([&](const HalfEdge& e) { count[e.lo].fetch_add(1, std::memory_order_relaxed); });
+      for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+        start[v + 1] = start[v] + count[v].load(std::memory_order_relaxed);
+    }
     edges.resize(start.back());
-    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
-    for_each_edge([&](const HalfEdge& e) { edges[next[e.lo]++] = e; });
+    std::unique_ptr<std::atomic<std::uint32_t>[]> next(new std::atomic<std::uint32_t>[mesh.vertices.size()]);
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) next[v].store(start[v], std::memory_order_relaxed);
+    for_each_edge([&](const HalfEdge& e) { edges[next[e.lo].fetch_add(1, std::memory_order_relaxed)] = e; });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.vertices.size(), 2048), [&](const auto& r) {
       for (std::size_t v = r.begin(); v != r.end(); ++v) std::sort(edges.begin() + start[v], edges.begin() + start[v + 1]);
     });
   }
-  std::size_t boundary = 0, nonmanifold = 0, undirected = 0;
-  std::string boundary_example, nonmanifold_example;
+  // The edges of fixed blocks of vertices (by lo) on all threads, each block's results merged in
+  // block order: the counts, the first examples and the adjacency list are those of a serial scan,
+  // and the union-finds' sets and roots do not depend on the order of unions.
   UnionFind components(faces.size());
   UnionFind corners(3 * faces.size());  // one entry per (face, corner); united across manifold edges
   auto corner_of = [&](std::uint32_t face, std::uint32_t vertex) {
@@ -334,30 +347,63 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
       if (faces[face][k] == vertex) return 3 * static_cast<std::size_t>(face) + k;
     return 3 * static_cast<std::size_t>(face);
   };
-  std::vector<Adjacent> adjacency;
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
-    const std::size_t n = j - i;
-    ++undirected;
-    for (std::size_t k = i + 1; k < j; ++k) components.unite(edges[i].face, edges[k].face);
-    // Described only for the first example (formatting every edge cost seconds on 832K faces).
-    const auto where = [&] {
-      return "edge (" + std::to_string(edges[i].lo) + ", " + std::to_string(edges[i].hi) + ") from " +
-             pt(mesh.vertices[edges[i].lo]) + " to " + pt(mesh.vertices[edges[i].hi]);
-    };
-    if (n == 1) {
-      if (boundary++ == 0) boundary_example = where() + " of face " + std::to_string(edges[i].face);
-    } else if (n > 2) {
-      if (nonmanifold++ == 0) nonmanifold_example = where() + ", shared by " + std::to_string(n) + " faces";
-    } else {
-      const HalfEdge &a = edges[i], &b = edges[i + 1];
-      adjacency.push_back({a.lo, a.hi, a.face, b.face, a.forward == b.forward});
-      corners.unite(corner_of(a.face, a.lo), corner_of(b.face, a.lo));
-      corners.unite(corner_of(a.face, a.hi), corner_of(b.face, a.hi));
+  struct EdgeBlock {
+    std::size_t boundary = 0, nonmanifold = 0, undirected = 0;
+    std::size_t first_boundary = SIZE_MAX, first_nonmanifold = SIZE_MAX, nonmanifold_faces = 0;  // edge indices
+    std::vector<Adjacent> adjacency;
+  };
+  constexpr std::size_t kBlock = 8192;
+  std::vector<EdgeBlock> blocks((mesh.vertices.size() + kBlock - 1) / kBlock);
+  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
+    EdgeBlock& out = blocks[b];
+    const std::size_t end = start[std::min(mesh.vertices.size(), (b + 1) * kBlock)];
+    for (std::size_t i = start[b * kBlock]; i < end;) {
+      std::size_t j = i;
+      while (j < end && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
+      const std::size_t n = j - i;
+      ++out.undirected;
+      for (std::size_t k = i + 1; k < j; ++k) components.unite_concurrent(edges[i].face, edges[k].face);
+      if (n == 1) {
+        if (out.boundary++ == 0) out.first_boundary = i;
+      } else if (n > 2) {
+        if (out.nonmanifold++ == 0) {
+          out.first_nonmanifold = i;
+          out.nonmanifold_faces = n;
+        }
+      } else {
+        const HalfEdge &e = edges[i], &f = edges[i + 1];
+        out.adjacency.push_back({e.lo, e.hi, e.face, f.face, e.forward == f.forward});
+        corners.unite_concurrent(corner_of(e.face, e.lo), corner_of(f.face, e.lo));
+        corners.unite_concurrent(corner_of(e.face, e.hi), corner_of(f.face, e.hi));
+      }
+      i = j;
     }
-    i = j;
+  });
+  std::size_t boundary = 0, nonmanifold = 0, undirected = 0;
+  std::string boundary_example, nonmanifold_example;
+  std::vector<Adjacent> adjacency;
+  // Described only for the first example (formatting every edge cost seconds on 832K faces).
+  const auto where = [&](std::size_t i) {
+    return "edge (" + std::to_string(edges[i].lo) + ", " + std::to_string(edges[i].hi) + ") from " +
+           pt(mesh.vertices[edges[i].lo]) + " to " + pt(mesh.vertices[edges[i].hi]);
+  };
+  std::vector<std::size_t> offset(blocks.size() + 1, 0);
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    const EdgeBlock& b = blocks[k];
+    if (boundary == 0 && b.boundary > 0)
+      boundary_example = where(b.first_boundary) + " of face " + std::to_string(edges[b.first_boundary].face);
+    if (nonmanifold == 0 && b.nonmanifold > 0)
+      nonmanifold_example = where(b.first_nonmanifold) + ", shared by " + std::to_string(b.nonmanifold_faces) + " faces";
+    boundary += b.boundary;
+    nonmanifold += b.nonmanifold;
+    undirected += b.undirected;
+    offset[k + 1] = offset[k] + b.adjacency.size();
   }
+  adjacency.resize(offset.back());
+  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t k) {
+    std::copy(blocks[k].adjacency.begin(), blocks[k].adjacency.end(), adjacency.begin() + static_cast<std::ptrdiff_t>(offset[k]));
+    std::vector<Adjacent>().swap(blocks[k].adjacency);
+  });
   report.closed = boundary == 0;
   if (boundary > 0)
     add_problem(report, "boundary", boundary,

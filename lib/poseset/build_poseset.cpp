@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include <tbb/collaborative_call_once.h>
+#include <tbb/parallel_invoke.h>
 
 #include "distance/max_penetration.h"
 #include "mesh/read_mesh.h"
@@ -127,14 +128,20 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   const bool mover_is_fixed = opt.mover.path.empty();
   const std::string mover_path = mover_is_fixed ? opt.fixed.path : opt.mover.path;
   const TriangleMesh& mover = mover_is_fixed ? fixed_mesh : *opt.mover.mesh;
-  const std::string fixed_sha = sha256_file(opt.fixed.path);
-  const std::string mover_sha = mover_is_fixed ? fixed_sha : sha256_file(opt.mover.path);
-
   std::error_code ec;
   std::filesystem::create_directories(opt.out, ec);
   if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");
 
-  const SignedDistance sdf(fixed_mesh);
+  // The files' hashes (serial: 0.04 s for a 42 MB file) while the distance's tree is built.
+  std::string fixed_sha, mover_sha;
+  std::optional<SignedDistance> sdf_holder;
+  tbb::parallel_invoke(
+      [&] {
+        fixed_sha = sha256_file(opt.fixed.path);
+        mover_sha = mover_is_fixed ? fixed_sha : sha256_file(opt.mover.path);
+      },
+      [&] { sdf_holder.emplace(fixed_mesh); });
+  const SignedDistance& sdf = *sdf_holder;
   const double diag = sdf.bbox().diagonal();
   double seconds_mp = 0.0;
   const double mp_tol = max_penetration_tolerance_for(specs, opt.tolerance, opt.max_penetration_tolerance);

@@ -1,28 +1,64 @@
 #pragma once
 // Union-find with path halving; the smallest index of a set is its root, so results do not depend
-// on the order of unions (deterministic component numbering).
+// on the order of unions (deterministic component numbering), which also makes unions from several
+// threads at once safe to offer: roots are only ever linked under smaller roots (by compare-and-
+// swap), so the sets and their roots are the same whatever the interleaving.
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
-#include <numeric>
-#include <vector>
+#include <memory>
 
 namespace cdbench {
 
 class UnionFind {
  public:
-  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::size_t{0}); }
+  explicit UnionFind(std::size_t n) : n_(n), parent_(new std::atomic<std::size_t>[n]) {
+    for (std::size_t i = 0; i < n; ++i) parent_[i].store(i, std::memory_order_relaxed);
+  }
+  std::size_t size() const { return n_; }
+
+  // One thread at a time (the plain load/stores of a serial union-find).
   std::size_t find(std::size_t x) {
-    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+    for (std::size_t p; (p = load(x)) != x;) {
+      const std::size_t g = load(p);
+      parent_[x].store(g, std::memory_order_relaxed);
+      x = g;
+    }
     return x;
   }
   void unite(std::size_t a, std::size_t b) {
     a = find(a);
     b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+    if (a != b) parent_[std::max(a, b)].store(std::min(a, b), std::memory_order_relaxed);
+  }
+
+  // Safe from several threads at once (with each other, not with find or unite above). A parent
+  // only ever moves to a smaller ancestor in the same set, so a failed halving is harmless and a
+  // failed link (the larger root was linked meanwhile) retries from the new roots.
+  std::size_t find_concurrent(std::size_t x) {
+    for (;;) {
+      std::size_t p = parent_[x].load(std::memory_order_acquire);
+      if (p == x) return x;
+      const std::size_t g = parent_[p].load(std::memory_order_acquire);
+      if (g != p) parent_[x].compare_exchange_weak(p, g, std::memory_order_acq_rel, std::memory_order_relaxed);
+      x = g;
+    }
+  }
+  void unite_concurrent(std::size_t a, std::size_t b) {
+    for (;;) {
+      a = find_concurrent(a);
+      b = find_concurrent(b);
+      if (a == b) return;
+      if (a < b) std::swap(a, b);  // link the larger root under the smaller
+      std::size_t expected = a;
+      if (parent_[a].compare_exchange_strong(expected, b, std::memory_order_acq_rel, std::memory_order_acquire)) return;
+    }
   }
 
  private:
-  std::vector<std::size_t> parent_;
+  std::size_t load(std::size_t x) const { return parent_[x].load(std::memory_order_relaxed); }
+  std::size_t n_;
+  std::unique_ptr<std::atomic<std::size_t>[]> parent_;
 };
 
 }  // namespace cdbench

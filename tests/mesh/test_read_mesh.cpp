@@ -27,6 +27,16 @@ void expect_unit_cube_volume(const PolygonSoup& soup) {
   EXPECT_EQ(v.report.genus, 0);
 }
 
+// What reading `text` as file `name` throws ("no error" if nothing).
+std::string reading_error(const std::string& text, const std::string& name) {
+  try {
+    read_polygon_soup_from_bytes(text, name);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
 TEST(ReadMesh, OffRoundTripIsExact) {
   const TriangleMesh sphere = make_icosphere(1.3, 2);
   std::ostringstream os;
@@ -67,14 +77,7 @@ TEST(ReadMesh, OffVariantsCommentsAndLayout) {
 }
 
 TEST(ReadMesh, OffErrorsNameTheLine) {
-  const auto message = [](const std::string& text) {
-    try {
-      read_polygon_soup_from_bytes(text, "m.off");
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  const auto message = [](const std::string& text) { return reading_error(text, "m.off"); };
   EXPECT_NE(message("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 x\n3 0 1 2\n").find("line 5: vertex 2 needs three finite"),
             std::string::npos);
   EXPECT_NE(message("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n").find("line 6: face 0 refers to vertex '3'"),
@@ -87,6 +90,51 @@ TEST(ReadMesh, OffErrorsNameTheLine) {
   EXPECT_NE(message("4OFF\n").find("non-3D OFF"), std::string::npos);
   EXPECT_NE(message("OFF\n-3 1 0\n").find("non-negative integers"), std::string::npos);
   EXPECT_NE(message("OFF\n99999999 1 0\n0 0 0\n").find("more than a file of"), std::string::npos);
+}
+
+// Files above 256 KB are parsed in chunks of lines on all threads: the first bad record is still
+// the one reported, with its line, whichever chunk holds it and whatever later chunks hold.
+TEST(ReadMesh, OffErrorsNameTheLineInALargeFile) {
+  const int nv = 60000, nf = 20000;
+  std::vector<std::string> lines{"OFF", "# a large file", std::to_string(nv) + " " + std::to_string(nf) + " 0"};
+  for (int v = 0; v < nv; ++v) {
+    lines.push_back(std::to_string(v) + ".25 " + std::to_string(v % 7) + " -1e-3");
+    if (v % 9000 == 0) lines.push_back("   # a comment line, then a blank one");
+    if (v % 9000 == 0) lines.push_back("");
+  }
+  for (int f = 0; f < nf; ++f) lines.push_back("3 " + std::to_string(f) + " " + std::to_string(f + 1) + " " + std::to_string(f + 2));
+  const auto text_of = [](const std::vector<std::string>& l) {
+    std::string t;
+    for (const std::string& s : l) t += s + "\n";
+    return t;
+  };
+  const auto message = [](const std::string& text) { return reading_error(text, "big.off"); };
+  const std::string good = text_of(lines);
+  ASSERT_GT(good.size(), 4u * 262144u);  // several chunks
+  const PolygonSoup soup = read_polygon_soup_from_bytes(good, "big.off");
+  ASSERT_EQ(soup.points.size(), std::size_t(nv));
+  EXPECT_EQ(soup.points[54321], Vec3(54321.25, 54321 % 7, -1e-3));
+  ASSERT_EQ(soup.polygons.size(), std::size_t(nf));
+  EXPECT_EQ(soup.polygons[nf - 1], (std::vector<std::size_t>{std::size_t(nf) - 1, std::size_t(nf), std::size_t(nf) + 1}));
+  // The line of face 15000 and of vertex 50000 (counting from 1, as the message does).
+  const auto line_of = [&](const std::string& prefix) {
+    return std::find_if(lines.begin(), lines.end(), [&](const std::string& l) { return l.rfind(prefix, 0) == 0; }) -
+           lines.begin() + 1;
+  };
+  std::vector<std::string> bad = lines;
+  const auto face_line = line_of("3 15000 ");
+  bad[face_line - 1] = "3 15000 15001 70000";
+  EXPECT_NE(message(text_of(bad)).find("line " + std::to_string(face_line) + ": face 15000 refers to vertex '70000'"),
+            std::string::npos)
+      << message(text_of(bad));
+  const auto vertex_line = line_of("50000.25 ");
+  bad[vertex_line - 1] = "50000.25 x 0";  // an earlier record: reported instead of the face
+  EXPECT_NE(message(text_of(bad)).find("line " + std::to_string(vertex_line) + ": vertex 50000 needs three finite"),
+            std::string::npos)
+      << message(text_of(bad));
+  std::vector<std::string> short_file(lines.begin(), lines.end() - 5);
+  EXPECT_NE(message(text_of(short_file)).find("announces 20000 faces, the file ends after 19995"), std::string::npos)
+      << message(text_of(short_file));
 }
 
 // Our OFF reader against an independent parse (a stream read token by token, the way CGAL's

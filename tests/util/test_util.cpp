@@ -18,6 +18,7 @@
 #include "util/large_pages.h"
 #include "util/least_key.h"
 #include "util/sha256.h"
+#include "util/union_find.h"
 #include "util/thread_scratch.h"
 
 namespace cdbench {
@@ -210,4 +211,37 @@ TEST(Gnuplot, QuotedTextAndAnyDirectoryName) {
 }
 
 }  // namespace
+// Unions from several threads at once give the sets and roots (each set's smallest index) that one
+// thread gives, whatever the interleaving; find and unite agree with them.
+TEST(UnionFind, ConcurrentUnionsGiveTheSerialSetsAndRoots) {
+  const std::size_t n = 200000;
+  std::mt19937_64 rng(7);
+  std::vector<std::pair<std::size_t, std::size_t>> pairs(150000);
+  for (auto& p : pairs) p = {rng() % n, rng() % n};
+  UnionFind serial(n);
+  for (const auto& p : pairs) serial.unite(p.first, p.second);
+  for (int round = 0; round < 3; ++round) {
+    UnionFind shared(n);
+    std::vector<std::thread> threads;
+    const std::size_t t_count = 4;
+    for (std::size_t t = 0; t < t_count; ++t)
+      threads.emplace_back([&, t] {
+        // Each thread takes every t_count-th pair, odd threads from the last of theirs backwards.
+        std::vector<std::size_t> mine;
+        for (std::size_t k = t; k < pairs.size(); k += t_count) mine.push_back(k);
+        if (t % 2) std::reverse(mine.begin(), mine.end());
+        for (std::size_t k : mine) shared.unite_concurrent(pairs[k].first, pairs[k].second);
+      });
+    for (auto& th : threads) th.join();
+    std::size_t sets = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      ASSERT_EQ(shared.find(i), serial.find(i)) << "element " << i << ", round " << round;
+      sets += serial.find(i) == i;
+      ASSERT_LE(serial.find(i), i);  // the root is the set's smallest index
+    }
+    EXPECT_GT(sets, 1000u);  // the pairs leave many sets (a test that one big set would not make)
+    EXPECT_LT(sets, n / 2);
+  }
+}
+
 }  // namespace cdbench
