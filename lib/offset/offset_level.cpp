@@ -347,7 +347,8 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
       level.band_pieces += band.pieces;
       const auto wide = std::count_if(band.face_epsilon.begin(), band.face_epsilon.end(), [&](double e) { return e > tol; });
       log("band " + num(band.epsilon / diag) + " x diagonal in " + num(t_band.seconds()) + " s (" +
-          std::to_string(wide) + " faces above the tolerance)");
+          std::to_string(wide) + " faces above the tolerance" +
+          (band.faces_touching ? ", " + std::to_string(band.faces_touching) + " not proved off F" : std::string()) + ")");
       if (options.local_repair && band.epsilon > tol && repair_band(sdf, fast, d, tol, bo, v, band, level, log))
         ++level.repairs;
       eps = band.epsilon;

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "mesh/alpha_wrap.h"
@@ -242,6 +244,29 @@ TEST(OffsetLevel, WideFacesAreRepairedLocally) {
     EXPECT_GT(l.mesh.faces.size(), plain.mesh.faces.size());
     expect_band_holds(s, l);
   }
+}
+
+// A level 1.5 tolerances inside a torus with a narrow hole, meshed coarsely: chords along the hole
+// bulge towards it, so some faces of the first candidate are not proved off F (their band cannot be
+// certified), and they are split like any wide face: the level certifies in its first attempt.
+// The log shows that the first band had such faces; the test fails when they skip the repair.
+TEST(OffsetLevel, FacesAcrossTheSurfaceAreRepairedLocally) {
+  const Solid s(make_torus(0.6, 0.5, 48, 24));
+  OffsetOptions o = coarse();
+  o.distance_over_tolerance = 3.0;
+  o.max_attempts = 1;
+  const double tol = o.tolerance_relative * s.sdf.bbox().diagonal();
+  std::vector<std::string> lines;
+  o.log = [&](const std::string& line) { lines.push_back(line); };
+  const OffsetLevel l = compute_offset_level(s.sdf, s.mp, -1.5 * tol, o);
+  const auto first_band = std::find_if(lines.begin(), lines.end(), [](const std::string& x) { return x.find(": band ") != std::string::npos; });
+  ASSERT_NE(first_band, lines.end());
+  EXPECT_NE(first_band->find("not proved off F"), std::string::npos) << *first_band;
+  ASSERT_EQ(l.status, OffsetStatus::Certified) << l.message;
+  EXPECT_EQ(l.attempts, 1);
+  EXPECT_GE(l.repairs, 1);
+  EXPECT_LE(l.epsilon, tol);
+  expect_band_holds(s, l);
 }
 
 }  // namespace
