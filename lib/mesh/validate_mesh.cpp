@@ -244,12 +244,20 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
 
   // 1. Triangulate.
   std::vector<Face> faces;
-  faces.reserve(soup.polygons.size());
   std::size_t polygons_split = 0, failed = 0, first_failed = 0;
-  for (std::size_t i = 0; i < soup.polygons.size(); ++i) {
-    const auto& poly = soup.polygons[i];
-    if (poly.size() > 3) ++polygons_split;
-    if (!triangulate_polygon(soup, poly, faces) && failed++ == 0) first_failed = i;
+  if (std::all_of(soup.polygons.begin(), soup.polygons.end(), [](const auto& p) { return p.size() == 3; })) {
+    faces.resize(soup.polygons.size());  // triangles only (the usual case): copied on all threads
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 8192), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+        for (int k = 0; k < 3; ++k) faces[i][k] = static_cast<std::uint32_t>(soup.polygons[i][k]);
+    });
+  } else {
+    faces.reserve(soup.polygons.size());
+    for (std::size_t i = 0; i < soup.polygons.size(); ++i) {
+      const auto& poly = soup.polygons[i];
+      if (poly.size() > 3) ++polygons_split;
+      if (!triangulate_polygon(soup, poly, faces) && failed++ == 0) first_failed = i;
+    }
   }
   if (polygons_split > 0)
     report.notices.push_back(std::to_string(polygons_split) + " polygons with more than 3 corners were triangulated");
@@ -259,20 +267,30 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
 
   // 2. Drop unreferenced vertices (CGAL's orientation code requires none), keeping the order.
   std::vector<std::uint32_t> remap(soup.points.size(), UINT32_MAX);
-  for (const Face& f : faces)
-    for (std::uint32_t v : f) remap[v] = 0;
-  TriangleMesh& mesh = out.mesh;
-  for (std::size_t i = 0; i < soup.points.size(); ++i) {
-    if (remap[i] == 0) {
-      remap[i] = static_cast<std::uint32_t>(mesh.vertices.size());
-      mesh.vertices.push_back(soup.points[i]);
-    }
+  {
+    std::unique_ptr<std::atomic<char>[]> used(new std::atomic<char>[soup.points.size()]);
+    for (std::size_t i = 0; i < soup.points.size(); ++i) used[i].store(0, std::memory_order_relaxed);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 8192), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+        for (std::uint32_t v : faces[i]) used[v].store(1, std::memory_order_relaxed);
+    });
+    std::uint32_t next = 0;
+    for (std::size_t i = 0; i < soup.points.size(); ++i)
+      if (used[i].load(std::memory_order_relaxed)) remap[i] = next++;
   }
-  const std::size_t unreferenced = soup.points.size() - mesh.vertices.size();
-  if (unreferenced > 0)
+  TriangleMesh& mesh = out.mesh;
+  if (std::find(remap.begin(), remap.end(), UINT32_MAX) == remap.end()) {
+    mesh.vertices = std::move(soup.points);  // every vertex used (the usual case): the order is kept
+  } else {
+    for (std::size_t i = 0; i < soup.points.size(); ++i)
+      if (remap[i] != UINT32_MAX) mesh.vertices.push_back(soup.points[i]);
+    const std::size_t unreferenced = soup.points.size() - mesh.vertices.size();
     report.notices.push_back(std::to_string(unreferenced) + " unreferenced vertices were removed");
-  for (Face& f : faces)
-    for (std::uint32_t& v : f) v = remap[v];
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 8192), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+        for (std::uint32_t& v : faces[i]) v = remap[v];
+    });
+  }
 
   // 3. Degenerate faces: a repeated corner or three collinear corners (exact predicate). On all
   // threads: the count and the first such face, whatever the split.
@@ -414,19 +432,18 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
 
   // 5. Non-manifold vertices: the faces around a vertex must form a single fan.
   {
-    std::vector<std::size_t> first_root(mesh.vertices.size(), SIZE_MAX);
-    std::vector<char> pinched(mesh.vertices.size(), 0);
-    for (std::uint32_t f = 0; f < faces.size(); ++f) {
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t v = faces[f][k];
-        const std::size_t root = corners.find(3 * static_cast<std::size_t>(f) + k);
-        if (first_root[v] == SIZE_MAX) first_root[v] = root;
-        else if (first_root[v] != root) pinched[v] = 1;
-      }
-    }
-    const std::size_t count = static_cast<std::size_t>(std::count(pinched.begin(), pinched.end(), 1));
+    // Corners are united only around one vertex, so each root corner is one fan of its vertex:
+    // a vertex is pinched when it is the vertex of more than one root (counted on all threads).
+    std::unique_ptr<std::atomic<std::uint32_t>[]> fans(new std::atomic<std::uint32_t>[mesh.vertices.size()]);
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) fans[v].store(0, std::memory_order_relaxed);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, 3 * faces.size(), 8192), [&](const auto& r) {
+      for (std::size_t c = r.begin(); c != r.end(); ++c)
+        if (corners.find_concurrent(c) == c) fans[faces[c / 3][c % 3]].fetch_add(1, std::memory_order_relaxed);
+    });
+    std::size_t count = 0, v = SIZE_MAX;
+    for (std::size_t u = 0; u < mesh.vertices.size(); ++u)
+      if (fans[u].load(std::memory_order_relaxed) > 1 && count++ == 0) v = u;
     if (count > 0) {
-      const std::size_t v = static_cast<std::size_t>(std::find(pinched.begin(), pinched.end(), 1) - pinched.begin());
       add_problem(report, "non-manifold-vertex", count,
                   std::to_string(count) + " non-manifold vertices (faces around them form several fans), e.g. vertex " +
                       std::to_string(v) + " " + pt(mesh.vertices[v]));
@@ -436,10 +453,16 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
   // 6. Components (a root is its set's smallest face).
   std::vector<std::uint32_t> component_of(faces.size());
   {
-    for (std::size_t f = 0; f < faces.size(); ++f) {
-      component_of[f] = static_cast<std::uint32_t>(components.find(f));
-      report.components += component_of[f] == f;
-    }
+    report.components = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, faces.size(), 8192), std::size_t{0},
+        [&](const tbb::blocked_range<std::size_t>& r, std::size_t roots) {
+          for (std::size_t f = r.begin(); f != r.end(); ++f) {
+            component_of[f] = static_cast<std::uint32_t>(components.find_concurrent(f));
+            roots += component_of[f] == f;
+          }
+          return roots;
+        },
+        std::plus<>());
     if (report.components > 1)
       report.notices.push_back("the mesh has " + std::to_string(report.components) + " connected components");
   }
