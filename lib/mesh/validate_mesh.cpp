@@ -84,11 +84,14 @@ bool build_closed_surface_mesh(const TriangleMesh& mesh, const std::vector<Adjac
   const std::size_t F = mesh.faces.size();
   if (2 * adjacency.size() != 3 * F) return false;
   sm.clear();
-  sm.reserve(static_cast<SurfaceMesh::size_type>(mesh.vertices.size()),
-             static_cast<SurfaceMesh::size_type>(adjacency.size()), static_cast<SurfaceMesh::size_type>(F));
-  for (const Vec3& v : mesh.vertices) sm.add_vertex(to_point(v));
-  for (std::size_t e = 0; e < adjacency.size(); ++e) sm.add_edge();
-  for (std::size_t f = 0; f < F; ++f) sm.add_face();
+  // Elements made in one resize each (what add_vertex, add_edge and add_face push back one by one
+  // when nothing was removed), their points set on all threads.
+  sm.resize(static_cast<SurfaceMesh::size_type>(mesh.vertices.size()),
+            static_cast<SurfaceMesh::size_type>(adjacency.size()), static_cast<SurfaceMesh::size_type>(F));
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.vertices.size(), 8192), [&](const auto& r) {
+    for (std::size_t v = r.begin(); v != r.end(); ++v)
+      sm.point(SurfaceMesh::Vertex_index(static_cast<SurfaceMesh::size_type>(v))) = to_point(mesh.vertices[v]);
+  });
   // The halfedge of each face corner k (from corner k to corner k + 1).
   std::vector<std::uint32_t> corner_halfedge(3 * F, UINT32_MAX);
   std::atomic<bool> consistent{true};
