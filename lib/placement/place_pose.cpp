@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <cstdlib>
 #include <limits>
 #include <stdexcept>
@@ -9,6 +11,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/parallel_reduce.h>
 
 #include "core/interval.h"
 #include "distance/triangle_distance.h"
@@ -92,8 +95,36 @@ double median_edge_length(const TriangleMesh& m) {
       for (int k = 0; k < 3; ++k)
         len[3 * i + k] = (m.vertices[m.faces[i][k]] - m.vertices[m.faces[i][(k + 1) % 3]]).norm();
   });
-  std::nth_element(len.begin(), len.begin() + static_cast<std::ptrdiff_t>(len.size() / 2), len.end());
-  return len[len.size() / 2];
+  // The element of rank n/2, found on all threads: lengths are >= 0, whose bit patterns order as
+  // the numbers do, so a histogram of the top 16 bits names the bucket holding that rank, and only
+  // that bucket is selected from (the same value as nth_element over all: 0.04 s serial at 832K
+  // faces).
+  const auto bits = [&](std::size_t i) {
+    std::uint64_t b;
+    std::memcpy(&b, &len[i], sizeof b);
+    return b;
+  };
+  using Histogram = std::vector<std::size_t>;
+  const Histogram count = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, len.size(), 65536), Histogram(),
+      [&](const tbb::blocked_range<std::size_t>& r, Histogram h) {
+        if (h.empty()) h.assign(65536, 0);
+        for (std::size_t i = r.begin(); i != r.end(); ++i) ++h[bits(i) >> 48];
+        return h;
+      },
+      [](Histogram a, const Histogram& b) {
+        if (a.empty()) return b;
+        for (std::size_t k = 0; k < b.size(); ++k) a[k] += b[k];
+        return a;
+      });
+  std::size_t rank = len.size() / 2, bucket = 0;
+  while (rank >= count[bucket]) rank -= count[bucket++];
+  std::vector<double> in_bucket;
+  in_bucket.reserve(count[bucket]);
+  for (std::size_t i = 0; i < len.size(); ++i)
+    if (bits(i) >> 48 == bucket) in_bucket.push_back(len[i]);
+  std::nth_element(in_bucket.begin(), in_bucket.begin() + static_cast<std::ptrdiff_t>(rank), in_bucket.end());
+  return in_bucket[rank];
 }
 
 // Where a pose may jump across a plateau (PoseOptions::deep_cover): the level's cover, asked once
