@@ -76,7 +76,6 @@ bool parse_int(std::string_view t, long long& v) {
   return r.ec == std::errc() && r.ptr == t.data() + t.size();
 }
 
-// Lines of a text, with their numbers; '\r' is whitespace for the tokenizer.
 // Lines of a text from byte `start` to byte `stop` (the end), with their numbers (the line before
 // `start` is number `number`); '\r' is whitespace for the tokenizer.
 class Lines {
@@ -238,6 +237,14 @@ PolygonSoup read_obj(const std::string& bytes, const std::string& name) {
 
 namespace {
 
+// Whether a line holds a token once its '#' comment is cut (the lines next_tokens returns): its
+// first non-blank character is not '#'.
+bool holds_token(std::string_view line) {
+  std::size_t k = 0;
+  while (k < line.size() && is_space(line[k])) ++k;
+  return k < line.size() && line[k] != '#';
+}
+
 // The next line holding a token once its '#' comment is cut; false at the end.
 bool next_tokens(Lines& lines, std::vector<std::string_view>& tok) {
   std::string_view line;
@@ -292,19 +299,12 @@ PolygonSoup read_off(const std::string& bytes, const std::string& name) {
   const std::size_t chunks = cuts.size() - 1;
   std::vector<std::size_t> records(chunks + 1, 0), line_count(chunks + 1, 0);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    // Lines, and lines whose first non-blank character is not '#' (those next_tokens returns).
-    std::size_t count = 0, newlines = 0;
-    for (std::size_t i = cuts[c]; i < cuts[c + 1];) {
-      const void* nl = std::memchr(bytes.data() + i, '\n', cuts[c + 1] - i);
-      const std::size_t end = nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - bytes.data()) : cuts[c + 1];
-      std::size_t k = i;
-      while (k < end && is_space(bytes[k])) ++k;
-      count += k < end && bytes[k] != '#';
-      newlines += nl != nullptr;
-      i = end + 1;
-    }
-    records[c + 1] = count;
-    line_count[c + 1] = newlines;
+    // Each chunk but the last ends with a newline, so its lines are what a later chunk's numbers
+    // start after.
+    Lines in(bytes, cuts[c], cuts[c + 1]);
+    std::string_view line;
+    while (in.next(line)) records[c + 1] += holds_token(line);
+    line_count[c + 1] = in.number();
   });
   for (std::size_t c = 0; c < chunks; ++c) {
     records[c + 1] += records[c];

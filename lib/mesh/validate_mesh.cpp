@@ -14,7 +14,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <memory>
 #include <numeric>
 #include <sstream>
 
@@ -270,19 +269,18 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
 
   // 2. Drop unreferenced vertices (CGAL's orientation code requires none), keeping the order.
   std::vector<std::uint32_t> remap(soup.points.size(), UINT32_MAX);
+  std::uint32_t referenced = 0;
   {
-    std::unique_ptr<std::atomic<char>[]> used(new std::atomic<char>[soup.points.size()]);
-    for (std::size_t i = 0; i < soup.points.size(); ++i) used[i].store(0, std::memory_order_relaxed);
+    std::vector<std::atomic<char>> used(soup.points.size());  // value-initialised: all 0
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 8192), [&](const auto& r) {
       for (std::size_t i = r.begin(); i != r.end(); ++i)
         for (std::uint32_t v : faces[i]) used[v].store(1, std::memory_order_relaxed);
     });
-    std::uint32_t next = 0;
     for (std::size_t i = 0; i < soup.points.size(); ++i)
-      if (used[i].load(std::memory_order_relaxed)) remap[i] = next++;
+      if (used[i].load(std::memory_order_relaxed)) remap[i] = referenced++;
   }
   TriangleMesh& mesh = out.mesh;
-  if (std::find(remap.begin(), remap.end(), UINT32_MAX) == remap.end()) {
+  if (referenced == soup.points.size()) {
     mesh.vertices = std::move(soup.points);  // every vertex used (the usual case): the order is kept
   } else {
     for (std::size_t i = 0; i < soup.points.size(); ++i)
@@ -344,14 +342,13 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
                         });
     };
     {
-      std::unique_ptr<std::atomic<std::uint32_t>[]> count(new std::atomic<std::uint32_t>[mesh.vertices.size()]);
-      for (std::size_t v = 0; v < mesh.vertices.size(); ++v) count[v].store(0, std::memory_order_relaxed);
+      std::vector<std::atomic<std::uint32_t>> count(mesh.vertices.size());  // value-initialised: all 0
       for_each_edge([&](const HalfEdge& e) { count[e.lo].fetch_add(1, std::memory_order_relaxed); });
       for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
         start[v + 1] = start[v] + count[v].load(std::memory_order_relaxed);
     }
     edges.resize(start.back());
-    std::unique_ptr<std::atomic<std::uint32_t>[]> next(new std::atomic<std::uint32_t>[mesh.vertices.size()]);
+    std::vector<std::atomic<std::uint32_t>> next(mesh.vertices.size());
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) next[v].store(start[v], std::memory_order_relaxed);
     for_each_edge([&](const HalfEdge& e) { edges[next[e.lo].fetch_add(1, std::memory_order_relaxed)] = e; });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.vertices.size(), 2048), [&](const auto& r) {
@@ -437,8 +434,7 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
   {
     // Corners are united only around one vertex, so each root corner is one fan of its vertex:
     // a vertex is pinched when it is the vertex of more than one root (counted on all threads).
-    std::unique_ptr<std::atomic<std::uint32_t>[]> fans(new std::atomic<std::uint32_t>[mesh.vertices.size()]);
-    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) fans[v].store(0, std::memory_order_relaxed);
+    std::vector<std::atomic<std::uint32_t>> fans(mesh.vertices.size());  // value-initialised: all 0
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, 3 * faces.size(), 8192), [&](const auto& r) {
       for (std::size_t c = r.begin(); c != r.end(); ++c)
         if (corners.find_concurrent(c) == c) fans[faces[c / 3][c % 3]].fetch_add(1, std::memory_order_relaxed);
