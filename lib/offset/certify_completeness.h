@@ -3,6 +3,7 @@
 // and no point with s > d + eps lies inside it, so no component of the level set is missing.
 // See doc/offsets.md for the argument (components of the sub/superlevel sets, their extrema, and
 // a branch and bound that proves where s has no critical point).
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -12,12 +13,21 @@
 
 namespace cdbench {
 
+class CompletenessPrefetch;
+
 struct CompletenessOptions {
   std::uint64_t max_cells = 20000000;  // cells evaluated in all, never exceeded; beyond it: not complete
   double min_cell_relative = 1e-7;  // cells smaller than this x diagonal are reported unresolved
   // Search one side only where one point per component of the solid's interior (or exterior)
   // settles the other (doc/offsets.md); false: both sides everywhere (tests, A/B).
   bool one_sided = true;
+  // The search's domain is the input's box grown by max(d, 0) + max(eps, band_bound) + 1e-3 x its
+  // diagonal: a caller that searches several candidates of one level (bands up to a tolerance)
+  // passes that tolerance, so that every search, and a prefetch, cuts the same cells.
+  double band_bound = 0.0;
+  // Facts about F computed ahead for this level (null: none); used when its level and domain are
+  // this search's. The results are the same with or without it.
+  const CompletenessPrefetch* prefetch = nullptr;
 };
 
 struct CompletenessResult {
@@ -27,6 +37,7 @@ struct CompletenessResult {
   std::uint64_t cells = 0;
   bool budget_exhausted = false;    // stopped by max_cells (then `unresolved` says where)
   bool resumed = false;             // resume_completeness took the first search up (not a fresh one)
+  std::uint64_t prefetched = 0;     // cells whose facts about F came from options.prefetch
   // The domain's volume and the part of it that discarded cells cover (a resumed search counts the
   // first search's leaves it keeps): equal, up to rounding, when the search is complete. A check
   // of the tiling for tests.
@@ -43,6 +54,31 @@ struct CompletenessCheckpoint {
   CompletenessCheckpoint& operator=(CompletenessCheckpoint&&) noexcept;
   struct State;
   std::unique_ptr<State> state;  // null: nothing to resume
+};
+
+// The facts about F alone of a level's search cells (the enclosure of the distance to F, the side,
+// rule (3)'s verdict), computed ahead of the search: while the mesher makes a candidate on one
+// thread, the others extend this tree breadth first; every search of the level (each candidate, a
+// resumed search) then takes those facts from it. They are the values the search would compute
+// itself, so its cells, verdicts and results are the same however far the prefetch got
+// (doc/offsets.md, "The search's part about F ahead"). Which cells it expands is a guess (the
+// one-sided search, a band near band_bound, the cells near the level); only reuse depends on it.
+class CompletenessPrefetch {
+ public:
+  // For level d of `sdf` (kept by reference) and candidates' bands up to band_bound; at most
+  // max_cells cells (about 40 bytes each).
+  CompletenessPrefetch(const SignedDistance& sdf, double d, double band_bound, std::uint64_t max_cells = 16000000);
+  ~CompletenessPrefetch();
+  CompletenessPrefetch(const CompletenessPrefetch&) = delete;
+  CompletenessPrefetch& operator=(const CompletenessPrefetch&) = delete;
+  // Extends the tree until `stop` is set (checked per cell), it is finished, or it is full; on all
+  // threads the caller's arena lends it. Not concurrently with itself or with a search using it.
+  void run(const std::atomic<bool>& stop);
+  std::uint64_t cells() const;  // cells whose facts are known
+  bool finished() const;        // nothing left to expand (or full)
+
+  struct State;
+  std::unique_ptr<State> state;
 };
 
 // " (cell budget reached after N cells)" when the search stopped at its budget, else "": the same

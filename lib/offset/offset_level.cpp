@@ -1,5 +1,8 @@
 #include "offset/offset_level.h"
 
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -31,6 +34,33 @@ std::string num(double x) {
 std::string first_line(const std::string& s) {
   const std::size_t end = s.find_first_of("\r\n");
   return end == std::string::npos ? s : s.substr(0, end);
+}
+
+// Runs `work` (a sequential mesher) on this thread while `prefetch` is extended on threads that
+// would otherwise idle; it stops when the work ends or throws. The prefetch runs in an arena of
+// its own at low priority: threads that the other levels' work needs go there first, and a thread
+// waiting for that work never picks the prefetch up (it would stay in it until this mesher ends).
+// With one thread the prefetch does nothing.
+template <class Work>
+void while_prefetching(CompletenessPrefetch& prefetch, Work&& work) {
+  if (prefetch.finished()) {
+    work();
+    return;
+  }
+  tbb::task_arena arena(tbb::this_task_arena::max_concurrency(), 1, tbb::task_arena::priority::low);
+  std::atomic<bool> stop{false};
+  tbb::task_group group;
+  arena.execute([&] { group.run([&] { prefetch.run(stop); }); });
+  struct Join {
+    tbb::task_arena& arena;
+    std::atomic<bool>& stop;
+    tbb::task_group& group;
+    ~Join() {
+      stop = true;
+      arena.execute([&] { group.wait(); });
+    }
+  } join{arena, stop, group};
+  work();
 }
 
 // Local repair of a candidate whose band misses the tolerance on few faces (refine_offset.h):
@@ -160,7 +190,8 @@ bool add_missed_regions(const SignedDistance& sdf, const FastSignedDistance& fas
                         const std::function<double(const Vec3&)>& f, const Vec3& center, double radius, double d,
                         double tol, const LevelSetMeshOptions& mo, const OffsetOptions& options,
                         std::uint64_t max_evaluations, ValidatedMesh& v, BandResult& band, CompletenessResult& comp,
-                        CompletenessCheckpoint& checkpoint, OffsetLevel& level,
+                        CompletenessCheckpoint& checkpoint, CompletenessPrefetch& prefetch,
+                        const CompletenessOptions& co, OffsetLevel& level,
                         const std::function<void(const std::string&)>& log) {
   // Rings within 8 |s - d| of each missed point: farther sign changes are mostly on components
   // already meshed, which the island's mesher would then mesh again.
@@ -178,7 +209,7 @@ bool add_missed_regions(const SignedDistance& sdf, const FastSignedDistance& fas
   // parallel mode does not survive (a task that throws while holding a cell lock leaves the others
   // waiting for it: the test hung), and an island is too small to share out.
   try {
-    island = mesh_level_set(g, center, radius, seeds, mo);
+    while_prefetching(prefetch, [&] { island = mesh_level_set(g, center, radius, seeds, mo); });
   } catch (const MeshingBudgetSpent&) {
     level.seconds_mesh += t_mesh.seconds();
     log("the missed regions alone: more than " + std::to_string(max_evaluations) +
@@ -229,8 +260,8 @@ bool add_missed_regions(const SignedDistance& sdf, const FastSignedDistance& fas
   // faces are examined again (boeing -20 %: 0.9 s instead of a second search of 17 s).
   Timer t_comp;
   const double eps_c = std::max(merged.epsilon, 1e-9 * sdf.bbox().diagonal());
-  CompletenessResult uc = repaired ? certify_completeness(sdf, uv.mesh, d, eps_c)
-                                   : resume_completeness(sdf, uv.mesh, island, d, eps_c, checkpoint);
+  CompletenessResult uc = repaired ? certify_completeness(sdf, uv.mesh, d, eps_c, co)
+                                   : resume_completeness(sdf, uv.mesh, island, d, eps_c, checkpoint, co);
   level.seconds_completeness += t_comp.seconds();
   level.completeness_cells += uc.cells;
   log(std::string(uc.complete ? "complete" : "NOT complete") + " with the missed regions added (" +
@@ -296,6 +327,12 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
   mo.bisection_relative_error = 1e-6;
   mo.lipschitz = 1.0;  // f = s - d in doubles: 1-Lipschitz up to rounding (the mesher's margin covers it)
   std::vector<Vec3> carried;  // vertices of the last candidate that failed the completeness search
+  // The completeness search's part about F alone, made while the mesher runs (doc/offsets.md, "The
+  // search's part about F ahead"); every search of the level uses it, with the same domain.
+  CompletenessPrefetch prefetch(sdf, d, tol);
+  CompletenessOptions co;
+  co.band_bound = tol;
+  co.prefetch = &prefetch;
   for (int attempt = 1; attempt <= options.max_attempts; ++attempt) {
     level.attempts = attempt;
     level.distance_bound = mo.distance_bound;
@@ -310,8 +347,8 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
       try {
         std::vector<Vec3> all = seeds;
         all.insert(all.end(), carried.begin(), carried.end());
-        mesh = options.parallel_mesher ? mesh_level_set_parallel(f, center, radius, all, mo, &stats)
-                                       : mesh_level_set(f, center, radius, all, mo, &stats);
+        if (options.parallel_mesher) mesh = mesh_level_set_parallel(f, center, radius, all, mo, &stats);
+        else while_prefetching(prefetch, [&] { mesh = mesh_level_set(f, center, radius, all, mo, &stats); });
       } catch (const std::exception& e) {
         // CGAL's mesher refuses some configurations with an assertion (e.g. a refinement point
         // rounded onto a vertex): a failed attempt, not a failed run; the next one meshes finer.
@@ -370,16 +407,17 @@ OffsetLevel compute_offset_level(const SignedDistance& sdf, const MaxPenetration
     const double eps_c = std::max(eps, 1e-9 * diag);
     CompletenessCheckpoint checkpoint;
     CompletenessResult comp =
-        certify_completeness(sdf, v.mesh, d, eps_c, {}, options.mesh_missed_regions_alone ? &checkpoint : nullptr);
+        certify_completeness(sdf, v.mesh, d, eps_c, co, options.mesh_missed_regions_alone ? &checkpoint : nullptr);
     level.seconds_completeness += t_comp.seconds();
     level.completeness_cells += comp.cells;
     log(std::string(comp.complete ? "complete" : "NOT complete") + " (" + std::to_string(comp.cells) + " cells, " +
+        std::to_string(comp.prefetched) + " of them prefetched of " + std::to_string(prefetch.cells()) + ", " +
         std::to_string(comp.missed.size()) + " missed, " + std::to_string(comp.unresolved.size()) + " unresolved) in " +
         num(t_comp.seconds()) + " s");
     const std::uint64_t island_budget = std::max<std::uint64_t>(stats.evaluations / 3, 50000);
     if (!comp.complete && !comp.missed.empty() && !v.mesh.faces.empty() && options.mesh_missed_regions_alone &&
-        add_missed_regions(sdf, fast, f, center, radius, d, tol, mo, options, island_budget, v, band, comp, checkpoint, level,
-                           log))
+        add_missed_regions(sdf, fast, f, center, radius, d, tol, mo, options, island_budget, v, band, comp, checkpoint,
+                           prefetch, co, level, log))
       eps = band.epsilon;
     if (!comp.complete) {
       // The next candidate starts from this one's vertices as well as the seeds: it keeps the parts

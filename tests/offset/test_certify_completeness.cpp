@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <iomanip>
 #include <random>
+#include <thread>
 
 #include "mesh/shapes.h"
 #include "mesh/validate_mesh.h"
@@ -234,6 +236,101 @@ TEST(ResumeCompleteness, AComponentStillMissingIsFound) {
   EXPECT_FALSE(r.resumed.complete);
   ASSERT_FALSE(r.resumed.missed.empty());
   for (const Vec3& x : r.resumed.missed) EXPECT_LT((x - Vec3(0, 0, 5)).norm(), 1.2) << x.transpose();
+}
+
+// The same search, cell for cell, with and without F's facts prefetched (all of them, part, none).
+void expect_same_search(const CompletenessResult& a, const CompletenessResult& b) {
+  EXPECT_EQ(a.complete, b.complete);
+  EXPECT_EQ(a.cells, b.cells);
+  EXPECT_EQ(a.budget_exhausted, b.budget_exhausted);
+  EXPECT_EQ(a.resumed, b.resumed);
+  EXPECT_EQ(a.discarded_volume, b.discarded_volume);
+  ASSERT_EQ(a.missed.size(), b.missed.size());
+  for (std::size_t i = 0; i < a.missed.size(); ++i) EXPECT_EQ(a.missed[i], b.missed[i]);
+  ASSERT_EQ(a.unresolved.size(), b.unresolved.size());
+  for (std::size_t i = 0; i < a.unresolved.size(); ++i) EXPECT_EQ(a.unresolved[i], b.unresolved[i]);
+}
+
+// A search takes F's facts from a prefetch made for its level and gets the same cells, verdicts
+// and results however far the prefetch got: finished, stopped by its budget, stopped at once, or
+// stopped by another thread at an arbitrary cell. Inward and outward levels, complete or not, and a
+// search resumed after the missed part is added. A prefetch for another level is not used.
+TEST(CompletenessPrefetch, TheSearchIsTheSameHoweverFarItGot) {
+  const TriangleMesh two = merge_meshes(make_torus(1.0, 0.4, 32, 16), make_icosphere(0.6, 2, Vec3(6, 0, 0)));
+  const SignedDistance sdf(two);
+  for (double d : {-0.15, 0.2}) {
+    SCOPED_TRACE("d = " + std::to_string(d));
+    const TriangleMesh torus_part = offset_near(sdf, Vec3(1.0, 0, 0), 2.6, d);
+    const TriangleMesh ball_part = offset_near(sdf, Vec3(6, 0, 0), 1.2, d);
+    const double eps = std::max(certify_band(sdf, torus_part, d, BandOptions{}).epsilon,
+                                certify_band(sdf, ball_part, d, BandOptions{}).epsilon);
+    const TriangleMesh both = merge_meshes(torus_part, ball_part);
+    CompletenessOptions o;
+    o.band_bound = 2.0 * eps;
+    CompletenessCheckpoint cp_plain;
+    const CompletenessResult plain_first = certify_completeness(sdf, torus_part, d, eps, o, &cp_plain);
+    const CompletenessResult plain = certify_completeness(sdf, both, d, eps, o);
+    const CompletenessResult plain_resumed = resume_completeness(sdf, both, ball_part, d, eps, cp_plain, o);
+    ASSERT_FALSE(plain_first.complete);
+    ASSERT_TRUE(plain.complete);
+    ASSERT_TRUE(plain_resumed.complete);
+    EXPECT_EQ(plain.prefetched, 0u);
+    std::atomic<bool> stop{false};
+    for (int how = 0; how < 4; ++how) {
+      SCOPED_TRACE("prefetch " + std::to_string(how));
+      CompletenessPrefetch prefetch(sdf, d, o.band_bound, how == 1 ? 3000 : 8000000);
+      if (how == 0 || how == 1) {
+        prefetch.run(stop);
+        EXPECT_TRUE(prefetch.finished());
+      } else if (how == 3) {
+        std::atomic<bool> stop_soon{false};
+        std::thread stopper([&] {
+          std::this_thread::sleep_for(std::chrono::milliseconds(3));
+          stop_soon = true;
+        });
+        prefetch.run(stop_soon);
+        stopper.join();
+      }
+      CompletenessOptions with = o;
+      with.prefetch = &prefetch;
+      CompletenessCheckpoint cp;
+      const CompletenessResult first = certify_completeness(sdf, torus_part, d, eps, with, &cp);
+      const CompletenessResult whole = certify_completeness(sdf, both, d, eps, with);
+      const CompletenessResult resumed = resume_completeness(sdf, both, ball_part, d, eps, cp, with);
+      expect_same_search(first, plain_first);
+      expect_same_search(whole, plain);
+      expect_same_search(resumed, plain_resumed);
+      if (how == 0) {
+        // Most cells' facts came from it, not all: the search splits cells next to S_d that the
+        // prefetch could not know to expand.
+        EXPECT_GT(whole.prefetched, whole.cells / 2) << whole.prefetched << " of " << whole.cells;
+        std::printf("d %g: prefetch %llu cells, the search %llu of %llu from it\n", d,
+                    static_cast<unsigned long long>(prefetch.cells()), static_cast<unsigned long long>(whole.prefetched),
+                    static_cast<unsigned long long>(whole.cells));
+      }
+      if (how == 2) {
+        EXPECT_EQ(whole.prefetched, 0u);
+      }
+      // Resumed with another prefetch of the level (smaller: the first one's node numbers mean
+      // nothing in it) or with none: the same search.
+      for (int resume_with = 0; resume_with < 2; ++resume_with) {
+        CompletenessPrefetch small(sdf, d, o.band_bound, 3000);
+        small.run(stop);
+        CompletenessOptions other_options = o;
+        if (resume_with == 0) other_options.prefetch = &small;
+        CompletenessCheckpoint again;
+        certify_completeness(sdf, torus_part, d, eps, with, &again);
+        expect_same_search(resume_completeness(sdf, both, ball_part, d, eps, again, other_options), plain_resumed);
+      }
+      // Another level's prefetch is not used.
+      CompletenessPrefetch other(sdf, 0.9 * d, o.band_bound);
+      other.run(stop);
+      with.prefetch = &other;
+      const CompletenessResult not_used = certify_completeness(sdf, both, d, eps, with);
+      EXPECT_EQ(not_used.prefetched, 0u);
+      expect_same_search(not_used, plain);
+    }
+  }
 }
 
 // A hollow ball (outer radius `outer`, a cavity of radius 0.5 about `at`), for both sides searched.

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <random>
@@ -219,6 +220,28 @@ TEST(OffsetLevel, AMissedIslandIsAddedToTheCandidate) {
   EXPECT_TRUE(l.complete);
   EXPECT_LE(l.epsilon, o.tolerance_relative * s.sdf.bbox().diagonal());
   expect_band_holds(s, l);
+}
+
+// A level is the same on one thread and on several: while the mesher runs on one, the others
+// prefetch the completeness search's facts about F (offset_level.cpp, while_prefetching), which
+// the searches then take instead of computing them; the searches' cells and the mesh are the same
+// (here with a missed island meshed alone and the search resumed, both also prefetched during).
+TEST(OffsetLevel, TheSameOnOneThreadAndOnSeveral) {
+  const ValidatedMesh dumbbell = dumbbell_solid(0.6, 3.0, 2.7);
+  ASSERT_TRUE(dumbbell.report.valid());
+  const Solid s(dumbbell.mesh);
+  OffsetLevel one, several;
+  tbb::task_arena(1).execute([&] { one = compute_offset_level(s.sdf, s.mp, -0.4, coarse()); });
+  tbb::task_arena(std::max(2, tbb::this_task_arena::max_concurrency())).execute([&] {
+    several = compute_offset_level(s.sdf, s.mp, -0.4, coarse());
+  });
+  ASSERT_EQ(one.status, OffsetStatus::Certified) << one.message;
+  EXPECT_EQ(several.status, one.status);
+  EXPECT_EQ(several.attempts, one.attempts);
+  EXPECT_EQ(several.completeness_cells, one.completeness_cells);
+  EXPECT_EQ(several.epsilon, one.epsilon);
+  EXPECT_TRUE(several.mesh.vertices == one.mesh.vertices);
+  EXPECT_TRUE(several.mesh.faces == one.mesh.faces);
 }
 
 // A coarse first candidate (distance bound 3x the tolerance) misses the band on some faces; the
