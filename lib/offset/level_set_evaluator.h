@@ -5,25 +5,54 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <functional>
-#include <unordered_map>
+#include <limits>
 #include <vector>
 
 #include "offset/mesh_level_set.h"
 
 namespace cdbench::detail {
 
-// CGAL's oracle evaluates many points more than once (about 40 % of the calls on armadillo
-// offsets: shared segment endpoints), so values are cached by exact coordinates, in each Evaluator
-// (one per mesher call, and per thread for Mesh_3 in parallel mode).
-struct PointHash {
-  std::size_t operator()(const std::array<double, 3>& p) const {
-    std::size_t h = 1469598103934665603ull;
-    for (double x : p) h = (h ^ std::hash<double>()(x)) * 1099511628211ull;
-    return h;
+// CGAL's oracle evaluates many points more than once (shared segment endpoints, mostly soon after
+// each other), so recent values are kept by exact coordinates, in each Evaluator (one per mesher
+// call, and per thread for Mesh_3 in parallel mode): a direct-mapped table of 2^18 entries (8 MB),
+// a newer point replacing an older one in its slot. f depends on the point alone, so what the
+// table forgets only costs an evaluation: the values, hence the meshes, are those of a cache that
+// forgets nothing. (An unordered_map of every value was a fifth of Surface_mesher's time on boeing
+// -20 %, its lookups cache misses; doc/offsets.md, "The mesher's value cache, direct-mapped".)
+class RecentValues {
+ public:
+  RecentValues() : table_(std::size_t{1} << kLog2, Entry{kEmpty, 0.0, 0.0, 0.0}) {}
+  bool find(const Vec3& p, double& value) const {
+    const Entry& e = table_[slot(p)];
+    if (!(e.x == p.x() && e.y == p.y() && e.z == p.z())) return false;  // an empty slot's NaN never matches
+    value = e.value;
+    return true;
   }
+  void put(const Vec3& p, double value) { table_[slot(p)] = Entry{p.x(), p.y(), p.z(), value}; }
+
+ private:
+  static constexpr int kLog2 = 18;
+  static constexpr double kEmpty = std::numeric_limits<double>::quiet_NaN();
+  struct Entry {
+    double x, y, z, value;
+  };
+  static std::uint64_t bits(double x) {
+    x += 0.0;  // -0 and +0 compare equal: one slot for both
+    std::uint64_t b;
+    std::memcpy(&b, &x, sizeof b);
+    return b;
+  }
+  std::size_t slot(const Vec3& p) const {
+    std::uint64_t h = bits(p.x()) * 0x9E3779B97F4A7C15ull;
+    h = (h ^ bits(p.y())) * 0xC2B2AE3D27D4EB4Full;
+    h = (h ^ bits(p.z())) * 0x165667B19E3779F9ull;
+    return static_cast<std::size_t>((h ^ (h >> 31)) >> (64 - kLog2));
+  }
+  std::vector<Entry> table_;
 };
-using Cache = std::unordered_map<std::array<double, 3>, double, PointHash>;
 
 // The oracle uses only the sign of f (Implicit_surface_oracle_3 applies Sgn). During a bisection
 // the segment's ends were just evaluated, so a midpoint within |f(q)| / L of such a point q has
@@ -37,7 +66,7 @@ struct Evaluator {
   const std::function<double(const Vec3&)>* f;
   double lipschitz;
   double margin;  // absolute, on top of the rounding relative to the magnitudes (below)
-  Cache cache;
+  RecentValues cache;
   struct Known {
     Vec3 p;
     double value;
@@ -73,16 +102,11 @@ struct Evaluator {
         return bound;
       }
     }
-    const std::array<double, 3> key{p.x(), p.y(), p.z()};
-    const auto it = cache.find(key);
     double value;
-    if (it != cache.end()) {
-      value = it->second;
-    } else {
-      if (cache.size() > 20000000) cache.clear();  // bound the memory (about 1.5 GB at most)
+    if (!cache.find(p, value)) {
       value = (*f)(p);
       ++stats.evaluations;
-      cache.emplace(key, value);
+      cache.put(p, value);
     }
     remember(p, value);
     return value;
