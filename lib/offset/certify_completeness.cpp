@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <new>
 #include <set>
 
 #include "distance/point_triangle_distance.h"
@@ -495,7 +496,12 @@ CompletenessPrefetch::CompletenessPrefetch(const SignedDistance& sdf, double d, 
     s.done = s.full = true;
     return;
   }
-  s.nodes.reserve(s.max_cells);  // address space only until used; never moved
+  try {
+    s.nodes.reserve(s.max_cells);  // address space only until used; never moved
+  } catch (const std::bad_alloc&) {  // no address space for it: no prefetch
+    s.done = s.full = true;
+    return;
+  }
   s.nodes.resize(roots);
 }
 

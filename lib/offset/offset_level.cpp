@@ -50,7 +50,16 @@ void while_prefetching(CompletenessPrefetch& prefetch, Work&& work) {
   tbb::task_arena arena(tbb::this_task_arena::max_concurrency(), 1, tbb::task_arena::priority::low);
   std::atomic<bool> stop{false};
   tbb::task_group group;
-  arena.execute([&] { group.run([&] { prefetch.run(stop); }); });
+  // A prefetch that fails (out of memory) leaves facts that are known or not, never half known:
+  // the searches compute the rest. It must not throw from the wait below, in a destructor.
+  arena.execute([&] {
+    group.run([&] {
+      try {
+        prefetch.run(stop);
+      } catch (...) {
+      }
+    });
+  });
   struct Join {
     tbb::task_arena& arena;
     std::atomic<bool>& stop;
