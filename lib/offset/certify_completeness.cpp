@@ -376,6 +376,23 @@ void f_facts(const SignedDistance& sdf, const Cell& cell, const Vec3& c, FNode& 
   n.side = static_cast<std::int8_t>(cell.same_f ? cell.ref_side_f : sdf.side(c, n.du, cell.ref, cell.ref_side_f));
 }
 
+// What a cell's children need from its facts about F (r: its covering radius); the sides of S_d
+// are the search's to add.
+CellSides sides_from(const FNode& n, double r) {
+  CellSides sides;
+  sides.f = n.side;
+  sides.off_f = n.du.lo > r;
+  sides.nearest = static_cast<std::int32_t>(n.nearest);
+  sides.children = n.children;
+  return sides;
+}
+
+// Rule (1) for the sides searched: s over the cell, [s_min, s_max], stays within the band about d.
+// (need_min, need_max: minima in A searched, maxima in B.)
+bool within_band(bool need_min, bool need_max, double d, double band, double s_min, double s_max) {
+  return (!need_min || s_min >= d - band) && (!need_max || s_max <= d + band);
+}
+
 // Rule (3): s has no extremum in the cell (s = `s` at its centre c, r its covering radius): it
 // avoids the surface, where s is not smooth, and s increases along a proven direction.
 bool no_extremum(const SignedDistance& sdf, const Cell& cell, const Vec3& c, double r, const Interval& s,
@@ -398,15 +415,12 @@ Verdict classify(const SearchSetup& st, const Cell& cell, CellSides& sides, std:
   const FNode& ff = known ? *known : computed;
   const Interval du = ff.du;
   const int sf = ff.side;
-  sides.nearest = static_cast<std::int32_t>(ff.nearest);
-  sides.children = known ? known->children : -1;
+  sides = sides_from(ff, r);
   sides.prefetched = known != nullptr;
-  sides.f = ff.side;
-  sides.off_f = du.lo > r;
   const Interval s = with_side(du, sf);
   const double s_min = s.lo - r, s_max = s.hi + r;  // s over the cell (1-Lipschitz)
   // (1) the cell holds no point of A = {s < d - eps} nor of B = {s > d + eps} (of those searched).
-  if ((!st.need_min || s_min >= d - eps) && (!st.need_max || s_max <= d + eps)) return Verdict::Discard;
+  if (within_band(st.need_min, st.need_max, d, eps, s_min, s_max)) return Verdict::Discard;
   // (2) the cell misses S_d: all of it is on one side of S_d. A lower bound of dist(c, S_d) that
   // stops below r suffices (no nearest triangle needed: far cheaper on a large S_d).
   const double to_surface = !st.surface ? kInf : st.surface->distance_lower(c, 2.0 * r, r);
@@ -524,21 +538,11 @@ void prefetch_cell(const CompletenessPrefetch::State& st, const Cell& cell, FNod
   n.known = true;
   const Interval s = with_side(n.du, n.side);
   const double d = st.d, band = st.band_bound;
-  if ((!st.need_min || s.lo - r >= d - band) && (!st.need_max || s.hi + r <= d + band)) return;
+  if (within_band(st.need_min, st.need_max, d, band, s.lo - r, s.hi + r)) return;
   if (!(s.lo - r <= d + 0.25 * band && s.hi + r >= d - 0.25 * band)) return;
   n.ncp = no_extremum(*st.sdf, cell, c, r, s, ids) ? 1 : 2;
   if (n.ncp == 1 || (cell.hi - cell.lo).maxCoeff() < st.min_size) return;
   n.expand = true;
-}
-
-// What split_cell needs from a prefetched cell (its facts known) for its children.
-CellSides children_sides(const Cell& cell, const FNode& n) {
-  CellSides sides;
-  sides.f = n.side;
-  sides.off_f = n.du.lo > covering_radius(cell, 0.5 * (cell.lo + cell.hi));
-  sides.nearest = static_cast<std::int32_t>(n.nearest);
-  sides.children = n.children;
-  return sides;
 }
 
 // The cell of tree node `node`, made from its root by the search's splits (a node keeps no box: a
@@ -552,7 +556,10 @@ Cell cell_of(const CompletenessPrefetch::State& s, const std::vector<Cell>& root
     node = parent;
   }
   Cell cell = roots[node];
-  while (depth > 0) cell = child_cell(cell, children_sides(cell, s.nodes[cell.node]), path[--depth]);
+  while (depth > 0) {
+    const CellSides sides = sides_from(s.nodes[cell.node], covering_radius(cell, 0.5 * (cell.lo + cell.hi)));
+    cell = child_cell(cell, sides, path[--depth]);
+  }
   return cell;
 }
 
