@@ -142,6 +142,17 @@ bool point_on_level_near(const FastSignedDistance& fast, double d, const Vec3& x
   return false;
 }
 
+bool point_on_level_close(const FastSignedDistance& fast, double d, const Vec3& x, Vec3& on, int max_doublings) {
+  if (point_on_level_near(fast, d, x, on)) return true;
+  std::vector<Vec3> ring;
+  points_on_level_around(fast, d, x, ring, max_doublings);
+  if (ring.empty()) return false;
+  // The first of equally near points, so that the choice does not depend on anything but x.
+  on = *std::min_element(ring.begin(), ring.end(),
+                         [&](const Vec3& p, const Vec3& q) { return (p - x).squaredNorm() < (q - x).squaredNorm(); });
+  return true;
+}
+
 bool point_on_level_along(const FastSignedDistance& fast, double d, const Vec3& x, const Vec3& u, double max_length,
                           Vec3& on) {
   const double fx = fast(x) - d;

@@ -31,6 +31,12 @@ class FastSignedDistance {
 // candidates). False when the three overshoots do not change the sign.
 bool point_on_level_near(const FastSignedDistance& fast, double d, const Vec3& x, Vec3& on);
 
+// point_on_level_near, or where its overshoots along the gradient all miss the level set (beside a
+// sharp crease of an inward level, where the gradient points past the crease), the nearest to x of
+// points_on_level_around's points within 2^max_doublings |fast(x) - d| (uncertified; new vertices of
+// repaired candidates). False when neither finds a point.
+bool point_on_level_close(const FastSignedDistance& fast, double d, const Vec3& x, Vec3& on, int max_doublings = 4);
+
 // The first point of {fast = d} along the ray from x in the unit direction u, within `max_length`:
 // steps of 1.5 |fast - d| (fast is 1-Lipschitz: a step of |fast - d| cannot cross the level set,
 // so only a sheet thinner than half a step can be passed over), then bisection to the last double

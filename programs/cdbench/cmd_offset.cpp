@@ -129,7 +129,7 @@ void register_offset(CLI::App& app, int& exit_code) {
                   "the mesher's first distance bound as a fraction of the tolerance (re-meshes use 0.7x the "
                   "last one); larger gives coarser candidates, whose few faces outside the band are split locally")
       ->capture_default_str()
-      ->check(CLI::Range(0.01, 1.0));
+      ->check(CLI::Range(0.01, 4.0));
   cmd->add_option("--max-penetration-tolerance", opt->max_penetration_tolerance,
                   "width of the max-penetration interval relative to the diagonal")
       ->capture_default_str()

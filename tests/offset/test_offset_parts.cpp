@@ -204,6 +204,30 @@ TEST(FastSignedDistance, PointsAlongARayReachTheSheetInFront) {
   EXPECT_FALSE(point_on_level_along(fast, d, x, Vec3(0.0, 0.0, 1.0), 0.005, along));
 }
 
+// A new vertex of a repaired candidate beside a sharp crease of an inward level: the gradient
+// points at F's nearest face, past the crease, so the Newton overshoots never change sign; the
+// search all around the point finds the level (pinion -20 %: vertices left 1.1 tolerances off it).
+TEST(FastSignedDistance, PointsBesideACreaseReachTheLevel) {
+  const SignedDistance sdf(make_box(Vec3(-1.0, -1.0, -1.0), Vec3(1.0, 1.0, 1.0)));
+  const FastSignedDistance fast(sdf);
+  const double d = -0.5;  // the cube [-0.5, 0.5]^3, its edges creases
+  const Vec3 x(0.6, 0.6, 0.05);  // s = -0.4, nearest to the faces x = 1 and y = 1 alike
+  ASSERT_NEAR(fast(x) - d, 0.1, 1e-12);
+  Vec3 on;
+  EXPECT_FALSE(point_on_level_near(fast, d, x, on));
+  ASSERT_TRUE(point_on_level_close(fast, d, x, on));
+  EXPECT_NEAR(fast(on), d, 1e-12);
+  EXPECT_LE((on - x).norm(), 0.2);  // the crease is 0.1414 away; a point on a diagonal ray 0.1732
+  // Where the gradient's overshoot works, the same point as point_on_level_near.
+  const Vec3 y(0.2, 0.1, 0.05);
+  Vec3 near, close;
+  ASSERT_TRUE(point_on_level_near(fast, d, y, near));
+  ASSERT_TRUE(point_on_level_close(fast, d, y, close));
+  EXPECT_EQ(near, close);
+  // Nothing within reach: no point.
+  EXPECT_FALSE(point_on_level_close(fast, -2.0, Vec3(0.0, 0.0, 0.0), on, 1));
+}
+
 TEST(MeshLevelSet, SphereOffsetsAreValidAndNearTheLevel) {
   const TriangleMesh sphere = make_icosphere(1.0, 2);
   const SignedDistance sdf(sphere);
