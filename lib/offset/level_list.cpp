@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "util/error.h"
+#include "util/number_format.h"
 
 namespace cdbench {
 namespace {
@@ -85,6 +86,34 @@ double max_penetration_tolerance_for(const std::vector<LevelSpec>& levels, doubl
   for (const LevelSpec& l : levels)
     if (l.percent) p = std::max(p, std::abs(l.value) / 100.0);
   return std::max(floor, p > 0.0 ? tolerance / p : kReportedMaxPenetrationWidth);
+}
+
+void check_level_reach(const LevelSpec& level, double d, double diagonal) {
+  if (std::abs(d) <= kMaxLevelDiagonals * diagonal) return;
+  throw InputError("--levels: level '" + level.text + "' lies " + number_text(std::abs(d) / diagonal, 3) +
+                   " diagonals from the surface; levels up to " + number_text(kMaxLevelDiagonals) +
+                   " diagonals away (|d| <= " + number_text(kMaxLevelDiagonals * diagonal, 6) +
+                   " here) are placed: farther ones cost ever more to certify, and from about 1e7 diagonals "
+                   "doubles cannot hold them to the tolerance");
+}
+
+double estimated_offset_faces(double d, double diagonal, double radius_relative) {
+  const double r = radius_relative * diagonal, reach = 0.5 * diagonal + std::max(d, 0.0);
+  return 4.0 * M_PI * reach * reach / (r * r);
+}
+
+void check_offset_level_size(const std::string& name, double d, double diagonal, double radius_relative) {
+  if (!(d > 0.0)) return;  // inward levels lie inside F: the estimate is of outward ones
+  const double faces = estimated_offset_faces(d, diagonal, radius_relative);
+  if (faces <= kMaxOffsetFaces) return;
+  const double r = radius_relative * diagonal;
+  const double farthest = r * std::sqrt(kMaxOffsetFaces / (4.0 * M_PI)) - 0.5 * diagonal;
+  throw InputError("--levels: the offset at level '" + name + "' (d = " + number_text(d, 6) + ") would need about " +
+                   number_text(faces, 2) + " faces at the mesher's facet size " + number_text(r, 3) +
+                   " (--mesher-radius " + number_text(radius_relative) + " x diagonal); at most " +
+                   number_text(kMaxOffsetFaces) + " are meshed" +
+                   (farthest > 0.0 ? " (levels up to d = " + number_text(farthest, 4) + " here)" : std::string()) +
+                   ": raise --mesher-radius or choose a nearer level");
 }
 
 void check_distinct_levels(const std::vector<LevelSpec>& levels) {

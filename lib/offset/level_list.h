@@ -31,4 +31,22 @@ double level_distance(const LevelSpec& level, double max_penetration);
 constexpr double kReportedMaxPenetrationWidth = 1e-4;
 double max_penetration_tolerance_for(const std::vector<LevelSpec>& levels, double tolerance, double floor);
 
+// How far from the surface a pose set's level may lie: |d| <= kMaxLevelDiagonals x diagonal.
+// Farther away every triangle pair is at nearly the same distance and a certificate costs ever more
+// (knot1, two poses: d = 1e5 (68,000 diagonals) 0.1 s, 1e6 4 s, 1e7 34 s, 1e12 not done in 2
+// minutes), and near 2^44 tolerances doubles no longer hold the target to the tolerance. Throws an
+// InputError naming the level.
+constexpr double kMaxLevelDiagonals = 1e4;
+void check_level_reach(const LevelSpec& level, double d, double diagonal);
+
+// Whether an offset level can be meshed: an outward level set lies in the ball of radius R + d
+// about the box's centre (R: half the diagonal), and far out it is nearly that ball's sphere, which
+// the mesher covers with facets of Delaunay radius at most r (--mesher-radius x diagonal): about
+// 4 pi (R + d)^2 / r^2 faces (knot1: 176,000 estimated, 170,172 meshed at d = 1; 818,000 and
+// 958,956 at d = 3, 183 s and 1.3 GB). Levels estimated above kMaxOffsetFaces are refused with an
+// InputError that names the level, the estimate and the farthest level that fits.
+constexpr double kMaxOffsetFaces = 5e6;
+double estimated_offset_faces(double d, double diagonal, double radius_relative);
+void check_offset_level_size(const std::string& name, double d, double diagonal, double radius_relative);
+
 }  // namespace cdbench

@@ -160,6 +160,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   bool near_surface_starts = false;
   for (std::size_t l = 0; l < L; ++l) {
     targets[l] = level_distance(specs[l], mp.depth.lo);
+    check_level_reach(specs[l], targets[l], diag);
     start[l] = planned_start(targets[l], polish, opt.start, band);
     swept[l] = start[l] == PoseStart::Offset && polish ? targets[l] + 2.0 * band : targets[l];
     if (opt.start == StartPolicy::Offsets && polish && targets[l] < 0.0 && start[l] == PoseStart::Surface) {

@@ -61,4 +61,19 @@ r = list(csv.DictReader(open(sys.argv[1])))[0]
 assert r["status"] == "uncertified:tolerance-not-reached" and float(r["clearance_lo"]) <= 0 <= float(r["clearance_hi"]), r
 PY
 echo "coincident meshes: [$(sed -n 2p "$work/s/poses.csv" | cut -d, -f19,20)] holds 0, tolerance not reached (exit 1)"
+# Levels too far out: a clear error (exit 2) before any work, instead of hours (offsets) or
+# certificates that doubles cannot finish (poses at 1e12 diagonals).
+far_error() {  # expected message, then the command's arguments
+  local want=$1
+  shift
+  set +e
+  "$cdbench" "$@" > "$work/far.txt" 2>&1
+  local rc=$?
+  set -e
+  [ "$rc" -eq 2 ] && grep -qF -- "$want" "$work/far.txt" || { cat "$work/far.txt"; fail "far level: $*: exit $rc"; }
+  [ ! -e "$work/far/poses.csv" ] && [ ! -e "$work/far/manifest.json" ] || fail "far level: $*: files written"
+}
+far_error "diagonals from the surface" poses "$meshes/sphere.off" --levels=0,1e12 --directions 2 --orientations 1 -o "$work/far"
+far_error "raise --mesher-radius" offset "$meshes/sphere.off" --levels=-20%,1000 -o "$work/far"
+echo "far levels: clear errors, nothing written"
 echo "extreme: all checks passed"

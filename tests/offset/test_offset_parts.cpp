@@ -16,6 +16,7 @@
 #include "offset/refine_offset.h"
 #include "test_scale.h"
 #include "util/error.h"
+#include "util/number_format.h"
 
 namespace cdbench {
 namespace {
@@ -63,6 +64,37 @@ TEST(LevelList, AtMost10000LevelsInAll) {
   EXPECT_EQ(parse_level_list(ten).size(), 1001u);
   for (int i = 0; i < 9; ++i) ten += ",0:1:0.001";
   EXPECT_THROW(parse_level_list(ten), InputError);  // 10,010 levels
+}
+
+TEST(LevelList, FarLevelsAreRefusedWithTheLimitNamed) {
+  const LevelSpec near{5.0, false, "5"}, far{1e12, false, "1e12"};
+  EXPECT_NO_THROW(check_level_reach(near, 5.0, 2.0));
+  EXPECT_NO_THROW(check_level_reach(near, -0.99 * kMaxLevelDiagonals * 2.0, 2.0));
+  try {
+    check_level_reach(far, 1e12, 2.0);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'1e12' lies 5e+11 diagonals"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("|d| <= 20000 here"), std::string::npos) << e.what();
+  }
+  // The offset's face estimate: a sphere of radius R + d covered by facets of radius r.
+  EXPECT_NEAR(estimated_offset_faces(1.0, 2.0, 0.01), 4.0 * M_PI * 4.0 / 4e-4, 1e-6);
+  EXPECT_NEAR(estimated_offset_faces(-1.0, 2.0, 0.01), 4.0 * M_PI * 1.0 / 4e-4, 1e-6);
+  EXPECT_NO_THROW(check_offset_level_size("1", 1.0, 2.0, 0.01));
+  EXPECT_NO_THROW(check_offset_level_size("-1", -1.0, 2.0, 1e-4));  // inward: not estimated
+  try {
+    check_offset_level_size("100", 100.0, 2.0, 0.01);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("level '100'"), std::string::npos) << m;
+    EXPECT_NE(m.find("--mesher-radius"), std::string::npos) << m;
+    // The farthest level that fits, and it does fit.
+    const double farthest = 0.02 * std::sqrt(kMaxOffsetFaces / (4.0 * M_PI)) - 1.0;
+    EXPECT_NE(m.find("up to d = " + number_text(farthest, 4)), std::string::npos) << m;
+    EXPECT_NO_THROW(check_offset_level_size("f", farthest * (1 - 1e-9), 2.0, 0.01));
+    EXPECT_THROW(check_offset_level_size("f", farthest * (1 + 1e-6), 2.0, 0.01), InputError);
+  }
 }
 
 TEST(OffsetManifest, ReusableEntriesOnlyFromAWellFormedManifest) {
