@@ -85,6 +85,16 @@ CheckedOptions check_options(const PoseSetRequest& opt) {
   check_distinct_levels(c.specs);
   if (opt.parallel_mesher && opt.start != StartPolicy::Offsets && !opt.no_polish)
     throw InputError("--parallel-mesher: offsets are meshed only with --start offset (or --no-polish)");
+  // A run keeps its shard's rows in memory (about half a kilobyte each) until poses.csv is written:
+  // a request far beyond that is an error now rather than an out-of-memory stop after the setup.
+  const double approaches = static_cast<double>(opt.directions) * static_cast<double>(opt.orientations);
+  const double poses = std::ceil(approaches / static_cast<double>(c.shard.count)) * static_cast<double>(c.specs.size());
+  if (poses > kMaxPosesPerRun)
+    throw InputError("the request has " + number_text(poses, 3) + " poses per shard (" + std::to_string(opt.directions) +
+                     " directions x " + std::to_string(opt.orientations) + " orientations x " +
+                     std::to_string(c.specs.size()) + " levels / " + std::to_string(c.shard.count) +
+                     " shards); at most " + number_text(kMaxPosesPerRun) +
+                     " per run: split it into more shards (--shard I/N, then cdbench merge) or ask for fewer");
   return c;
 }
 

@@ -13,6 +13,10 @@
 
 namespace cdbench {
 
+// The most poses one run (one shard) computes: its rows stay in memory until poses.csv is written
+// (about 0.8 KB each with their parsed copy; doc/poses.md).
+constexpr double kMaxPosesPerRun = 1e7;
+
 struct PoseSetRequest {
   MeshSource fixed;  // a valid closed solid
   MeshSource mover;  // empty path: the fixed mesh is the mover

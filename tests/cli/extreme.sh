@@ -75,5 +75,6 @@ far_error() {  # expected message, then the command's arguments
 }
 far_error "diagonals from the surface" poses "$meshes/sphere.off" --levels=0,1e12 --directions 2 --orientations 1 -o "$work/far"
 far_error "raise --mesher-radius" offset "$meshes/sphere.off" --levels=-20%,1000 -o "$work/far"
-echo "far levels: clear errors, nothing written"
+far_error "split it into more shards" poses "$meshes/sphere.off" --levels=0 --directions 10000000 --orientations 1000000 -o "$work/far"
+echo "far levels and oversized requests: clear errors, nothing written"
 echo "extreme: all checks passed"

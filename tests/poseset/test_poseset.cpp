@@ -371,5 +371,30 @@ TEST(BuildPoseset, TargetsNearTheSurfaceStartAtTheSurfaceWithoutAnOffset) {
   }
 }
 
+
+// A request whose rows could not be held in memory is refused before any work, per shard.
+TEST(BuildPoseset, RequestsBeyondAMemoryOfRowsAreRefusedPerShard) {
+  PoseSetRequest r;
+  r.levels = "-10%,0,10%";
+  r.directions = 10000000;
+  r.orientations = 10;
+  try {
+    check_poseset_request(r);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("3e+08 poses per shard"), std::string::npos) << m;
+    EXPECT_NE(m.find("--shard"), std::string::npos) << m;
+  }
+  r.shard = "3/31";  // at most 3,225,807 approaches, 9,677,421 poses in a shard
+  EXPECT_NO_THROW(check_poseset_request(r));
+  r.shard = "3/30";  // up to 3,333,334 approaches: 10,000,002 poses
+  EXPECT_THROW(check_poseset_request(r), InputError);
+  r.shard = "0/1";
+  r.directions = 1000;
+  EXPECT_NO_THROW(check_poseset_request(r));
+}
+
 }  // namespace
 }  // namespace cdbench
+
