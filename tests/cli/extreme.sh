@@ -77,4 +77,23 @@ far_error "diagonals from the surface" poses "$meshes/sphere.off" --levels=0,1e1
 far_error "raise --mesher-radius" offset "$meshes/sphere.off" --levels=-20%,1000 -o "$work/far"
 far_error "split it into more shards" poses "$meshes/sphere.off" --levels=0 --directions 10000000 --orientations 1000000 -o "$work/far"
 echo "far levels and oversized requests: clear errors, nothing written"
+
+# A user's pose far out: rigorous but wider than the tolerance (doubles near 1e20 are 16384 apart),
+# so not certified; beyond the supported range (1e40) an error naming the line.
+printf 'pose,qw,qx,qy,qz,tx,ty,tz\n0,1,0,0,0,1e20,0,0\n1,1,0,0,0,3,0,0\n' > "$work/far.csv"
+set +e
+"$cdbench" certify "$meshes/sphere.off" "$work/far.csv" -o "$work/fc" > "$work/fc.txt" 2>&1
+rc=$?
+set -e
+[ "$rc" -eq 1 ] || { cat "$work/fc.txt"; fail "far pose: exit $rc"; }
+python3 - "$work/fc/poses.csv" <<'PY' || fail "far pose: statuses"
+import csv, sys
+r = {int(x["pose"]): x for x in csv.DictReader(open(sys.argv[1]))}
+assert r[0]["status"] == "uncertified:tolerance-not-reached", r[0]
+assert float(r[0]["clearance_lo"]) <= 1e20 - 1 <= float(r[0]["clearance_hi"]), r[0]
+assert r[1]["status"] == "certified", r[1]
+PY
+printf 'pose,qw,qx,qy,qz,tx,ty,tz\n0,1,0,0,0,1e155,0,0\n' > "$work/far2.csv"
+far_error "far2.csv:2: the translation (1e+155, 0, 0) is outside the supported range" certify "$meshes/sphere.off" "$work/far2.csv" -o "$work/far"
+echo "far user poses: wider than the tolerance is not certified; out of range is an error"
 echo "extreme: all checks passed"

@@ -93,6 +93,7 @@ TEST(UserPoses, EveryErrorNamesItsLine) {
       {m + ok + "-1,1,0,0,0,1,0,0,0,1,0,0,0\n", "p.csv:3: column pose is not a non-negative integer"},
       {m + ok + "1,1,0,0,2,0,0,0,0,1,0,0,0\n", "p.csv:3: the rotation matrix is singular"},
       {"pose,qw,qx,qy,qz,tx,ty,tz\n0,0,0,0,0,1,2,3\n", "p.csv:2: the quaternion (qw,qx,qy,qz) is zero"},
+      {m + ok + "1,1,0,0,0,1,0,0,0,1,0,-2e40,0\n", "p.csv:3: the translation (0, -2e+40, 0) is outside the supported range"},
   };
   for (const Case& c : cases) {
     const std::string e = error_of([&] { parse(c.text); });
