@@ -85,7 +85,7 @@ CheckedOptions check_options(const PoseSetRequest& opt) {
   check_distinct_levels(c.specs);
   if (opt.parallel_mesher && opt.start != StartPolicy::Offsets && !opt.no_polish)
     throw InputError("--parallel-mesher: offsets are meshed only with --start offset (or --no-polish)");
-  // A run keeps its shard's rows in memory (about half a kilobyte each) until poses.csv is written:
+  // A run keeps its shard's rows in memory (about 0.87 KB each) until poses.csv is written:
   // a request far beyond that is an error now rather than an out-of-memory stop after the setup.
   const double approaches = static_cast<double>(opt.directions) * static_cast<double>(opt.orientations);
   const double poses = std::ceil(approaches / static_cast<double>(c.shard.count)) * static_cast<double>(c.specs.size());

@@ -46,7 +46,6 @@ bool within_tolerance(const ClearanceResult& c, double tolerance) {
          hi - lo <= (tolerance + 4.0 * c.transform_error) * (1.0 + 1e-12);
 }
 
-
 // Levels of the bundle: the file's `level` column, else its distinct targets, else one level.
 // Returns each pose's level index.
 std::vector<int> assign_levels(const UserPoseFile& file, std::vector<LevelRecord>* levels) {
