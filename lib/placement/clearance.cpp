@@ -984,6 +984,12 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   return r;
 }
 
+bool reaches_tolerance(const ClearanceResult& c, double tolerance) {
+  const double lo = c.clearance.lo, hi = c.clearance.hi;
+  return c.tolerance_reached && std::isfinite(lo) && std::isfinite(hi) &&
+         hi - lo <= (tolerance + 4.0 * c.transform_error) * (1.0 + 1e-12);
+}
+
 std::shared_ptr<const SupportPlanes> support_planes_for(const TriangleMesh& fixed, const TriangleMesh& mover) {
   constexpr std::size_t kMaxPlanes = 64;
   if (mover.faces.empty()) return nullptr;

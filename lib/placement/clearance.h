@@ -113,6 +113,12 @@ struct ClearanceResult {
   std::int64_t nearest_pair_fixed = -1, nearest_pair_mover = -1;
 };
 
+// Whether a certificate of a given pose settles its clearance to `tolerance`: the search reached
+// it and the interval is finite and at most that wide, up to the transform's widening. The branch
+// and bound stops there; the distance path of separated poses is tight up to rounding, which far
+// out exceeds the tolerance (a translation of 1e20 against the unit sphere: 3e6 wide).
+bool reaches_tolerance(const ClearanceResult& c, double tolerance);
+
 // `mover` is the mover mesh in its own coordinates, `components` its component_representatives.
 ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover,
                                   const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,

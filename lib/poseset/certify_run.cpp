@@ -36,16 +36,6 @@
 namespace cdbench {
 namespace {
 
-// A user's pose is certified when its interval is finite and at most the tolerance wide, up to the
-// transform's widening (widen_for_transform). The branch and bound stops there; the distance path
-// of separated poses is tight up to rounding, which far out exceeds the tolerance (a translation
-// of 1e20: an interval 3e6 wide, reported certified until session 45).
-bool within_tolerance(const ClearanceResult& c, double tolerance) {
-  const double lo = c.clearance.lo, hi = c.clearance.hi;
-  return c.tolerance_reached && std::isfinite(lo) && std::isfinite(hi) &&
-         hi - lo <= (tolerance + 4.0 * c.transform_error) * (1.0 + 1e-12);
-}
-
 // Levels of the bundle: the file's `level` column, else its distinct targets, else one level.
 // Returns each pose's level index.
 std::vector<int> assign_levels(const UserPoseFile& file, std::vector<LevelRecord>* levels) {
@@ -154,7 +144,7 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
     row.dir = Eigen::Vector3d::Constant(nan);
     row.clearance_lo = row.raw_clearance_lo = c.clearance.lo;
     row.clearance_hi = row.raw_clearance_hi = c.clearance.hi;
-    row.status = within_tolerance(c, result.tolerance) ? PoseStatus::Certified : PoseStatus::ToleranceNotReached;
+    row.status = reaches_tolerance(c, result.tolerance) ? PoseStatus::Certified : PoseStatus::ToleranceNotReached;
     row.orientation = group[i];
     row.direction = 0;
     row.polish_steps = 0;

@@ -203,7 +203,7 @@ ValidateResult run_validate(const ValidateRequest& rq) {
     const ClearanceResult c = certify_clearance(sdf, *rq.mover, components, s.orientation, r.t, co);
     level_ns[static_cast<std::size_t>(r.level)] += static_cast<std::uint64_t>(t.seconds() * 1e9);
     p.clearance = c.clearance;
-    p.certified = c.tolerance_reached;
+    p.certified = reaches_tolerance(c, co.tolerance);
     p.error = 0.5 * (c.clearance.lo + c.clearance.hi) - r.target;
     p.wrong_sign = (r.target < 0.0 && c.clearance.lo > 0.0) || (r.target > 0.0 && c.clearance.hi < 0.0);
     if (!finite(r.dir) || r.dir.squaredNorm() == 0.0) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <iomanip>
+#include <limits>
 #include <random>
 
 #include "mesh/components.h"
@@ -98,6 +99,26 @@ TEST(Clearance, BoxesWithKnownAnswers) {
   r = c.run(I, Vec3(2.5, 0, 0), tol);
   EXPECT_TRUE(r.clearance.contains(-0.5)) << r.clearance.lo << " " << r.clearance.hi;
   EXPECT_LE(r.clearance.width(), tol * 1.001);
+}
+
+// A certificate reaches the tolerance only when its interval is finite and that narrow: far out the
+// distance path's interval is rigorous but rounding alone makes it wider (certify reported such
+// poses certified until session 45).
+TEST(Clearance, FarPosesDoNotReachTheTolerance) {
+  Case c(make_box(Vec3(-2, -2, -2), Vec3(2, 2, 2)), make_box(Vec3(-1, -1, -1), Vec3(1, 1, 1)));
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double tol = 1e-6;
+  ClearanceResult r = c.run(I, Vec3(5, 0, 0), tol);
+  EXPECT_TRUE(reaches_tolerance(r, tol));
+  r = c.run(I, Vec3(1e12, 0, 0), tol);  // doubles 1.2e-4 apart there
+  EXPECT_TRUE(r.separated);
+  EXPECT_TRUE(r.clearance.contains(1e12 - 3.0));
+  EXPECT_GT(r.clearance.width(), tol);
+  EXPECT_FALSE(reaches_tolerance(r, tol));
+  r = c.run(I, Vec3(0.5, 0, 0), tol);  // the branch and bound's interval, widened for the transform
+  EXPECT_TRUE(reaches_tolerance(r, tol));
+  r.clearance.hi = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(reaches_tolerance(r, tol));
 }
 
 // Contacts seen from outside, and the same pushed in by a little: a tetrahedron's vertex on the top
