@@ -7,6 +7,7 @@
 
 #include "mesh/cgal_surface_mesh.h"
 #include "util/error.h"
+#include "util/number_format.h"
 #include "util/timer.h"
 
 namespace cdbench {
@@ -21,6 +22,14 @@ AlphaWrapResult alpha_wrap(const PolygonSoup& soup, const AlphaWrapOptions& opti
   AlphaWrapResult result;
   result.alpha = options.alpha > 0 ? options.alpha : diag / options.relative_alpha;
   result.offset = options.offset > 0 ? options.offset : diag / options.relative_offset;
+  const auto finest = [&](const char* name, double value, double most, const char* relative) {
+    if (diag / value <= most) return;
+    throw InputError(std::string("alpha wrap: ") + name + " " + number_text(value, 6) + " is " +
+                     number_text(diag / value, 3) + " times finer than the input's diagonal " + number_text(diag, 6) +
+                     "; at most " + number_text(most) + " (" + relative + "): the wrap would not end");
+  };
+  finest("--alpha", result.alpha, kMaxRelativeAlpha, "--relative-alpha's range");
+  finest("--offset", result.offset, kMaxRelativeOffset, "--relative-offset's range");
   std::vector<Point> points;
   points.reserve(soup.points.size());
   for (const Vec3& p : soup.points) points.emplace_back(p.x(), p.y(), p.z());

@@ -129,10 +129,10 @@ void add_common(CLI::App* cmd, RepairCliOptions& o) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--relative-alpha", o.relative_alpha, "diagonal / alpha when --alpha is not given")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 1e5));
+      ->check(CLI::Range(1.0, kMaxRelativeAlpha));
   cmd->add_option("--relative-offset", o.relative_offset, "diagonal / offset when --offset is not given")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 1e6));
+      ->check(CLI::Range(1.0, kMaxRelativeOffset));
   cmd->add_option("--distance-tolerance", o.distance_tolerance,
                   "relative width of the certified distance intervals (hi - lo <= tolerance x lo)")
       ->capture_default_str()

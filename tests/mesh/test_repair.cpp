@@ -1,6 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "mesh/alpha_wrap.h"
 #include "mesh/repair.h"
+#include "mesh/validate_mesh.h"
+#include "util/error.h"
 #include "mesh/shapes.h"
 
 namespace cdbench {
@@ -72,6 +77,28 @@ TEST(Repair, AnOpenSurfaceIsWrappedUnlessWrappingIsForbidden) {
   const RepairResult refused = repair_mesh(open, no_wrap);
   EXPECT_EQ(refused.method, RepairMethod::Unchanged);
   EXPECT_FALSE(refused.result.report.valid());
+}
+
+// An absolute alpha or offset finer than the relative options allow is refused before wrapping
+// (--alpha 1e-6 on the unit sphere ran without end), naming the value and the limit.
+TEST(Repair, AWrapFinerThanTheRelativeRangeIsRefused) {
+  PolygonSoup open = boxes({{Vec3(0, 0, 0), Vec3(1, 1, 1)}});
+  open.polygons.pop_back();
+  const double diag = std::sqrt(3.0);
+  AlphaWrapOptions o;
+  o.alpha = diag / kMaxRelativeAlpha * 0.999;
+  try {
+    alpha_wrap(open, o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--alpha"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("at most 100000"), std::string::npos) << e.what();
+  }
+  o.alpha = 0.5;
+  o.offset = diag / kMaxRelativeOffset * 0.999;
+  EXPECT_THROW(alpha_wrap(open, o), InputError);
+  o.offset = 0.05;  // a coarse wrap within both ranges
+  EXPECT_TRUE(validate_mesh(alpha_wrap(open, o).mesh).report.valid());
 }
 
 }  // namespace
