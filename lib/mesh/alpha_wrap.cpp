@@ -26,7 +26,7 @@ AlphaWrapResult alpha_wrap(const PolygonSoup& soup, const AlphaWrapOptions& opti
     if (diag / value <= most) return;
     throw InputError(std::string("alpha wrap: ") + name + " " + number_text(value, 6) + " is " +
                      number_text(diag / value, 3) + " times finer than the input's diagonal " + number_text(diag, 6) +
-                     "; at most " + number_text(most) + " (" + relative + "): the wrap would not end");
+                     "; at most " + number_text(most) + " (" + relative + "): the wrap would be too fine to finish");
   };
   finest("--alpha", result.alpha, kMaxRelativeAlpha, "--relative-alpha's range");
   finest("--offset", result.offset, kMaxRelativeOffset, "--relative-offset's range");

@@ -8,7 +8,8 @@ namespace cdbench {
 
 // The finest wrap asked for, as the diagonal over alpha or over the offset (the CLI's ranges of
 // --relative-alpha and --relative-offset; an absolute --alpha or --offset finer than these is an
-// InputError of alpha_wrap, naming its relative value: --alpha 1e-6 on the unit sphere ran without end).
+// InputError of alpha_wrap, naming its relative value: --alpha 1e-6 on the unit sphere had not
+// finished after a minute when it was stopped).
 constexpr double kMaxRelativeAlpha = 1e5;
 constexpr double kMaxRelativeOffset = 1e6;
 

@@ -80,7 +80,7 @@ TEST(Repair, AnOpenSurfaceIsWrappedUnlessWrappingIsForbidden) {
 }
 
 // An absolute alpha or offset finer than the relative options allow is refused before wrapping
-// (--alpha 1e-6 on the unit sphere ran without end), naming the value and the limit.
+// (--alpha 1e-6 on the unit sphere had not finished after a minute), naming the value and the limit.
 TEST(Repair, AWrapFinerThanTheRelativeRangeIsRefused) {
   PolygonSoup open = boxes({{Vec3(0, 0, 0), Vec3(1, 1, 1)}});
   open.polygons.pop_back();
