@@ -65,16 +65,15 @@ OffsetSetRequest make_offset_request(const MeshSource& source, const SignedDista
 
 OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
   Timer total;
-  // A level too far out to mesh is an error before anything is written.
-  for (std::size_t i = 0; i < r.distances.size(); ++i)
-    check_offset_level_size(i < r.names.size() ? r.names[i] : number_text(r.distances[i]), r.distances[i],
-                            r.sdf->bbox().diagonal(), r.options.radius_relative);
-  std::error_code ec;
-  std::filesystem::create_directories(r.out_dir, ec);
-  if (!std::filesystem::is_directory(r.out_dir)) throw InputError(r.out_dir + ": cannot create the output directory");
   const SignedDistance& sdf = *r.sdf;
   const MaxPenetrationResult& mp = *r.max_penetration;
   const double diag = sdf.bbox().diagonal();
+  // A level too far out to mesh is an error before anything is written.
+  for (std::size_t i = 0; i < r.distances.size(); ++i)
+    check_offset_level_size(r.names[i], r.distances[i], diag, r.options.radius_relative);
+  std::error_code ec;
+  std::filesystem::create_directories(r.out_dir, ec);
+  if (!std::filesystem::is_directory(r.out_dir)) throw InputError(r.out_dir + ": cannot create the output directory");
   OffsetOptions oo = r.options;
   std::mutex log_mutex;
   if (r.verbose)

@@ -100,7 +100,8 @@ UserPoseFile read_user_poses(std::istream& in, const std::string& name) {
     // no interval arithmetic holds the clearance (1e155 gave [1.8e308, inf]).
     if (!(p.t.cwiseAbs().maxCoeff() <= kMaxCoordinate))
       throw InputError(where + ": the translation (" + shortest_number_text(p.t.x()) + ", " +
-                       shortest_number_text(p.t.y()) + ", " + shortest_number_text(p.t.z()) + ") is outside the supported range |t| <= " + number_text(kMaxCoordinate));
+                       shortest_number_text(p.t.y()) + ", " + shortest_number_text(p.t.z()) +
+                       ") is outside the supported range |t| <= " + number_text(kMaxCoordinate));
     // An empty target (a pose without one, as in a file mixing both) reads as NaN.
     const bool target_given = file.has_target && !f[column.at("target")].empty();
     p.target = target_given ? parse_double_field(f[column.at("target")], where, "target")
