@@ -25,6 +25,7 @@ struct RepairCliOptions {
   double alpha = 0.0, offset = 0.0;
   double relative_alpha = 100.0, relative_offset = 3000.0;
   double weld_tolerance = 0.0, distance_tolerance = 1e-2;
+  std::size_t max_faces = kMaxWrapFaces;
   bool wrap_only = false, no_wrap = false;
 };
 
@@ -47,7 +48,7 @@ int run_repair(const RepairCliOptions& opt, const char* command) {
   RepairOptions ro;
   ro.weld_tolerance = opt.weld_tolerance;
   ro.allow_wrap = !opt.no_wrap;
-  ro.wrap = {opt.alpha, opt.offset, opt.relative_alpha, opt.relative_offset};
+  ro.wrap = {opt.alpha, opt.offset, opt.relative_alpha, opt.relative_offset, opt.max_faces};
   if (Progress::enabled()) std::cerr << command << " " << opt.input << " (may take a while)...\n";
   RepairResult r;
   if (opt.wrap_only) {
@@ -133,6 +134,11 @@ void add_common(CLI::App* cmd, RepairCliOptions& o) {
   cmd->add_option("--relative-offset", o.relative_offset, "diagonal / offset when --offset is not given")
       ->capture_default_str()
       ->check(CLI::Range(1.0, kMaxRelativeOffset));
+  cmd->add_option("--max-faces", o.max_faces,
+                  "the largest wrap: refused before the work when its size, estimated from the input's area and "
+                  "alpha, is larger; stopped when its Steiner points pass it")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--distance-tolerance", o.distance_tolerance,
                   "relative width of the certified distance intervals (hi - lo <= tolerance x lo)")
       ->capture_default_str()

@@ -56,6 +56,14 @@ grep -q "method:   alpha-wrap" "$work/out.txt" || fail "expected the wrap"
 grep -q "distance: input -> output in \[" "$work/out.txt" || fail "wrap distance line"
 [ -s "$work/w.repair.json" ] || fail "wrap JSON"
 
+# A wrap far larger than --max-faces is refused before the work, naming the limit; nothing written.
+set +e
+"$cdbench" wrap "$data/bad/two_cubes_edge.off" "$work/big.off" --relative-alpha 1e5 > "$work/out.txt" 2>&1
+rc=$?
+set -e
+[ "$rc" -eq 2 ] && grep -q -- "--max-faces" "$work/out.txt" || { cat "$work/out.txt"; fail "a too fine wrap: exit $rc"; }
+[ ! -e "$work/big.off" ] || fail "a refused wrap wrote an output"
+
 fcl="$(cd "$(dirname "$0")/../.." && pwd)/../shared/meshes/fcl"
 if [ -f "$fcl/rob.obj" ] && [ -f "$fcl/env.obj" ]; then
   for m in rob env; do

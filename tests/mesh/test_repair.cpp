@@ -101,5 +101,37 @@ TEST(Repair, AWrapFinerThanTheRelativeRangeIsRefused) {
   EXPECT_TRUE(validate_mesh(alpha_wrap(open, o).mesh).report.valid());
 }
 
+// The face limit: a wrap estimated above it is refused before the work; a wrap the estimate
+// misjudges (an open sheet is wrapped on both sides, twice its area) is stopped during the work
+// when its Steiner points pass the limit. Either error names --max-faces and a coarser alpha.
+TEST(Repair, AWrapLargerThanTheFaceLimitIsRefusedOrStopped) {
+  PolygonSoup sheet;
+  sheet.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+  sheet.polygons = {{0, 1, 2}, {0, 2, 3}};
+  AlphaWrapOptions o;
+  o.alpha = 0.05;
+  o.offset = 0.01;
+  const double estimate = estimated_wrap_faces(1.0, o.alpha);
+  const AlphaWrapResult full = alpha_wrap(sheet, o);
+  const double faces = static_cast<double>(full.mesh.faces.size());
+  EXPECT_GT(faces, 1.5 * estimate) << "the sheet's wrap covers both sides";
+  const auto message = [&](std::size_t limit) {
+    o.max_faces = limit;
+    try {
+      alpha_wrap(sheet, o);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string refused = message(static_cast<std::size_t>(estimate / 2));
+  EXPECT_NE(refused.find("estimated from the input's area"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("--max-faces"), std::string::npos) << refused;
+  const std::string stopped = message(static_cast<std::size_t>(estimate * 1.05));
+  EXPECT_NE(stopped.find("stopped after"), std::string::npos) << stopped;
+  EXPECT_NE(stopped.find("--relative-alpha"), std::string::npos) << stopped;
+  EXPECT_EQ(message(static_cast<std::size_t>(faces)), "no error") << "a wrap under the limit is never stopped";
+}
+
 }  // namespace
 }  // namespace cdbench
