@@ -45,17 +45,11 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 
 // The file as written (triangles only), without cdbench's validation.
 // Polygons of more than three corners (3torus, mpi in CGAL's data) are the input's own; the solid
-// certified is cdbench's triangulation of them (doc/mesh-intake.md), so the input is read as
-// cdbench's validation gives it. The offsets are always triangles, read as they are.
-bool load(const std::string& path, Mesh& out, bool triangulate = false) {
-  cdbench::PolygonSoup soup = cdbench::read_polygon_soup(path);
-  if (triangulate && std::any_of(soup.polygons.begin(), soup.polygons.end(), [](const auto& f) { return f.size() != 3; })) {
-    const cdbench::ValidatedMesh v = cdbench::validate_mesh(std::move(soup));
-    if (!v.report.valid()) return false;
-    soup = cdbench::PolygonSoup();
-    soup.points = v.mesh.vertices;
-    for (const auto& f : v.mesh.faces) soup.polygons.push_back({f[0], f[1], f[2]});
-  }
+// certified is cdbench's triangulation of them (doc/mesh-intake.md), so such an input is read as
+// cdbench's validation gives it; so is an input whose faces are not consistently oriented
+// (tet-shuffled), which validation only flips: the distances and the ray-parity side test below do
+// not depend on orientation. The offsets are always triangles, read as they are.
+bool load_as_written(const cdbench::PolygonSoup& soup, Mesh& out) {
   std::vector<Mesh::Vertex_index> v;
   for (const auto& p : soup.points) v.push_back(out.add_vertex(Point(p.x(), p.y(), p.z())));
   for (const auto& f : soup.polygons) {
@@ -63,6 +57,18 @@ bool load(const std::string& path, Mesh& out, bool triangulate = false) {
     if (out.add_face(v[f[0]], v[f[1]], v[f[2]]) == Mesh::null_face()) return false;
   }
   return true;
+}
+
+bool load(const std::string& path, Mesh& out, bool as_validated = false) {
+  cdbench::PolygonSoup soup = cdbench::read_polygon_soup(path);
+  if (load_as_written(soup, out) || !as_validated) return out.number_of_faces() == soup.polygons.size();
+  const cdbench::ValidatedMesh v = cdbench::validate_mesh(std::move(soup));
+  if (!v.report.valid()) return false;
+  soup = cdbench::PolygonSoup();
+  soup.points = v.mesh.vertices;
+  for (const auto& f : v.mesh.faces) soup.polygons.push_back({f[0], f[1], f[2]});
+  out.clear();
+  return load_as_written(soup, out);
 }
 
 }  // namespace

@@ -563,6 +563,7 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
                   std::to_string(ids.size()) + " pairs of faces intersect (exact test), e.g. faces " + std::to_string(a) +
                       " and " + std::to_string(b) + " with first vertices " + pt(mesh.vertices[mesh.faces[a][0]]) +
                       " and " + pt(mesh.vertices[mesh.faces[b][0]]));
+      report.intersecting_faces = std::move(ids);
     }
   } else if (report.has("degenerate-face")) {
     report.notices.push_back("self-intersections were not checked: the mesh has degenerate faces");

@@ -3,6 +3,7 @@
 // every problem found (what, how many, one example with indices and coordinates).
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/triangle_mesh.h"
@@ -27,6 +28,9 @@ struct MeshReport {
   long genus = -1;           // sum over components (closed, manifold meshes only), else -1
   double volume_lo = 0.0, volume_hi = 0.0;  // rigorous enclosure of the enclosed volume (closed meshes)
   double seconds_self_intersections = 0.0;
+  // The pairs of faces that intersect (indices of the mesh as validated, the lesser first, sorted):
+  // for callers that repair their own meshes locally (offset/offset_level.cpp).
+  std::vector<std::pair<std::size_t, std::size_t>> intersecting_faces;
 
   bool valid() const { return errors.empty(); }
   bool has(const std::string& kind) const;

@@ -177,6 +177,29 @@ bool point_on_level_along(const FastSignedDistance& fast, double d, const Vec3& 
   return false;
 }
 
+bool point_on_crease_across(const FastSignedDistance& fast, double d, const Vec3& a, const Vec3& b, Vec3& on,
+                            double crease_cos) {
+  Vec3 ga, gb;
+  fast.value_and_gradient(a, ga);
+  fast.value_and_gradient(b, gb);
+  if (!(ga.dot(gb) < crease_cos)) return false;
+  Vec3 u = ga + gb;
+  const double len = u.norm();
+  if (!(len > 1e-3)) return false;
+  u /= len;
+  double lo = 0.0, hi = 1.0;
+  for (int it = 0; it < 40; ++it) {
+    const double t = 0.5 * (lo + hi);
+    Vec3 g;
+    fast.value_and_gradient(a + t * (b - a), g);
+    (g.dot(ga) >= g.dot(gb) ? lo : hi) = t;
+  }
+  const Vec3 m = a + (0.5 * (lo + hi)) * (b - a);
+  // fast grows along both gradients: towards the level from a point below it, away from above.
+  const double fm = fast(m) - d;
+  return point_on_level_along(fast, d, m, fm < 0 ? u : Vec3(-u), (b - a).norm(), on);
+}
+
 void points_on_level_around(const FastSignedDistance& fast, double d, const Vec3& x, std::vector<Vec3>& out,
                             int max_doublings) {
   const double fx = fast(x) - d;

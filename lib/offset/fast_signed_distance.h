@@ -37,6 +37,16 @@ bool point_on_level_near(const FastSignedDistance& fast, double d, const Vec3& x
 // repaired candidates). False when neither finds a point.
 bool point_on_level_close(const FastSignedDistance& fast, double d, const Vec3& x, Vec3& on, int max_doublings = 4);
 
+// Where the edge (a, b) of a candidate (both ends about on {fast = d}) crosses a crease of the level
+// set, the point of the crease above the edge: the gradients at a and b differ by more than
+// acos(crease_cos); the point m of the edge where the gradient turns from a's to b's is found by
+// bisection (where both sheets are equally near), and from m the level is followed along the
+// bisector of the two gradients, which keeps both sheets' distances equal, so it ends on the
+// crease (exactly for two planes). False when there is no crease between a and b or the level is
+// not reached within |b - a| (uncertified; new vertices of repaired candidates).
+bool point_on_crease_across(const FastSignedDistance& fast, double d, const Vec3& a, const Vec3& b, Vec3& on,
+                            double crease_cos = 0.7);
+
 // The first point of {fast = d} along the ray from x in the unit direction u, within `max_length`:
 // steps of 1.5 |fast - d| (fast is 1-Lipschitz: a step of |fast - d| cannot cross the level set,
 // so only a sheet thinner than half a step can be passed over), then bisection to the last double

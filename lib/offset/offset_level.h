@@ -23,6 +23,9 @@ struct OffsetOptions {
   // A candidate whose band misses the tolerance on few faces is first split locally there
   // (refine_offset.h) before a whole re-mesh with a finer distance bound.
   bool local_repair = true;
+  // Where that repair stalls or folds faces, it runs once more with new vertices on the level set's
+  // creases and folds mended where they are, before the re-mesh (doc/offsets.md).
+  bool repair_creases = true;
   int seeds = 64;
   // Regions of the level set that a candidate missed are first meshed alone and added to it (an
   // island no seed reached), before a re-mesh of the whole level from the candidate's vertices.

@@ -61,6 +61,11 @@ RefinedMesh refine_faces(const TriangleMesh& mesh, const std::vector<char>& wide
     for (int k = 0; k < 3; ++k)
       if (split[e[k]]) edge_normal[e[k]] += c / len;
   }
+  out.first_new_vertex = mesh.vertices.size();
+  for (std::uint32_t e : to_split) {
+    out.new_vertex_edge.push_back(edges[e]);
+    out.new_vertex_normal.push_back(edge_normal[e]);
+  }
   out.mesh.vertices.resize(mesh.vertices.size() + to_split.size());
   // Placing a vertex may cost a few dozen distance queries: in parallel, each into its own slot.
   tbb::parallel_for(std::size_t{0}, to_split.size(), [&](std::size_t k) {

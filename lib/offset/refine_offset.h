@@ -5,7 +5,9 @@
 // distance). A heuristic that only proposes a candidate: the result is validated and its band
 // certified again like any mesher output. Cheaper than re-meshing the whole level with a finer
 // distance bound when the wide faces are few (a re-mesh refines everywhere).
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -18,6 +20,11 @@ struct RefinedMesh {
   std::vector<char> is_new;  // per face of `mesh`: 1 if it replaced a split face (its band is unknown)
   std::vector<std::size_t> kept_from;  // per face of `mesh` with is_new == 0: its index in the input
   std::size_t split_edges = 0;
+  // New vertex k is mesh.vertices[first_new_vertex + k], on edge new_vertex_edge[k] (vertex
+  // indices) whose faces' unit normals sum to new_vertex_normal[k]: where it was placed from.
+  std::size_t first_new_vertex = 0;
+  std::vector<std::array<std::uint32_t, 2>> new_vertex_edge;
+  std::vector<Vec3> new_vertex_normal;
 };
 
 // Splits every edge of every face with wide[f] != 0, then, until no face has exactly two split

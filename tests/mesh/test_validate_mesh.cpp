@@ -1,4 +1,6 @@
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <tbb/task_arena.h>
 
 #include "mesh/alpha_wrap.h"
@@ -97,6 +99,16 @@ TEST(Validate, NestedSphereWithoutSelfIntersectionIsDetectedAsSelfIntersectingWh
   const ValidatedMesh v = validate_mesh(m);
   EXPECT_FALSE(v.report.valid());
   EXPECT_TRUE(v.report.has("self-intersection"));
+  // The pairs themselves (the offset repair mends folds with them): one of each sphere, sorted, the
+  // same count as the message's.
+  const auto& pairs = v.report.intersecting_faces;
+  ASSERT_FALSE(pairs.empty());
+  EXPECT_TRUE(std::is_sorted(pairs.begin(), pairs.end()));
+  const std::size_t first = make_icosphere(1.0, 2).faces.size();
+  for (const auto& [a, b] : pairs) EXPECT_TRUE(a < first && b >= first) << a << " " << b;
+  for (const auto& e : v.report.errors)
+    if (e.kind == "self-intersection") EXPECT_EQ(e.count, pairs.size());
+  EXPECT_TRUE(validate_mesh(make_icosphere(1.0, 2)).report.intersecting_faces.empty());
 }
 
 TEST(AlphaWrap, OpenSurfaceBecomesAValidSolid) {

@@ -260,6 +260,27 @@ TEST(FastSignedDistance, PointsBesideACreaseReachTheLevel) {
   EXPECT_FALSE(point_on_level_close(fast, -2.0, Vec3(0.0, 0.0, 0.0), on, 1));
 }
 
+// An edge across a crease of the level set (the cube's inward level, whose edges are creases): the
+// point found is on the crease, exactly for two planes; the gradient's rule from the edge's midpoint
+// lands on one face, 0.35 from it. Ends on one smooth sheet have no crease between them.
+TEST(FastSignedDistance, ACreaseAcrossAnEdgeIsFound) {
+  const SignedDistance sdf(make_box(Vec3(-1.0, -1.0, -1.0), Vec3(1.0, 1.0, 1.0)));
+  const FastSignedDistance fast(sdf);
+  const double d = -0.5;  // the cube [-0.5, 0.5]^3
+  const Vec3 a(0.1, 0.5, -0.2), b(0.1, -0.1, 0.5);  // on its faces y = 0.5 and z = 0.5
+  ASSERT_NEAR(fast(a) - d, 0.0, 1e-15);
+  ASSERT_NEAR(fast(b) - d, 0.0, 1e-15);
+  Vec3 on;
+  ASSERT_TRUE(point_on_crease_across(fast, d, a, b, on));
+  EXPECT_LT((on - Vec3(0.1, 0.5, 0.5)).norm(), 1e-9) << on.transpose();
+  EXPECT_NEAR(fast(on), d, 1e-12);
+  Vec3 by_gradient;
+  ASSERT_TRUE(point_on_level_near(fast, d, 0.5 * (a + b), by_gradient));
+  EXPECT_GT((by_gradient - Vec3(0.1, 0.5, 0.5)).norm(), 0.3);
+  // Both ends on the face y = 0.5: the gradients agree, no crease.
+  EXPECT_FALSE(point_on_crease_across(fast, d, a, Vec3(-0.3, 0.5, 0.1), on));
+}
+
 TEST(MeshLevelSet, SphereOffsetsAreValidAndNearTheLevel) {
   const TriangleMesh sphere = make_icosphere(1.0, 2);
   const SignedDistance sdf(sphere);
@@ -384,6 +405,16 @@ TEST(RefineFaces, ConformingOrientedAndKeepsTheRest) {
     }
     // Each split face becomes 4 or 2, each split edge adds one vertex: V - E + F stays 2.
     EXPECT_EQ(r.mesh.vertices.size(), sphere.vertices.size() + r.split_edges);
+    // Where each new vertex came from (the repair places a folding one again from its edge).
+    ASSERT_EQ(r.first_new_vertex, sphere.vertices.size());
+    ASSERT_EQ(r.new_vertex_edge.size(), r.split_edges);
+    ASSERT_EQ(r.new_vertex_normal.size(), r.split_edges);
+    for (std::size_t k = 0; k < r.split_edges; ++k) {
+      const auto [a, b] = r.new_vertex_edge[k];
+      EXPECT_EQ(r.mesh.vertices[r.first_new_vertex + k], Vec3(0.5 * (sphere.vertices[a] + sphere.vertices[b])));
+      // The sum of two outward unit normals of a convex surface points outwards, along the edge's midpoint.
+      EXPECT_GT(r.new_vertex_normal[k].dot(sphere.vertices[a] + sphere.vertices[b]), 0.0);
+    }
     EXPECT_GE(added, 4 * static_cast<std::size_t>(std::count(wide.begin(), wide.end(), 1)));
     if (stride == 1) {
       EXPECT_EQ(kept, 0u);
