@@ -193,6 +193,7 @@ bool repair_band_with(const SignedDistance& sdf, const FastSignedDistance& fast,
     bool accepted = false;
     std::size_t unfolded = 0;
     for (std::size_t rule = 0; rule < std::size(rules) && !accepted; ++rule) {
+      unfolded = 0;  // only the accepted rule's mending counts
       Timer t_split;
       r = refine_faces(current.mesh, wide, rules[rule]);
       rv = validate_mesh(r.mesh);
