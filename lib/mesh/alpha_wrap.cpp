@@ -1,6 +1,7 @@
 // CGAL's alpha wrapping lives in this translation unit only.
 #include "mesh/alpha_wrap.h"
 
+#include <cmath>
 #include <functional>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -37,7 +38,6 @@ class WrapVisitor : public CGAL::Alpha_wraps_3::internal::Wrapping_default_visit
                      " (--max-faces); alpha is too fine for this input: use a coarser --relative-alpha (now " +
                      number_text(relative_alpha_, 6) + ") or raise --max-faces");
   }
-  std::size_t steiner() const { return steiner_; }
 
  private:
   Progress progress_;
@@ -79,13 +79,14 @@ AlphaWrapResult alpha_wrap(const PolygonSoup& soup, const AlphaWrapOptions& opti
   finest("--alpha", result.alpha, kMaxRelativeAlpha, "--relative-alpha's range");
   finest("--offset", result.offset, kMaxRelativeOffset, "--relative-offset's range");
   const double estimate = estimated_wrap_faces(soup_area(soup), result.alpha);
-  if (estimate > static_cast<double>(options.max_faces))
+  const double limit = static_cast<double>(options.max_faces);
+  // The estimate grows like 1 / alpha^2: the coarsest relative alpha that fits scales by sqrt.
+  if (estimate > limit)
     throw InputError("alpha wrap: alpha " + number_text(result.alpha, 6) + " (the diagonal / " +
                      number_text(diag / result.alpha, 3) + ") would give about " + number_text(estimate, 2) +
-                     " faces (estimated from the input's area), more than the limit of " +
-                     number_text(static_cast<double>(options.max_faces)) +
+                     " faces (estimated from the input's area), more than the limit of " + number_text(limit) +
                      " (--max-faces); use a coarser --relative-alpha, about " +
-                     number_text(diag / std::sqrt(1.2 * soup_area(soup) / static_cast<double>(options.max_faces)), 2) +
+                     number_text(diag / result.alpha * std::sqrt(limit / estimate), 2) +
                      " at most, or raise --max-faces");
   std::vector<Point> points;
   points.reserve(soup.points.size());

@@ -69,9 +69,8 @@ RefinedMesh refine_faces(const TriangleMesh& mesh, const std::vector<char>& wide
   out.mesh.vertices.resize(mesh.vertices.size() + to_split.size());
   // Placing a vertex may cost a few dozen distance queries: in parallel, each into its own slot.
   tbb::parallel_for(std::size_t{0}, to_split.size(), [&](std::size_t k) {
-    const auto& ab = edges[to_split[k]];
-    out.mesh.vertices[mesh.vertices.size() + k] =
-        place(mesh.vertices[ab[0]], mesh.vertices[ab[1]], edge_normal[to_split[k]]);
+    const auto& ab = out.new_vertex_edge[k];
+    out.mesh.vertices[out.first_new_vertex + k] = place(mesh.vertices[ab[0]], mesh.vertices[ab[1]], out.new_vertex_normal[k]);
   });
   auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, bool fresh, std::size_t from) {
     out.mesh.faces.push_back({a, b, c});
