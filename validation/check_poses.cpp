@@ -7,7 +7,17 @@
 // certificate [lo, hi] is confirmed when it meets [m - h - e, m + e], e = 1e-9 x diagonal for
 // rounding. With --intervals VALIDATION.csv (written by `cdbench validate`), the intervals checked
 // are that file's (matched by pose id) instead of the pose set's own: float or other uncertified
-// sets, certified by validate. Usage: check_poses POSESET_DIR [--poses K] [--grid n] [--intervals CSV]
+// sets, certified by validate.
+//
+// m is the minimum over every sample, found without evaluating every sample (by default; the
+// literal evaluation of all of them is --exhaustive, and the two give the same m): the mover's
+// vertices are grid samples, so their values bound each triangle from below (s(x) >= s(v) - |x - v|
+// for every x of a triangle with vertex v), and a triangle whose bound is not below the smallest
+// sample value found so far cannot hold the minimum. Signs spread without a side query where a
+// segment cannot meet F: if d(p) + d(q) > |p - q| the balls free of F about p and q cover the
+// segment, so p and q are on the same side (the mover's edges join their vertices into components
+// of one side each, one side query per component; a sample takes a corner's side the same way).
+// Usage: check_poses POSESET_DIR [--poses K] [--grid n] [--intervals CSV] [--exhaustive] [--verbose]
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -15,21 +25,30 @@
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numeric>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "guarded_main.h"
 #include "mesh/read_mesh.h"
 #include "mesh/validate_mesh.h"
-#include "poseset/poseset_manifest.h"
 #include "poseset/pose_csv.h"
-#include "guarded_main.h"
+#include "poseset/poseset_manifest.h"
+#include "util/union_find.h"
 
 namespace {
 
@@ -37,6 +56,7 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = K::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_face_graph_triangle_primitive<Mesh>>>;
+using Side = CGAL::Side_of_triangle_mesh<Mesh, K>;
 
 cdbench::TriangleMesh load(const std::string& path) {
   return cdbench::validate_mesh(cdbench::read_polygon_soup(path)).mesh;
@@ -50,21 +70,186 @@ Mesh to_cgal(const cdbench::TriangleMesh& m) {
   return out;
 }
 
+double dist(const Point& a, const Point& b) { return std::sqrt(CGAL::squared_distance(a, b)); }
+
+void lower(std::atomic<double>& a, double v) {
+  for (double c = a.load(std::memory_order_relaxed); v < c && !a.compare_exchange_weak(c, v);) {
+  }
+}
+
+// The sampled minimum of one pose: m, the spacing h, and what it took.
+struct Sampled {
+  double m = HUGE_VAL, h = 0.0;
+  std::size_t triangles = 0;   // triangles whose grid was evaluated
+  std::uint64_t sides = 0;     // side queries
+};
+
+class Sampler {
+ public:
+  Sampler(const Tree& tree, const Side& side, int n, double e) : tree_(tree), side_(side), n_(n), e_(e) {}
+
+  // Every sample of every triangle, each with its own side query: the reference.
+  Sampled exhaustive(const std::vector<Point>& P, const std::vector<cdbench::Face>& faces) const {
+    Sampled r;
+    r.h = spacing(P, faces);
+    std::atomic<double> best{HUGE_VAL};
+    std::atomic<std::uint64_t> sides{0};
+    tbb::parallel_for(std::size_t{0}, faces.size(), [&](std::size_t t) {
+      const auto& f = faces[t];
+      const double m = grid_minimum(P[f[0]], P[f[1]], P[f[2]], std::nullopt, [&](const Point& x, double) {
+        ++sides;
+        return side_(x) == CGAL::ON_BOUNDED_SIDE ? -1.0 : 1.0;
+      });
+      lower(best, m);
+    });
+    r.m = best;
+    r.triangles = faces.size();
+    r.sides = sides;
+    return r;
+  }
+
+  // The same minimum, evaluating only the triangles that may hold it (see the file's comment).
+  Sampled pruned(const std::vector<Point>& P, const std::vector<cdbench::Face>& faces) const {
+    Sampled r;
+    r.h = spacing(P, faces);
+    const std::size_t V = P.size();
+    std::vector<double> d(V), sign(V, 0.0);
+    tbb::parallel_for(std::size_t{0}, V, [&](std::size_t v) { d[v] = std::sqrt(tree_.squared_distance(P[v])); });
+    // Vertices joined by an edge that cannot meet F are on one side.
+    cdbench::UnionFind uf(V);
+    tbb::parallel_for(std::size_t{0}, faces.size(), [&](std::size_t t) {
+      const auto& f = faces[t];
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = f[k], b = f[(k + 1) % 3];
+        if (d[a] > 0.0 && d[b] > 0.0 && d[a] + d[b] > dist(P[a], P[b]) + e_) uf.unite_concurrent(a, b);
+      }
+    });
+    std::atomic<std::uint64_t> sides{0};
+    tbb::parallel_for(std::size_t{0}, V, [&](std::size_t v) {
+      if (uf.find_concurrent(v) == v && d[v] > 0.0) {
+        ++sides;
+        sign[v] = side_(P[v]) == CGAL::ON_BOUNDED_SIDE ? -1.0 : 1.0;
+      }
+    });
+    std::vector<double> s(V);  // each vertex's signed distance, and its sign in `sign` (0 on F)
+    for (std::size_t v = 0; v < V; ++v) s[v] = (sign[v] = sign[uf.find(v)]) * d[v];
+    // Each triangle's lower bound from its vertices, less e for the samples' rounding.
+    std::vector<double> bound(faces.size());
+    tbb::parallel_for(std::size_t{0}, faces.size(), [&](std::size_t t) {
+      const auto& f = faces[t];
+      double b = -HUGE_VAL;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = f[k], p = f[(k + 1) % 3], q = f[(k + 2) % 3];
+        b = std::max(b, s[a] - std::max(dist(P[a], P[p]), dist(P[a], P[q])));
+      }
+      bound[t] = b - e_;
+    });
+    // The triangle of the lowest vertex first (a real sample value to prune with), then the others
+    // in ascending bound while their bound is below the smallest value found.
+    std::vector<std::uint32_t> order(faces.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return bound[a] < bound[b] || (bound[a] == bound[b] && a < b);
+    });
+    const std::size_t lowest = static_cast<std::size_t>(std::min_element(s.begin(), s.end()) - s.begin());
+    const auto first = std::find_if(faces.begin(), faces.end(), [&](const cdbench::Face& f) {
+      return f[0] == lowest || f[1] == lowest || f[2] == lowest;
+    });
+    std::atomic<double> best{HUGE_VAL};
+    std::atomic<std::size_t> evaluated{0};
+    const auto evaluate = [&](std::size_t t) {
+      const auto& f = faces[t];
+      const double m = grid_minimum(P[f[0]], P[f[1]], P[f[2]], best.load(std::memory_order_relaxed),
+                                    [&](const Point& x, double dx) {
+                                      for (int k = 0; k < 3; ++k)
+                                        if (sign[f[k]] != 0.0 && dx + d[f[k]] > dist(x, P[f[k]]) + e_) return sign[f[k]];
+                                      ++sides;
+                                      return side_(x) == CGAL::ON_BOUNDED_SIDE ? -1.0 : 1.0;
+                                    });
+      lower(best, m);
+      ++evaluated;
+    };
+    if (first != faces.end()) evaluate(static_cast<std::size_t>(first - faces.begin()));
+    const std::size_t skip = first == faces.end() ? faces.size() : static_cast<std::size_t>(first - faces.begin());
+    const std::size_t candidates = static_cast<std::size_t>(
+        std::lower_bound(order.begin(), order.end(), best.load(), [&](std::uint32_t t, double b) { return bound[t] < b; }) -
+        order.begin());
+    tbb::parallel_for(std::size_t{0}, candidates, [&](std::size_t i) {
+      const std::uint32_t t = order[i];
+      if (t != skip && bound[t] < best.load(std::memory_order_relaxed)) evaluate(t);
+    });
+    r.m = best;
+    r.triangles = evaluated;
+    r.sides = sides;
+    return r;
+  }
+
+ private:
+  // h: every point of the mover's surface is within h of a sample.
+  double spacing(const std::vector<Point>& P, const std::vector<cdbench::Face>& faces) const {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, faces.size()), 0.0,
+        [&](const tbb::blocked_range<std::size_t>& range, double h) {
+          for (std::size_t t = range.begin(); t != range.end(); ++t) {
+            const auto& f = faces[t];
+            const double edge = std::max({dist(P[f[0]], P[f[1]]), dist(P[f[1]], P[f[2]]), dist(P[f[2]], P[f[0]])});
+            h = std::max(h, edge / n_);
+          }
+          return h;
+        },
+        [](double a, double b) { return std::max(a, b); });
+  }
+
+  // The smallest signed distance over the triangle's grid samples. With `below`, a sample whose
+  // value cannot be below it or below the triangle's smallest so far (-d >= that) is not signed;
+  // without, every sample is. sign_of(x, d) gives the sign of s at x.
+  template <class SignOf>
+  double grid_minimum(const Point& a, const Point& b, const Point& c, std::optional<double> below,
+                      const SignOf& sign_of) const {
+    double best = HUGE_VAL;
+    for (int i = 0; i <= n_; ++i)
+      for (int j = 0; i + j <= n_; ++j) {
+        const double u = double(i) / n_, v = double(j) / n_;
+        const Point x(a.x() + u * (b.x() - a.x()) + v * (c.x() - a.x()), a.y() + u * (b.y() - a.y()) + v * (c.y() - a.y()),
+                      a.z() + u * (b.z() - a.z()) + v * (c.z() - a.z()));
+        const double d = std::sqrt(tree_.squared_distance(x));
+        if (below && -d >= std::min(best, *below)) continue;
+        best = std::min(best, sign_of(x, d) * d);
+      }
+    return best;
+  }
+
+  const Tree& tree_;
+  const Side& side_;
+  int n_;
+  double e_;
+};
+
 }  // namespace
 
 static int run(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: check_poses POSESET_DIR [--poses K] [--grid n] [--intervals VALIDATION.csv]\n");
+    std::fprintf(stderr,
+                 "usage: check_poses POSESET_DIR [--poses K] [--grid n] [--intervals VALIDATION.csv] [--exhaustive] "
+                 "[--verbose]\n");
     return 2;
   }
   const std::string dir = argv[1];
   std::size_t wanted = 30;
   int n = 16;
   std::string intervals;
-  for (int i = 2; i + 1 < argc; ++i) {
+  bool exhaustive = false, verbose = false;
+  for (int i = 2; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--exhaustive") == 0) exhaustive = true;
+    if (std::strcmp(argv[i], "--verbose") == 0) verbose = true;
+    if (i + 1 >= argc) continue;
     if (std::strcmp(argv[i], "--intervals") == 0) intervals = argv[i + 1];
     if (std::strcmp(argv[i], "--poses") == 0) wanted = std::stoul(argv[i + 1]);
     if (std::strcmp(argv[i], "--grid") == 0) n = std::stoi(argv[i + 1]);
+  }
+  if (n < 1) {
+    std::fprintf(stderr, "check_poses: --grid must be at least 1\n");
+    return 2;
   }
   // The manifest reader names the file and key of any problem; a mesh the pose set was made
   // from is found and checked by its SHA-256 (locate_mesh), and read once when it is also the mover.
@@ -76,7 +261,11 @@ static int run(int argc, char** argv) {
   const Mesh F = to_cgal(fixed);
   Tree tree(faces(F).first, faces(F).second, F);
   tree.accelerate_distance_queries();
-  const CGAL::Side_of_triangle_mesh<Mesh, K> side(F);
+  const Side side(F);
+  // Built now, before queries from several threads.
+  tree.build();
+  (void)tree.squared_distance(Point(0, 0, 0));
+  (void)side(Point(0, 0, 0));
   std::ifstream csv(dir + "/poses.csv");
   std::vector<cdbench::PoseRow> rows = cdbench::read_pose_csv(csv, dir + "/poses.csv");
   if (!intervals.empty()) {
@@ -105,6 +294,7 @@ static int run(int argc, char** argv) {
     if (!std::isnan(r.clearance_lo)) placed.push_back(&r);
   const std::size_t M = std::min(wanted, placed.size());
   const double e = 1e-9 * diag;
+  const Sampler sampler(tree, side, n, e);
   std::size_t confirmed = 0;
   double worst_gap = 0.0;
   for (std::size_t k = 0; k < M; ++k) {
@@ -114,26 +304,17 @@ static int run(int argc, char** argv) {
       const Eigen::Vector3d y = r.R * x + r.t;
       P.emplace_back(y.x(), y.y(), y.z());
     }
-    double best = HUGE_VAL, h = 0.0;
-    for (const auto& f : mover.faces) {
-      const Point &a = P[f[0]], &b = P[f[1]], &c = P[f[2]];
-      const double edge = std::sqrt(std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c),
-                                              CGAL::squared_distance(c, a)}));
-      h = std::max(h, edge / n);
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j) {
-          const double u = double(i) / n, v = double(j) / n;
-          const Point x(a.x() + u * (b.x() - a.x()) + v * (c.x() - a.x()), a.y() + u * (b.y() - a.y()) + v * (c.y() - a.y()),
-                        a.z() + u * (b.z() - a.z()) + v * (c.z() - a.z()));
-          const double d = std::sqrt(tree.squared_distance(x));
-          const double s = side(x) == CGAL::ON_BOUNDED_SIDE ? -d : d;
-          best = std::min(best, s);
-        }
-    }
+    const Sampled sampled = exhaustive ? sampler.exhaustive(P, mover.faces) : sampler.pruned(P, mover.faces);
+    const double best = sampled.m, h = sampled.h;
     const double lo = best - h - e, hi = best + e;
     const bool ok = r.clearance_lo <= hi && r.clearance_hi >= lo;
     confirmed += ok;
     worst_gap = std::max(worst_gap, std::max(r.clearance_lo - hi, lo - r.clearance_hi));
+    if (verbose)
+      std::printf("pose %llu level %d: certificate [%.17g, %.17g], sampled minimum %.17g, spacing %.17g (%zu of %zu "
+                  "triangles sampled, %llu side queries)\n",
+                  static_cast<unsigned long long>(r.pose), r.level, r.clearance_lo, r.clearance_hi, best, h,
+                  sampled.triangles, mover.faces.size(), static_cast<unsigned long long>(sampled.sides));
     if (!ok)
       std::printf("NOT CONFIRMED pose %llu level %d: certificate [%.17g, %.17g], sampled enclosure [%.17g, %.17g]\n",
                   static_cast<unsigned long long>(r.pose), r.level, r.clearance_lo, r.clearance_hi, lo, hi);
