@@ -10,13 +10,13 @@
 // sets, certified by validate.
 //
 // m is the minimum over every sample, found without evaluating every sample (by default; the
-// literal evaluation of all of them is --exhaustive, and the two give the same m): the mover's
-// vertices are grid samples, so their values bound each triangle from below (s(x) >= s(v) - |x - v|
-// for every x of a triangle with vertex v), and a triangle whose bound is not below the smallest
-// sample value found so far cannot hold the minimum. Signs spread without a side query where a
-// segment cannot meet F: if d(p) + d(q) > |p - q| the balls free of F about p and q cover the
-// segment, so p and q are on the same side (the mover's edges join their vertices into components
-// of one side each, one side query per component; a sample takes a corner's side the same way).
+// literal evaluation of all of them is --exhaustive, and the two give the same m): s(x) >= s(v) -
+// |x - v| (1-Lipschitz), so a ball about a group of the mover's vertices is bounded by its centre's
+// value less its radius and a triangle by its corners' bounds less its edges; a triangle whose
+// bound is not below the smallest sample value found so far cannot hold the minimum. Signs come
+// without a side query where a segment cannot meet F: if d(p) + d(q) > |p - q| the balls free of F
+// about p and q cover the segment, so p and q are on the same side (a ball that misses F is on
+// its centre's side; a sample takes a corner's side the same way).
 // Usage: check_poses POSESET_DIR [--poses K] [--grid n] [--intervals CSV] [--exhaustive] [--verbose]
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -39,6 +39,8 @@
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <optional>
+#include <tuple>
+#include <utility>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -48,7 +50,6 @@
 #include "mesh/validate_mesh.h"
 #include "poseset/pose_csv.h"
 #include "poseset/poseset_manifest.h"
-#include "util/union_find.h"
 
 namespace {
 
@@ -84,6 +85,66 @@ struct Sampled {
   std::uint64_t sides = 0;     // side queries
 };
 
+// The mover's vertices in groups of about 128 that are near each other (sorted along a Morton
+// curve of their rest positions), each group with a ball about its centre holding it, one face at
+// each vertex, made once per mover: per pose a ball's centre costs one distance query and bounds
+// the signed distance on its whole ball, so far groups are set aside without a query per vertex.
+struct MoverChunks {
+  std::vector<std::uint32_t> members;     // vertex indices, group by group
+  std::vector<std::size_t> first;         // group j: members[first[j] .. first[j + 1])
+  std::vector<std::uint32_t> chunk_of;    // each vertex's group
+  std::vector<Eigen::Vector3d> centre;    // in the mover's frame
+  std::vector<double> radius;
+  std::vector<std::size_t> face_of;       // a face at each vertex (SIZE_MAX: none)
+
+  explicit MoverChunks(const cdbench::TriangleMesh& mover, std::size_t size = 128) {
+    const std::size_t V = mover.vertices.size();
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
+    for (const auto& v : mover.vertices) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    const Eigen::Vector3d extent = (hi - lo).cwiseMax(Eigen::Vector3d::Constant(1e-300));
+    const auto spread = [](std::uint64_t x) {  // 21 bits to every third of 63
+      x &= 0x1fffff;
+      x = (x | x << 32) & 0x1f00000000ffffULL;
+      x = (x | x << 16) & 0x1f0000ff0000ffULL;
+      x = (x | x << 8) & 0x100f00f00f00f00fULL;
+      x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+      x = (x | x << 2) & 0x1249249249249249ULL;
+      return x;
+    };
+    std::vector<std::uint64_t> code(V);
+    for (std::size_t v = 0; v < V; ++v) {
+      const Eigen::Vector3d u = ((mover.vertices[v] - lo).array() / extent.array() * 2097151.0).matrix();
+      code[v] = spread(std::uint64_t(u.x())) | spread(std::uint64_t(u.y())) << 1 | spread(std::uint64_t(u.z())) << 2;
+    }
+    members.resize(V);
+    std::iota(members.begin(), members.end(), 0u);
+    std::sort(members.begin(), members.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return code[a] < code[b] || (code[a] == code[b] && a < b); });
+    chunk_of.resize(V);
+    for (std::size_t begin = 0; begin < V; begin += size) {
+      const std::size_t end = std::min(V, begin + size);
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (std::size_t m = begin; m < end; ++m) c += mover.vertices[members[m]];
+      c /= double(end - begin);
+      double r = 0.0;
+      for (std::size_t m = begin; m < end; ++m) {
+        r = std::max(r, (mover.vertices[members[m]] - c).norm());
+        chunk_of[members[m]] = static_cast<std::uint32_t>(centre.size());
+      }
+      first.push_back(begin);
+      centre.push_back(c);
+      radius.push_back(r * (1.0 + 1e-12));
+    }
+    first.push_back(V);
+    face_of.assign(V, SIZE_MAX);
+    for (std::size_t i = 0; i < mover.faces.size(); ++i)
+      for (const std::uint32_t v : mover.faces[i]) face_of[v] = i;
+  }
+};
+
 class Sampler {
  public:
   Sampler(const Tree& tree, const Side& side, int n, double e) : tree_(tree), side_(side), n_(n), e_(e) {}
@@ -109,74 +170,102 @@ class Sampler {
   }
 
   // The same minimum, evaluating only the triangles that may hold it (see the file's comment).
-  Sampled pruned(const std::vector<Point>& P, const std::vector<cdbench::Face>& faces) const {
+  // `chunks` groups the mover's vertices in balls; `Rot`, `t` are the pose.
+  Sampled pruned(const std::vector<Point>& P, const std::vector<cdbench::Face>& faces, const MoverChunks& chunks,
+                 const Eigen::Matrix3d& Rot, const Eigen::Vector3d& t) const {
     Sampled r;
     r.h = spacing(P, faces);
-    const std::size_t V = P.size();
-    std::vector<double> d(V), sign(V, 0.0);
-    tbb::parallel_for(std::size_t{0}, V, [&](std::size_t v) { d[v] = std::sqrt(tree_.squared_distance(P[v])); });
-    // Vertices joined by an edge that cannot meet F are on one side.
-    cdbench::UnionFind uf(V);
-    tbb::parallel_for(std::size_t{0}, faces.size(), [&](std::size_t t) {
-      const auto& f = faces[t];
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = f[k], b = f[(k + 1) % 3];
-        if (d[a] > 0.0 && d[b] > 0.0 && d[a] + d[b] > dist(P[a], P[b]) + e_) uf.unite_concurrent(a, b);
-      }
-    });
     std::atomic<std::uint64_t> sides{0};
-    tbb::parallel_for(std::size_t{0}, V, [&](std::size_t v) {
-      if (uf.find_concurrent(v) == v && d[v] > 0.0) {
-        ++sides;
-        sign[v] = side_(P[v]) == CGAL::ON_BOUNDED_SIDE ? -1.0 : 1.0;
-      }
+    const auto sign_at = [&](const Point& x) {
+      ++sides;
+      return side_(x) == CGAL::ON_BOUNDED_SIDE ? -1.0 : 1.0;
+    };
+    // Each chunk's ball: s >= s(centre) - radius on all of it, and one side if it misses F.
+    const std::size_t C = chunks.radius.size();
+    if (C == 0) return r;
+    std::vector<double> centre_s(C), centre_d(C);
+    tbb::parallel_for(std::size_t{0}, C, [&](std::size_t j) {
+      const Eigen::Vector3d c = Rot * chunks.centre[j] + t;
+      const Point x(c.x(), c.y(), c.z());
+      centre_d[j] = std::sqrt(tree_.squared_distance(x));
+      centre_s[j] = centre_d[j] > 0.0 ? sign_at(x) * centre_d[j] : 0.0;
     });
-    std::vector<double> s(V);  // each vertex's signed distance, and its sign in `sign` (0 on F)
-    for (std::size_t v = 0; v < V; ++v) s[v] = (sign[v] = sign[uf.find(v)]) * d[v];
-    // Each triangle's lower bound from its vertices, less e for the samples' rounding.
+    const auto free_ball = [&](std::size_t j) { return centre_d[j] > chunks.radius[j] + e_; };
+    // A vertex's signed distance and sign, computed when a triangle needs them.
+    const std::size_t V = P.size();
+    std::vector<double> d(V), sign(V);
+    std::vector<std::atomic<char>> state(V);  // 0: not known, 1: being written, 2: known
+    const auto vertex = [&](std::uint32_t v) -> std::pair<double, double> {
+      if (state[v].load(std::memory_order_acquire) == 2) return {d[v], sign[v]};
+      const std::size_t j = chunks.chunk_of[v];
+      const double dv = std::sqrt(tree_.squared_distance(P[v]));
+      const double sv = dv == 0.0 ? 0.0 : free_ball(j) ? (centre_s[j] < 0 ? -1.0 : 1.0) : sign_at(P[v]);
+      char unknown = 0;  // the first thread to finish publishes it; the others use their own copy
+      if (state[v].compare_exchange_strong(unknown, 1, std::memory_order_acq_rel)) {
+        d[v] = dv;
+        sign[v] = sv;
+        state[v].store(2, std::memory_order_release);
+      }
+      return {dv, sv};
+    };
+    const auto corner_bound = [&](const cdbench::Face& f, int k, double value) {
+      const std::uint32_t a = f[k], p = f[(k + 1) % 3], q = f[(k + 2) % 3];
+      return value - std::max(dist(P[a], P[p]), dist(P[a], P[q]));
+    };
+    // The triangles' bounds from their chunks, less e for the samples' and centres' rounding.
     std::vector<double> bound(faces.size());
-    tbb::parallel_for(std::size_t{0}, faces.size(), [&](std::size_t t) {
-      const auto& f = faces[t];
-      double b = -HUGE_VAL;
+    tbb::parallel_for(std::size_t{0}, faces.size(), [&](std::size_t i) {
+      const auto& f = faces[i];
+      double lb = -HUGE_VAL;
       for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = f[k], p = f[(k + 1) % 3], q = f[(k + 2) % 3];
-        b = std::max(b, s[a] - std::max(dist(P[a], P[p]), dist(P[a], P[q])));
+        const std::size_t j = chunks.chunk_of[f[k]];
+        lb = std::max(lb, corner_bound(f, k, centre_s[j] - chunks.radius[j]));
       }
-      bound[t] = b - e_;
-    });
-    // The triangle of the lowest vertex first (a real sample value to prune with), then the others
-    // in ascending bound while their bound is below the smallest value found.
-    std::vector<std::uint32_t> order(faces.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-      return bound[a] < bound[b] || (bound[a] == bound[b] && a < b);
-    });
-    const std::size_t lowest = static_cast<std::size_t>(std::min_element(s.begin(), s.end()) - s.begin());
-    const auto first = std::find_if(faces.begin(), faces.end(), [&](const cdbench::Face& f) {
-      return f[0] == lowest || f[1] == lowest || f[2] == lowest;
+      bound[i] = lb - 2.0 * e_;
     });
     std::atomic<double> best{HUGE_VAL};
     std::atomic<std::size_t> evaluated{0};
-    const auto evaluate = [&](std::size_t t) {
-      const auto& f = faces[t];
+    // A triangle: its corners' exact values bound it again; sampled if still below the best.
+    const auto evaluate = [&](std::size_t i) {
+      const auto& f = faces[i];
+      double lb = -HUGE_VAL, cd[3], cs[3];
+      for (int k = 0; k < 3; ++k) {
+        std::tie(cd[k], cs[k]) = vertex(f[k]);
+        lb = std::max(lb, corner_bound(f, k, cs[k] * cd[k]));
+      }
+      if (lb - e_ >= best.load(std::memory_order_relaxed)) return;
       const double m = grid_minimum(P[f[0]], P[f[1]], P[f[2]], best.load(std::memory_order_relaxed),
                                     [&](const Point& x, double dx) {
                                       for (int k = 0; k < 3; ++k)
-                                        if (sign[f[k]] != 0.0 && dx + d[f[k]] > dist(x, P[f[k]]) + e_) return sign[f[k]];
-                                      ++sides;
-                                      return side_(x) == CGAL::ON_BOUNDED_SIDE ? -1.0 : 1.0;
+                                        if (cs[k] != 0.0 && dx + cd[k] > dist(x, P[f[k]]) + e_) return cs[k];
+                                      return sign_at(x);
                                     });
       lower(best, m);
       ++evaluated;
     };
-    if (first != faces.end()) evaluate(static_cast<std::size_t>(first - faces.begin()));
-    const std::size_t skip = first == faces.end() ? faces.size() : static_cast<std::size_t>(first - faces.begin());
-    const std::size_t candidates = static_cast<std::size_t>(
-        std::lower_bound(order.begin(), order.end(), best.load(), [&](std::uint32_t t, double b) { return bound[t] < b; }) -
-        order.begin());
-    tbb::parallel_for(std::size_t{0}, candidates, [&](std::size_t i) {
-      const std::uint32_t t = order[i];
-      if (t != skip && bound[t] < best.load(std::memory_order_relaxed)) evaluate(t);
+    // A real sample value to prune with first: a triangle at the lowest vertex of the lowest chunk.
+    const std::size_t low_chunk = static_cast<std::size_t>(
+        std::min_element(centre_s.begin(), centre_s.end()) - centre_s.begin());
+    std::size_t start = SIZE_MAX;
+    double low = HUGE_VAL;
+    for (std::size_t m = chunks.first[low_chunk]; m < chunks.first[low_chunk + 1]; ++m) {
+      const std::uint32_t v = chunks.members[m];
+      const auto [dv, sv] = vertex(v);
+      if (chunks.face_of[v] != SIZE_MAX && sv * dv < low) {
+        low = sv * dv;
+        start = chunks.face_of[v];
+      }
+    }
+    if (start != SIZE_MAX) evaluate(start);
+    // Then the others in ascending bound, while their bound is below the smallest value found.
+    std::vector<std::uint32_t> order;
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      if (i != start && bound[i] < best.load()) order.push_back(static_cast<std::uint32_t>(i));
+    std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
+      return bound[x] < bound[y] || (bound[x] == bound[y] && x < y);
+    });
+    tbb::parallel_for(std::size_t{0}, order.size(), [&](std::size_t k) {
+      if (bound[order[k]] < best.load(std::memory_order_relaxed)) evaluate(order[k]);
     });
     r.m = best;
     r.triangles = evaluated;
@@ -295,6 +384,7 @@ static int run(int argc, char** argv) {
   const std::size_t M = std::min(wanted, placed.size());
   const double e = 1e-9 * diag;
   const Sampler sampler(tree, side, n, e);
+  const MoverChunks chunks(mover);
   std::size_t confirmed = 0;
   double worst_gap = 0.0;
   for (std::size_t k = 0; k < M; ++k) {
@@ -304,7 +394,8 @@ static int run(int argc, char** argv) {
       const Eigen::Vector3d y = r.R * x + r.t;
       P.emplace_back(y.x(), y.y(), y.z());
     }
-    const Sampled sampled = exhaustive ? sampler.exhaustive(P, mover.faces) : sampler.pruned(P, mover.faces);
+    const Sampled sampled =
+        exhaustive ? sampler.exhaustive(P, mover.faces) : sampler.pruned(P, mover.faces, chunks, r.R, r.t);
     const double best = sampled.m, h = sampled.h;
     const double lo = best - h - e, hi = best + e;
     const bool ok = r.clearance_lo <= hi && r.clearance_hi >= lo;
