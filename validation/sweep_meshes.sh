@@ -9,7 +9,7 @@
 # elsewhere), or with REPAIR=1 repaired first.
 # Usage: validation/sweep_meshes.sh [MESH ...]
 # Environment: MAX_FACES (10000), LEVELS (-20%,0,5%), DIRECTIONS (20), ORIENTATIONS (2),
-#   CHECK_POSES (6: certificates sampled per mesh), TIME_LIMIT (300 s per command), OUT
+#   CHECK_POSES (24: certificates sampled per mesh), TIME_LIMIT (300 s per command), OUT
 #   (build/sweep-meshes), MOVER (a mesh moved against every one: the default is each mesh itself),
 #   TOLERANCE (cdbench poses --tolerance; its default when unset), POSES_ARGS (more options for
 #   cdbench poses, e.g. "--direction-sampling grid": axis-aligned approach directions), BENCH
@@ -29,7 +29,7 @@ max_faces=${MAX_FACES:-10000}
 levels=${LEVELS:--20%,0,5%}
 directions=${DIRECTIONS:-20}
 orientations=${ORIENTATIONS:-2}
-check_poses=${CHECK_POSES:-6}
+check_poses=${CHECK_POSES:-24}
 limit=${TIME_LIMIT:-300}
 out=${OUT:-$root/build/sweep-meshes}
 extra=()
