@@ -2,7 +2,8 @@
 # The independent checker (validation/check_poses) itself: its pruned search finds the same sampled
 # minimum as the literal evaluation of every sample (--exhaustive), bit for bit, on penetrating,
 # touching and separated poses of a torus and of a box moved against a torus; it confirms the
-# certificates of a pose set and refuses one whose intervals were moved (exit 1, NOT CONFIRMED).
+# certificates of a pose set and refuses one whose intervals were moved (exit 1, NOT CONFIRMED);
+# usage errors exit 2.
 set -eu
 cdbench=$1
 meshes=$2
@@ -48,4 +49,12 @@ set -e
 [ $rc -eq 1 ] || { cat "$work/moved.txt"; fail "moved certificates: exit $rc, expected 1"; }
 [ "$(grep -c "NOT CONFIRMED" "$work/moved.txt")" -eq 6 ] || { cat "$work/moved.txt"; fail "moved certificates confirmed"; }
 grep -q "0 of 6 sampled certificates confirmed" "$work/moved.txt" || { cat "$work/moved.txt"; fail "summary line"; }
+# Usage errors: exit 2 with a message naming the option.
+set +e
+"$check" "$work/box" --grid > "$work/usage.txt" 2>&1; rc1=$?
+"$check" "$work/box" --pose 3 >> "$work/usage.txt" 2>&1; rc2=$?
+set -e
+[ $rc1 -eq 2 ] && [ $rc2 -eq 2 ] || { cat "$work/usage.txt"; fail "usage errors: exit $rc1, $rc2, expected 2"; }
+grep -q -- "--grid: needs a value" "$work/usage.txt" && grep -q -- "--pose: unknown option" "$work/usage.txt" ||
+  { cat "$work/usage.txt"; fail "usage error messages"; }
 echo "check_poses: all checks passed"
