@@ -57,7 +57,7 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = K::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_face_graph_triangle_primitive<Mesh>>>;
-using Side = CGAL::Side_of_triangle_mesh<Mesh, K>;
+using Side = CGAL::Side_of_triangle_mesh<Mesh, K, CGAL::Default, Tree>;  // on our tree, not a second one
 
 cdbench::TriangleMesh load(const std::string& path) {
   return cdbench::validate_mesh(cdbench::read_polygon_soup(path)).mesh;
@@ -364,11 +364,10 @@ static int run(int argc, char** argv) {
   const Mesh F = to_cgal(fixed);
   Tree tree(faces(F).first, faces(F).second, F);
   tree.accelerate_distance_queries();
-  const Side side(F);
   // Built now, before queries from several threads.
   tree.build();
   (void)tree.squared_distance(Point(0, 0, 0));
-  (void)side(Point(0, 0, 0));
+  const Side side(tree);
   std::ifstream csv(dir + "/poses.csv");
   std::vector<cdbench::PoseRow> rows = cdbench::read_pose_csv(csv, dir + "/poses.csv");
   if (!intervals.empty()) {
