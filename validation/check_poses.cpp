@@ -50,6 +50,7 @@
 #include "mesh/validate_mesh.h"
 #include "poseset/pose_csv.h"
 #include "poseset/poseset_manifest.h"
+#include "tool_options.h"
 
 namespace {
 
@@ -323,33 +324,15 @@ static int run(int argc, char** argv) {
       "  (n x n points per triangle, default 16) with CGAL's AABB tree and side-of-mesh test. --intervals: check\n"
       "  cdbench validate's intervals instead; --exhaustive: evaluate every sample (slow; the same minimum);\n"
       "  --verbose: a line per pose. Exit 0: all confirmed, 1: some not, 2: bad input.\n";
-  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
-    std::fputs(usage, argc < 2 ? stderr : stdout);
-    return argc < 2 ? 2 : 0;
-  }
+  std::map<std::string, std::string> o;
+  if (const auto exit = parse_tool_options("check_poses", usage, argc, argv, 2, {"--exhaustive", "--verbose"},
+                                           {"--poses", "--grid", "--intervals"}, o))
+    return *exit;
   const std::string dir = argv[1];
-  std::size_t wanted = 30;
-  int n = 16;
-  std::string intervals;
-  bool exhaustive = false, verbose = false;
-  for (int i = 2; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool valued = a == "--intervals" || a == "--poses" || a == "--grid";
-    if (a == "--exhaustive") {
-      exhaustive = true;
-    } else if (a == "--verbose") {
-      verbose = true;
-    } else if (!valued || i + 1 >= argc) {
-      std::fprintf(stderr, "check_poses: %s: %s\n%s", a.c_str(), valued ? "needs a value" : "unknown option", usage);
-      return 2;
-    } else if (a == "--intervals") {
-      intervals = argv[++i];
-    } else if (a == "--poses") {
-      wanted = std::stoul(argv[++i]);
-    } else {
-      n = std::stoi(argv[++i]);
-    }
-  }
+  const std::size_t wanted = o.count("--poses") ? std::stoul(o["--poses"]) : 30;
+  const int n = o.count("--grid") ? std::stoi(o["--grid"]) : 16;
+  const std::string intervals = o.count("--intervals") ? o["--intervals"] : "";
+  const bool exhaustive = o.count("--exhaustive") > 0, verbose = o.count("--verbose") > 0;
   if (n < 1) {
     std::fprintf(stderr, "check_poses: --grid must be at least 1\n");
     return 2;
