@@ -320,10 +320,11 @@ class Sampler {
 static int run(int argc, char** argv) {
   const char* usage =
       "usage: check_poses POSESET_DIR [--poses K] [--grid n] [--intervals VALIDATION.csv] [--exhaustive] [--verbose]\n"
-      "  Confirms K certificates spread over the pose set (default 30) by dense sampling of the placed mover\n"
-      "  (n x n points per triangle, default 16) with CGAL's AABB tree and side-of-mesh test. --intervals: check\n"
-      "  cdbench validate's intervals instead; --exhaustive: evaluate every sample (slow; the same minimum);\n"
-      "  --verbose: a line per pose. Exit 0: all confirmed, 1: some not, 2: bad input.\n";
+      "  Confirms K certificates (default 30; as many from each level, spread over its approaches) by dense\n"
+      "  sampling of the placed mover (n x n points per triangle, default 16) with CGAL's AABB tree and\n"
+      "  side-of-mesh test. --intervals: check cdbench validate's intervals instead; --exhaustive: evaluate\n"
+      "  every sample (slow; the same minimum); --verbose: a line per pose. Exit 0: all confirmed, 1: some\n"
+      "  not, 2: bad input.\n";
   std::map<std::string, std::string> o;
   if (const auto exit = parse_tool_options("check_poses", usage, argc, argv, 2, {"--exhaustive", "--verbose"},
                                            {"--poses", "--grid", "--intervals"}, o))
@@ -374,17 +375,35 @@ static int run(int argc, char** argv) {
       r.clearance_hi = it == by_pose.end() ? NAN : it->second.second;
     }
   }
-  std::vector<const cdbench::PoseRow*> placed;
+  // The poses checked: as many from each level as can be (a level with fewer placed poses gives
+  // all it has and the others share the rest), each level's spread over its approaches. A stride
+  // over the whole file could land on one level only (the rows of an approach are its levels).
+  std::map<int, std::vector<const cdbench::PoseRow*>> by_level;
+  std::size_t total = 0;
   for (const auto& r : rows)
-    if (!std::isnan(r.clearance_lo)) placed.push_back(&r);
-  const std::size_t M = std::min(wanted, placed.size());
+    if (!std::isnan(r.clearance_lo)) {
+      by_level[r.level].push_back(&r);
+      ++total;
+    }
+  const std::size_t M = std::min(wanted, total);
+  std::map<int, std::size_t> quota;
+  for (std::size_t given = 0; given < M;)
+    for (const auto& [level, list] : by_level)
+      if (given < M && quota[level] < list.size()) {
+        ++quota[level];
+        ++given;
+      }
+  std::vector<const cdbench::PoseRow*> placed;
+  for (const auto& [level, list] : by_level)
+    for (std::size_t i = 0; i < quota[level]; ++i) placed.push_back(list[i * list.size() / quota[level]]);
+  std::sort(placed.begin(), placed.end(), [](const cdbench::PoseRow* a, const cdbench::PoseRow* b) { return a->pose < b->pose; });
   const double e = 1e-9 * diag;
   const Sampler sampler(tree, side, n, e);
   const MoverChunks chunks(mover);
   std::size_t confirmed = 0;
   double worst_gap = 0.0;
   for (std::size_t k = 0; k < M; ++k) {
-    const cdbench::PoseRow& r = *placed[k * placed.size() / M];  // spread over the set
+    const cdbench::PoseRow& r = *placed[k];
     std::vector<Point> P;
     for (const auto& x : mover.vertices) {
       const Eigen::Vector3d y = r.R * x + r.t;

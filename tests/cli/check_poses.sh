@@ -2,8 +2,8 @@
 # The independent checker (validation/check_poses) itself: its pruned search finds the same sampled
 # minimum as the literal evaluation of every sample (--exhaustive), bit for bit, on penetrating,
 # touching and separated poses of a torus and of a box moved against a torus; it confirms the
-# certificates of a pose set and refuses one whose intervals were moved (exit 1, NOT CONFIRMED);
-# usage errors exit 2.
+# certificates of a pose set, sampled evenly over its levels, and refuses one whose intervals were
+# moved (exit 1, NOT CONFIRMED); usage errors exit 2.
 set -eu
 cdbench=$1
 meshes=$2
@@ -30,6 +30,12 @@ import re, sys
 counts = [tuple(map(int, m)) for m in re.findall(r"\((\d+) of (\d+) triangles", open(sys.argv[1]).read())]
 sys.exit(0 if any(a < b for a, b in counts) else 1)
 PY
+# A sample of 12 of the box's 36 poses: 4 from each of its 3 levels (a stride of 3 over the file
+# would check level 0 only).
+"$check" "$work/box" --poses 12 --grid 3 --verbose > "$work/twelve.txt" || { cat "$work/twelve.txt"; fail "sample of 12"; }
+for level in 0 1 2; do
+  [ "$(grep -c "^pose [0-9]* level $level:" "$work/twelve.txt")" -eq 4 ] || { cat "$work/twelve.txt"; fail "sample of 12: level $level"; }
+done
 # Move every certificate up by 1 % of the bounding box's diagonal: far outside the sampled enclosure.
 python3 - "$work/self/poses.csv" "$work/self/poseset.json" <<'PY'
 import csv, json, sys
