@@ -33,7 +33,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -158,10 +157,8 @@ class Sampler {
     std::atomic<std::uint64_t> sides{0};
     tbb::parallel_for(std::size_t{0}, faces.size(), [&](std::size_t t) {
       const auto& f = faces[t];
-      const double m = grid_minimum(P[f[0]], P[f[1]], P[f[2]], std::nullopt, [&](const Point& x, double) {
-        ++sides;
-        return side_(x) == CGAL::ON_BOUNDED_SIDE ? -1.0 : 1.0;
-      });
+      const double m =
+          grid_minimum(P[f[0]], P[f[1]], P[f[2]], std::nullopt, [&](const Point& x, double) { return side(x, sides); });
       lower(best, m);
     });
     r.m = best;
@@ -177,10 +174,7 @@ class Sampler {
     Sampled r;
     r.h = spacing(P, faces);
     std::atomic<std::uint64_t> sides{0};
-    const auto sign_at = [&](const Point& x) {
-      ++sides;
-      return side_(x) == CGAL::ON_BOUNDED_SIDE ? -1.0 : 1.0;
-    };
+    const auto sign_at = [&](const Point& x) { return side(x, sides); };
     // Each chunk's ball: s >= s(centre) - radius on all of it, and one side if it misses F.
     const std::size_t C = chunks.radius.size();
     if (C == 0) return r;
@@ -275,6 +269,12 @@ class Sampler {
   }
 
  private:
+  // The sign of s at x by CGAL's side test, counted.
+  double side(const Point& x, std::atomic<std::uint64_t>& count) const {
+    ++count;
+    return side_(x) == CGAL::ON_BOUNDED_SIDE ? -1.0 : 1.0;
+  }
+
   // h: every point of the mover's surface is within h of a sample.
   double spacing(const std::vector<Point>& P, const std::vector<cdbench::Face>& faces) const {
     return tbb::parallel_reduce(
@@ -401,7 +401,6 @@ static int run(int argc, char** argv) {
   const Sampler sampler(tree, side, n, e);
   const MoverChunks chunks(mover);
   std::size_t confirmed = 0;
-  double worst_gap = 0.0;
   for (std::size_t k = 0; k < M; ++k) {
     const cdbench::PoseRow& r = *placed[k];
     std::vector<Point> P;
@@ -415,7 +414,6 @@ static int run(int argc, char** argv) {
     const double lo = best - h - e, hi = best + e;
     const bool ok = r.clearance_lo <= hi && r.clearance_hi >= lo;
     confirmed += ok;
-    worst_gap = std::max(worst_gap, std::max(r.clearance_lo - hi, lo - r.clearance_hi));
     if (verbose)
       std::printf("pose %llu level %d: certificate [%.17g, %.17g], sampled minimum %.17g, spacing %.17g (%zu of %zu "
                   "triangles sampled, %llu side queries)\n",
