@@ -136,8 +136,11 @@ class DeepZoneJumps {
       : options_(o),
         target_(target),
         use_cover_(o.deep_cover && target < 0.0 && o.deep_cover->target() == target),
-        use_octree_(use_cover_ && o.deep_zone_cubes > 0),
-        memo_(o.deep_zone_memo && o.deep_zone_memo->target() == target ? o.deep_zone_memo : nullptr) {}
+        // The octree also where the level has no cover (shallower than a fifth of M) but a memo.
+        use_octree_(target < 0.0 && o.deep_zone_cubes > 0 &&
+                    (use_cover_ || (o.deep_zone_memo && o.deep_zone_memo->target() == target))),
+        memo_(o.deep_zone_memo && o.deep_zone_memo->target() == target ? o.deep_zone_memo : nullptr),
+        had_cover_(use_cover_) {}
 
   bool active() const { return use_cover_ || use_octree_; }
 
@@ -170,6 +173,11 @@ class DeepZoneJumps {
     // runs out costs at most a few times the advance it could have spared. A pose flat for
     // kPlateauSteps steps is on a plateau that pays for a query before that
     // (PoseOptions::deep_zone_min_cubes).
+    // A level without a cover (shallower than a fifth of M) asks only on a long plateau: there
+    // jumps saved thin shells thousands of steps, while on shorter flat stretches, and where the
+    // zone is a sheet in a thin wall, the queries cost more than they saved (doc/performance.md,
+    // "Shallow levels").
+    if (!had_cover_ && flat < kShallowPlateauSteps) return kNaN;
     const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_, flat >= kPlateauSteps);
     if (budget == 0) return kNaN;
     // A query that ran out is held and continued by the next try (with twice the budget) rather
@@ -199,13 +207,14 @@ class DeepZoneJumps {
   }
 
   static constexpr double kFineLeafGaps = 0.25, kClippedLeafGaps = 3.0, kHeldLeafGrowth = 1.2;
-  static constexpr int kPlateauSteps = 8;
+  static constexpr int kPlateauSteps = 8, kShallowPlateauSteps = 32;
 
  private:
   const PoseOptions& options_;
   double target_;
   bool use_cover_, use_octree_;
   DeepCubeMemo* memo_;
+  bool had_cover_;  // the level has a cover (deep_cover_wanted), used or not
   std::uint64_t tried_ = 0;  // the budget of the octree's last query that ran out (0: none yet)
   HeldZoneQuery clipped_query_, fine_query_;  // queries that ran out, to be continued
 };
@@ -227,10 +236,10 @@ DeepCoverOptions deep_cover_options(double target, std::uint64_t approaches) {
 LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, double max_penetration, bool polish,
                                    std::uint64_t approaches) {
   LevelDeepZone z;
-  if (polish && deep_cover_wanted(target, max_penetration)) {
+  if (!polish || !(target < 0.0)) return z;
+  if (deep_cover_wanted(target, max_penetration))
     z.cover = std::make_unique<LazyDeepCover>(fixed, target, deep_cover_options(target, approaches));
-    z.memo = std::make_unique<DeepCubeMemo>(target);
-  }
+  z.memo = std::make_unique<DeepCubeMemo>(target);
   return z;
 }
 

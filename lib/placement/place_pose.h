@@ -152,7 +152,8 @@ DeepCoverOptions deep_cover_options(double target,
 // Whether a penetrating level gets a cover at all: its target at least a fifth of the maximum
 // penetration deep. Shallower zones lie just under most of F's surface, so a jump to them is short
 // while their covers are large (about F's area over target^2; armadillo -10 %: 91,000 cubes for
-// no gain; rotor and spool -10 %: over the budget).
+// no gain; rotor and spool -10 %: over the budget). Such levels still get the octree about the
+// mover's path (a memo, no cover), asked only once c has been flat for 32 steps.
 bool deep_cover_wanted(double target, double max_penetration);
 
 // The cube budget of a pose's next octree query (PoseOptions::deep_zone_cubes): cells is the
@@ -164,8 +165,8 @@ std::uint64_t deep_zone_query_budget(const PoseOptions& options, std::uint64_t c
                                      bool plateau = false);
 
 // A level's deep-zone state, shared by its poses: the cover (built by the first pose that asks)
-// and the memo of its octree's cube verdicts. Both null where the level gets none
-// (deep_cover_wanted, or polishing off). Deterministic: the poses do not depend on which pose
+// and the memo of its octree's cube verdicts. The cover null where deep_cover_wanted says no,
+// both null for levels >= 0 or with polishing off. Deterministic: the poses do not depend on which pose
 // builds the cover nor on the order the memo fills in.
 struct LevelDeepZone {
   std::unique_ptr<LazyDeepCover> cover;

@@ -225,6 +225,10 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // runs still resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
     run_key["deep_zone_jumps"] = 6;
+  // Penetrating levels shallower than a fifth of M (no cover) jump to the octree's contact too since
+  // session 48 (1); absent otherwise.
+  if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo && !z.cover; }))
+    run_key["shallow_zone_jumps"] = 1;
   // Penetrating levels' certificates since 2026-11-28 (session 34: no pair-distance path, leaves
   // of one face and hopeless boxes split unevaluated, 2; stale cells re-bounded by their last depth
   // bound's weights, 3; depth bounds from near-point distances since session 36, 4): their
@@ -256,6 +260,14 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
                                                 : "offsets for " + std::to_string(req.distances.size()) + " of " +
                                                       std::to_string(L) + " level(s) in " + req.out_dir)
             << std::endl;
+  // A stopped search leaves M's interval wider than asked (sheet-like parts: a plateau of deepest
+  // points): the poses stay certified against their targets, but "p %" then means p % of lo(M).
+  if (!mp.tolerance_reached &&
+      std::any_of(specs.begin(), specs.end(), [](const LevelSpec& s) { return s.percent && s.value != 0.0; }))
+    std::cerr << "cdbench poses: note: the maximum penetration's search stopped at its memory bound (width asked: "
+              << number_text(mp_tol, 3) << " x diagonal): percentage levels are of its lower end " << number_text(mp.depth.lo)
+              << ", and M may be up to " << number_text(mp.depth.hi / mp.depth.lo, 3)
+              << " times that; absolute levels do not depend on M" << std::endl;
   Timer t_offsets;
   const OffsetSetResult offsets = write_offset_set(req);
   const double seconds_offsets = t_offsets.seconds();

@@ -23,7 +23,8 @@ LoadedMesh load_mesh(const std::string& path, const ValidateOptions& options) {
 bool report_if_not_solid(const LoadedMesh& l) {
   if (l.validated.report.valid()) return true;
   for (const auto& e : l.validated.report.errors) std::cerr << "cdbench: " << l.path << ": " << e.message << "\n";
-  std::cerr << "cdbench: error: " << l.path << " is not a valid closed solid (see 'cdbench check'; 'cdbench wrap' repairs)\n";
+  std::cerr << "cdbench: error: " << l.path << " is not a valid closed solid (see 'cdbench check'; 'cdbench repair "
+            << l.path << " OUT.off' makes one, keeping its geometry when it can)\n";
   return false;
 }
 

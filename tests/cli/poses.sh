@@ -81,6 +81,12 @@ fi
 "$bin" bench "$dir/a/offsets" -o "$dir/bench2" > "$dir/x.log" 2>&1
 [ $? -eq 2 ] && grep -q "poseset.json: cannot be read" "$dir/x.log" || fail "bench on a directory without a pose set"
 
+# An open surface: exit 1, nothing written, and the command that makes it a solid named.
+open="$(dirname "$0")/../../data/bad/open_surface.off"
+"$bin" poses "$open" --levels=0 -o "$dir/open" > "$dir/x.log" 2>&1
+[ $? -eq 1 ] && grep -q "boundary edges" "$dir/x.log" && grep -qF "'cdbench repair $open OUT.off'" "$dir/x.log" &&
+  [ ! -e "$dir/open/poses.csv" ] || { cat "$dir/x.log"; fail "poses on an open surface"; }
+
 # The numpy reader of doc/pose-set-format.md, when a python3 with numpy is at hand.
 reader="$(dirname "$0")/../../scripts/read_poseset.py"
 for py in python3 /usr/bin/python3; do

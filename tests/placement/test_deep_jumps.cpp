@@ -338,5 +338,38 @@ TEST(DeepJumps, HeldQueryContinuesToTheFreshAnswer) {
   EXPECT_GT(lowered, 3);
 }
 
+// A level shallower than a fifth of M gets no cover but the octree about the mover's path, asked
+// on a long plateau only: at -0.024 (M = 0.4) the sphere slides through the plate with c about
+// -0.02, a gap of 0.004 for a length of 1.2 (about 150 two-sided steps), and the jump crosses it.
+TEST(DeepJumps, ShallowLevelJumpsWithTheOctreeAlone) {
+  const Scene w(plate_and_block(), make_icosphere(0.1, 1));
+  ApproachSetup setup = w.attached();
+  setup.fixed_ref = Vec3(0, 0, 0);
+  const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
+  const double target = -0.024, max_penetration = 0.4;
+  ASSERT_FALSE(deep_cover_wanted(target, max_penetration));
+  const LevelDeepZone zone = make_level_deep_zone(w.fixed, target, max_penetration, true, 40);
+  EXPECT_EQ(zone.cover, nullptr);
+  ASSERT_NE(zone.memo, nullptr);
+  EXPECT_EQ(make_level_deep_zone(w.fixed, target, max_penetration, false, 40).memo, nullptr);
+  EXPECT_EQ(make_level_deep_zone(w.fixed, 0.01, max_penetration, true, 40).memo, nullptr);
+  PoseOptions base;
+  base.tolerance = 1e-7;
+  base.start = PoseStart::Surface;
+  const Vec3 dir(-1, 0, 0);
+  PoseOptions none = base;
+  none.deep_zone_cubes = 0;
+  const PoseOutcome plain = place_pose(setup, frame, &w.surface, dir, target, none);
+  const PoseOutcome jumped = place_pose(setup, frame, &w.surface, dir, target, zone.options(base));
+  ASSERT_TRUE(plain.contact && plain.on_target && plain.certified);
+  ASSERT_TRUE(jumped.contact && jumped.on_target && jumped.certified);
+  EXPECT_LT(plain.lambda, -1.1);  // in the block
+  EXPECT_NEAR(jumped.lambda, plain.lambda, 4 * base.tolerance);
+  EXPECT_GE(jumped.cover_jumps, 1);
+  EXPECT_GT(jumped.zone_cubes, 0u);
+  EXPECT_GT(plain.steps, 100) << "the plateau this test is about";
+  EXPECT_LT(jumped.steps + 60, plain.steps) << "plain " << plain.steps << " jumped " << jumped.steps;
+}
+
 }  // namespace
 }  // namespace cdbench
