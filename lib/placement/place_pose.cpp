@@ -392,6 +392,9 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // A frontier taken over from a higher level (below) is worth it up to this many times the cells
   // of a cold start (about 25 us per cold cell, 4 us per re-evaluated warm one; doc/performance.md).
   constexpr std::uint64_t kColdCellsPerWarm = 6;
+  // A plateau within a tenth of |target| above it gets a deep-zone query after this many flat steps
+  // (doc/performance.md, "Shallow levels").
+  constexpr int kNearPlateauSteps = 64;
   bool last_loose = false;
   // The state a certificate leaves for the next one of the advance.
   const auto adopt = [&](const ClearanceResult& r) {
@@ -528,7 +531,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     // The previous pose of the advance, for the slope of c (a heuristic: it only picks steps).
     double prev_lambda = 0.0, prev_mid = 0.0;
     bool have_prev = false;
-    int flat_steps = 0;
+    int flat_steps = 0, near_flat = 0;
     DeepZoneJumps jumps(options, target);
     while (!within(c.clearance) && out.steps < options.max_steps) {
       // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
@@ -603,7 +606,12 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // saves (doc/performance.md). Thin parts' plateaus lie at about a tenth (rotor -20 %:
       // 0.08-0.12 |target|; at a fifth, as before 2026-11-28, they were not crossed).
       flat_steps = slope < 0.5 && mid - target > 0.1 * std::abs(target) ? flat_steps + 1 : 0;
-      if (flat_steps >= 2 && jumps.active()) {
+      // Flat within a tenth of |target| too: asked only once that has lasted kNearPlateauSteps
+      // (a long plateau just above the target: repaired thin shells' poses of 1,300-1,900 steps).
+      near_flat = slope < 0.5 ? near_flat + 1 : 0;
+      const bool near_ask = near_flat >= kNearPlateauSteps && flat_steps < 2;
+      if (near_ask) flat_steps = near_flat;
+      if ((flat_steps >= 2 || near_ask) && jumps.active()) {
         // Worth a jump only beyond what one two-sided step proves.
         const double worth = out.lambda - 2.0 * std::max(0.0, c.clearance.lo - target);
         const double lk = jumps.contact(setup, frame, dir, out.lambda, gap, flat_steps, worth, lambda_far,
@@ -613,7 +621,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           if (lk < worth) {
             jump_to(lk);
             have_prev = false;
-            flat_steps = 0;
+            flat_steps = near_flat = 0;
             continue;
           }
         }

@@ -229,6 +229,10 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // session 48 (1); absent otherwise.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo && !z.cover; }))
     run_key["shallow_zone_jumps"] = 1;
+  // Plateaus within a tenth of |target| above it ask the zone too once 64 steps long (session 48):
+  // every polished penetrating level; absent otherwise.
+  if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo != nullptr; }))
+    run_key["near_target_jumps"] = 1;
   // Penetrating levels' certificates since 2026-11-28 (session 34: no pair-distance path, leaves
   // of one face and hopeless boxes split unevaluated, 2; stale cells re-bounded by their last depth
   // bound's weights, 3; depth bounds from near-point distances since session 36, 4): their

@@ -371,5 +371,33 @@ TEST(DeepJumps, ShallowLevelJumpsWithTheOctreeAlone) {
   EXPECT_LT(jumped.steps + 60, plain.steps) << "plain " << plain.steps << " jumped " << jumped.steps;
 }
 
+// A plateau just above the target: at -0.0205 the sphere slides through the 0.02-deep plate with c
+// at -0.02, 2.4 % of |target| above it (no jump is asked within a tenth of |target| on a short
+// flat stretch), for about a thousand two-sided steps; after 64 flat steps the octree is asked and
+// the pose jumps to the block.
+TEST(DeepJumps, LongPlateauNearTheTargetJumps) {
+  const Scene w(plate_and_block(), make_icosphere(0.1, 1));
+  ApproachSetup setup = w.attached();
+  setup.fixed_ref = Vec3(0, 0, 0);
+  const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
+  const double target = -0.0205;
+  const LevelDeepZone zone = make_level_deep_zone(w.fixed, target, 0.4, true, 40);
+  PoseOptions base;
+  base.tolerance = 1e-7;
+  base.start = PoseStart::Surface;
+  const Vec3 dir(-1, 0, 0);
+  PoseOptions none = base;
+  none.deep_zone_cubes = 0;
+  const PoseOutcome plain = place_pose(setup, frame, &w.surface, dir, target, none);
+  const PoseOutcome jumped = place_pose(setup, frame, &w.surface, dir, target, zone.options(base));
+  ASSERT_TRUE(plain.contact && plain.on_target && plain.certified);
+  ASSERT_TRUE(jumped.contact && jumped.on_target && jumped.certified);
+  EXPECT_LT(plain.lambda, -1.1);
+  EXPECT_NEAR(jumped.lambda, plain.lambda, 4 * base.tolerance);
+  EXPECT_GE(jumped.cover_jumps, 1);
+  EXPECT_GT(plain.steps, 500) << "the plateau this test is about";
+  EXPECT_LT(jumped.steps + 300, plain.steps) << "plain " << plain.steps << " jumped " << jumped.steps;
+}
+
 }  // namespace
 }  // namespace cdbench
