@@ -9,6 +9,7 @@
 #include <iomanip>
 #include <limits>
 #include <random>
+#include <utility>
 
 #include "distance/deep_cover.h"
 #include "mesh/shapes.h"
@@ -338,63 +339,53 @@ TEST(DeepJumps, HeldQueryContinuesToTheFreshAnswer) {
   EXPECT_GT(lowered, 3);
 }
 
-// A level shallower than a fifth of M gets no cover but the octree about the mover's path, asked
-// on a long plateau only: at -0.024 (M = 0.4) the sphere slides through the plate with c about
-// -0.02, a gap of 0.004 for a length of 1.2 (about 150 two-sided steps), and the jump crosses it.
-TEST(DeepJumps, ShallowLevelJumpsWithTheOctreeAlone) {
+// The sphere through the plate's mid-plane (c = -0.02 on the plate) towards the block, at a level
+// of the plate-and-block (M = 0.4) without a cover: polished without jumps (first) and with the
+// level's octree (second).
+std::pair<PoseOutcome, PoseOutcome> across_the_plate(double target) {
   const Scene w(plate_and_block(), make_icosphere(0.1, 1));
   ApproachSetup setup = w.attached();
   setup.fixed_ref = Vec3(0, 0, 0);
   const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
-  const double target = -0.024, max_penetration = 0.4;
-  ASSERT_FALSE(deep_cover_wanted(target, max_penetration));
-  const LevelDeepZone zone = make_level_deep_zone(w.fixed, target, max_penetration, true, 40);
+  const LevelDeepZone zone = make_level_deep_zone(w.fixed, target, 0.4, true, 40);
   EXPECT_EQ(zone.cover, nullptr);
-  ASSERT_NE(zone.memo, nullptr);
-  EXPECT_EQ(make_level_deep_zone(w.fixed, target, max_penetration, false, 40).memo, nullptr);
-  EXPECT_EQ(make_level_deep_zone(w.fixed, 0.01, max_penetration, true, 40).memo, nullptr);
+  EXPECT_NE(zone.memo, nullptr);
   PoseOptions base;
   base.tolerance = 1e-7;
   base.start = PoseStart::Surface;
-  const Vec3 dir(-1, 0, 0);
   PoseOptions none = base;
   none.deep_zone_cubes = 0;
-  const PoseOutcome plain = place_pose(setup, frame, &w.surface, dir, target, none);
-  const PoseOutcome jumped = place_pose(setup, frame, &w.surface, dir, target, zone.options(base));
-  ASSERT_TRUE(plain.contact && plain.on_target && plain.certified);
-  ASSERT_TRUE(jumped.contact && jumped.on_target && jumped.certified);
+  const Vec3 dir(-1, 0, 0);
+  std::pair<PoseOutcome, PoseOutcome> r{place_pose(setup, frame, &w.surface, dir, target, none),
+                                        place_pose(setup, frame, &w.surface, dir, target, zone.options(base))};
+  const PoseOutcome &plain = r.first, &jumped = r.second;
+  EXPECT_TRUE(plain.contact && plain.on_target && plain.certified);
+  EXPECT_TRUE(jumped.contact && jumped.on_target && jumped.certified);
   EXPECT_LT(plain.lambda, -1.1);  // in the block
   EXPECT_NEAR(jumped.lambda, plain.lambda, 4 * base.tolerance);
   EXPECT_GE(jumped.cover_jumps, 1);
   EXPECT_GT(jumped.zone_cubes, 0u);
+  return r;
+}
+
+// A level shallower than a fifth of M gets no cover but the octree about the mover's path, asked
+// on a long plateau only: at -0.024 the gap is 0.004 for a length of 1.2 (about 250 two-sided
+// steps), and the jump crosses it.
+TEST(DeepJumps, ShallowLevelJumpsWithTheOctreeAlone) {
+  ASSERT_FALSE(deep_cover_wanted(-0.024, 0.4));
+  const Scene w(plate_and_block(), make_icosphere(0.1, 1));
+  EXPECT_EQ(make_level_deep_zone(w.fixed, -0.024, 0.4, false, 40).memo, nullptr);  // not polished
+  EXPECT_EQ(make_level_deep_zone(w.fixed, 0.01, 0.4, true, 40).memo, nullptr);     // separated
+  const auto [plain, jumped] = across_the_plate(-0.024);
   EXPECT_GT(plain.steps, 100) << "the plateau this test is about";
   EXPECT_LT(jumped.steps + 60, plain.steps) << "plain " << plain.steps << " jumped " << jumped.steps;
 }
 
-// A plateau just above the target: at -0.0205 the sphere slides through the 0.02-deep plate with c
-// at -0.02, 2.4 % of |target| above it (no jump is asked within a tenth of |target| on a short
-// flat stretch), for about a thousand two-sided steps; after 64 flat steps the octree is asked and
-// the pose jumps to the block.
+// A plateau just above the target: at -0.0205, c = -0.02 is 2.4 % of |target| above it (no jump is
+// asked within a tenth of |target| on a short flat stretch), for about 1,500 two-sided steps;
+// after 64 flat steps the octree is asked and the pose jumps to the block.
 TEST(DeepJumps, LongPlateauNearTheTargetJumps) {
-  const Scene w(plate_and_block(), make_icosphere(0.1, 1));
-  ApproachSetup setup = w.attached();
-  setup.fixed_ref = Vec3(0, 0, 0);
-  const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
-  const double target = -0.0205;
-  const LevelDeepZone zone = make_level_deep_zone(w.fixed, target, 0.4, true, 40);
-  PoseOptions base;
-  base.tolerance = 1e-7;
-  base.start = PoseStart::Surface;
-  const Vec3 dir(-1, 0, 0);
-  PoseOptions none = base;
-  none.deep_zone_cubes = 0;
-  const PoseOutcome plain = place_pose(setup, frame, &w.surface, dir, target, none);
-  const PoseOutcome jumped = place_pose(setup, frame, &w.surface, dir, target, zone.options(base));
-  ASSERT_TRUE(plain.contact && plain.on_target && plain.certified);
-  ASSERT_TRUE(jumped.contact && jumped.on_target && jumped.certified);
-  EXPECT_LT(plain.lambda, -1.1);
-  EXPECT_NEAR(jumped.lambda, plain.lambda, 4 * base.tolerance);
-  EXPECT_GE(jumped.cover_jumps, 1);
+  const auto [plain, jumped] = across_the_plate(-0.0205);
   EXPECT_GT(plain.steps, 500) << "the plateau this test is about";
   EXPECT_LT(jumped.steps + 300, plain.steps) << "plain " << plain.steps << " jumped " << jumped.steps;
 }
