@@ -88,6 +88,16 @@ double max_penetration_tolerance_for(const std::vector<LevelSpec>& levels, doubl
   return std::max(floor, p > 0.0 ? tolerance / p : kReportedMaxPenetrationWidth);
 }
 
+std::string max_penetration_scale_note(const std::vector<LevelSpec>& levels, double lo, double hi,
+                                       bool tolerance_reached, double asked_width) {
+  if (tolerance_reached ||
+      std::none_of(levels.begin(), levels.end(), [](const LevelSpec& l) { return l.percent && l.value != 0.0; }))
+    return "";
+  return "the maximum penetration's search stopped at its memory bound (width asked: " + number_text(asked_width, 3) +
+         " x diagonal): percentage levels are of its lower end " + number_text(lo) + ", and M may be up to " +
+         number_text(hi / lo, 3) + " times that; absolute levels do not depend on M";
+}
+
 void check_level_reach(const LevelSpec& level, double d, double diagonal) {
   if (std::abs(d) <= kMaxLevelDiagonals * diagonal) return;
   throw InputError("--levels: level '" + level.text + "' lies " + number_text(std::abs(d) / diagonal, 3) +

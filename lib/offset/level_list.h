@@ -31,6 +31,13 @@ double level_distance(const LevelSpec& level, double max_penetration);
 constexpr double kReportedMaxPenetrationWidth = 1e-4;
 double max_penetration_tolerance_for(const std::vector<LevelSpec>& levels, double tolerance, double floor);
 
+// A note for a maximum penetration certified only to `depth`, wider than asked (its search stopped
+// at its memory bound: sheet-like parts), when some level is a nonzero percentage of it: such
+// targets are p times lo(M), and M may be up to hi/lo times that. Empty when the tolerance was
+// reached or no level depends on M.
+std::string max_penetration_scale_note(const std::vector<LevelSpec>& levels, double lo, double hi,
+                                       bool tolerance_reached, double asked_width);
+
 // How far from the surface a pose set's level may lie: |d| <= kMaxLevelDiagonals x diagonal.
 // Farther away every triangle pair is at nearly the same distance and a certificate costs ever more
 // (knot1, two poses: d = 1e5 (68,000 diagonals) 0.1 s, 1e6 4 s, 1e7 34 s, 1e12 not done in 2

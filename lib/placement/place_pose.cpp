@@ -135,12 +135,11 @@ class DeepZoneJumps {
   DeepZoneJumps(const PoseOptions& o, double target)
       : options_(o),
         target_(target),
-        use_cover_(o.deep_cover && target < 0.0 && o.deep_cover->target() == target),
-        // The octree also where the level has no cover (shallower than a fifth of M) but a memo.
-        use_octree_(target < 0.0 && o.deep_zone_cubes > 0 &&
-                    (use_cover_ || (o.deep_zone_memo && o.deep_zone_memo->target() == target))),
+        has_cover_(o.deep_cover && target < 0.0 && o.deep_cover->target() == target),
+        use_cover_(has_cover_),
         memo_(o.deep_zone_memo && o.deep_zone_memo->target() == target ? o.deep_zone_memo : nullptr),
-        had_cover_(use_cover_) {}
+        // The octree also where the level has no cover (shallower than a fifth of M) but a memo.
+        use_octree_(target < 0.0 && o.deep_zone_cubes > 0 && (has_cover_ || memo_)) {}
 
   bool active() const { return use_cover_ || use_octree_; }
 
@@ -177,7 +176,7 @@ class DeepZoneJumps {
     // jumps saved thin shells thousands of steps, while on shorter flat stretches, and where the
     // zone is a sheet in a thin wall, the queries cost more than they saved (doc/performance.md,
     // "Shallow levels").
-    if (!had_cover_ && flat < kShallowPlateauSteps) return kNaN;
+    if (!has_cover_ && flat < kShallowPlateauSteps) return kNaN;
     const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_, flat >= kPlateauSteps);
     if (budget == 0) return kNaN;
     // A query that ran out is held and continued by the next try (with twice the budget) rather
@@ -212,9 +211,10 @@ class DeepZoneJumps {
  private:
   const PoseOptions& options_;
   double target_;
-  bool use_cover_, use_octree_;
+  const bool has_cover_;  // the level has a cover (deep_cover_wanted), asked or not
+  bool use_cover_;        // not asked yet in this pose
   DeepCubeMemo* memo_;
-  bool had_cover_;  // the level has a cover (deep_cover_wanted), used or not
+  bool use_octree_;
   std::uint64_t tried_ = 0;  // the budget of the octree's last query that ran out (0: none yet)
   HeldZoneQuery clipped_query_, fine_query_;  // queries that ran out, to be continued
 };
@@ -609,9 +609,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // Flat within a tenth of |target| too: asked only once that has lasted kNearPlateauSteps
       // (a long plateau just above the target: repaired thin shells' poses of 1,300-1,900 steps).
       near_flat = slope < 0.5 ? near_flat + 1 : 0;
-      const bool near_ask = near_flat >= kNearPlateauSteps && flat_steps < 2;
-      if (near_ask) flat_steps = near_flat;
-      if ((flat_steps >= 2 || near_ask) && jumps.active()) {
+      if (flat_steps < 2 && near_flat >= kNearPlateauSteps) flat_steps = near_flat;
+      if (flat_steps >= 2 && jumps.active()) {
         // Worth a jump only beyond what one two-sided step proves.
         const double worth = out.lambda - 2.0 * std::max(0.0, c.clearance.lo - target);
         const double lk = jumps.contact(setup, frame, dir, out.lambda, gap, flat_steps, worth, lambda_far,

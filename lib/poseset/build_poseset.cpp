@@ -264,14 +264,9 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
                                                 : "offsets for " + std::to_string(req.distances.size()) + " of " +
                                                       std::to_string(L) + " level(s) in " + req.out_dir)
             << std::endl;
-  // A stopped search leaves M's interval wider than asked (sheet-like parts: a plateau of deepest
-  // points): the poses stay certified against their targets, but "p %" then means p % of lo(M).
-  if (!mp.tolerance_reached &&
-      std::any_of(specs.begin(), specs.end(), [](const LevelSpec& s) { return s.percent && s.value != 0.0; }))
-    std::cerr << "cdbench poses: note: the maximum penetration's search stopped at its memory bound (width asked: "
-              << number_text(mp_tol, 3) << " x diagonal): percentage levels are of its lower end " << number_text(mp.depth.lo)
-              << ", and M may be up to " << number_text(mp.depth.hi / mp.depth.lo, 3)
-              << " times that; absolute levels do not depend on M" << std::endl;
+  const std::string scale_note =
+      max_penetration_scale_note(specs, mp.depth.lo, mp.depth.hi, mp.tolerance_reached, mp_tol);
+  if (!scale_note.empty()) std::cerr << "cdbench poses: note: " << scale_note << std::endl;
   Timer t_offsets;
   const OffsetSetResult offsets = write_offset_set(req);
   const double seconds_offsets = t_offsets.seconds();

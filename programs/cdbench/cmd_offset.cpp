@@ -55,6 +55,9 @@ int run_offset(const OffsetCliOptions& opt) {
   const double diag = sdf.bbox().diagonal();
   double seconds_mp = 0.0;
   const MaxPenetrationResult mp = timed_max_penetration(sdf, opt.max_penetration_tolerance, &seconds_mp);
+  const std::string scale_note =
+      max_penetration_scale_note(specs, mp.depth.lo, mp.depth.hi, mp.tolerance_reached, opt.max_penetration_tolerance);
+  if (!scale_note.empty()) std::cerr << "cdbench offset: note: " << scale_note << std::endl;
 
   OffsetSetRequest req = make_offset_request(mesh_source(loaded), sdf, mp, opt.max_penetration_tolerance, seconds_mp, input_sha,
                                             opt.out);

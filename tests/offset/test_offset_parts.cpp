@@ -48,6 +48,14 @@ TEST(LevelList, MaxPenetrationToleranceFollowsTheDeepestPercentage) {
   EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-50%,0.3"), 1e-5, 1e-6), 2e-5);
 }
 
+TEST(LevelList, MaxPenetrationScaleNoteOnlyWhenAPercentageDependsOnAWideM) {
+  const std::string note = max_penetration_scale_note(parse_level_list("-20%,0"), 1.43e-4, 5.66e-4, false, 5e-6);
+  EXPECT_NE(note.find("lower end 0.000143"), std::string::npos) << note;
+  EXPECT_NE(note.find("up to 3.96 times"), std::string::npos) << note;
+  EXPECT_EQ(max_penetration_scale_note(parse_level_list("-20%,0"), 1.43e-4, 5.66e-4, true, 5e-6), "");
+  EXPECT_EQ(max_penetration_scale_note(parse_level_list("-0.001,0,0%"), 1.43e-4, 5.66e-4, false, 5e-6), "");
+}
+
 TEST(LevelList, ErrorsNameTheItem) {
   for (const char* bad : {"", "abc", "1,,2", "1:2", "1%:2:1", "2:1:0.5", "0:1:0", "0:1e9:1", "nan", "5%%"}) {
     try {
