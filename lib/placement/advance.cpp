@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "core/interval.h"
 #include "distance/deep_cover.h"
@@ -516,6 +517,27 @@ struct CoverGeometry {
       axis_range(t.m_lo[i], t.m_hi[i], b_lo, b_hi, t.w_lo[i], t.w_hi[i], r);
     }
   }
+  // An oriented box holding points already moved by t0 (a placed sweep tree's, its pad and `pad`
+  // more included), moved by lambda d, against the grown box G along the box's own three axes: the
+  // box's extent along n = U_j is n.c +- (sum_i |n.U_i| half_i + pads |n|), each product bounded
+  // through plane_offset's error, |n| by |n|_1.
+  void oriented(const Obb& b, double pad, const Aabb& G, LambdaRange& r) const {
+    const double pads = round_up(b.pad + pad);
+    for (int j = 0; j < 3 && !r.empty(); ++j) {
+      const Vec3 n = b.axes.col(j);
+      double spread = pads * n.cwiseAbs().sum();
+      for (int i = 0; i < 3; ++i) {
+        const PlaneOffset ni = plane_offset(n, 0.0, b.axes.col(i));
+        spread += (std::abs(ni.value) + ni.error) * b.half[i];
+      }
+      spread = round_up(spread * (1.0 + 1e-14));
+      const PlaneOffset nc = plane_offset(n, 0.0, b.center), nd = plane_offset(n, 0.0, d);
+      double b_lo, b_hi;
+      extent(n, G, b_lo, b_hi);
+      axis_range(round_down(round_down(nc.value - nc.error) - spread), round_up(round_up(nc.value + nc.error) + spread),
+                 b_lo, b_hi, round_down(nd.value - nd.error), round_up(nd.value + nd.error), r);
+    }
+  }
   // A clip {n.x <= off} grown by the margin: the margin ball reaches at most margin |n|_1 along n.
   double grown_off(const DeepClip& c) const {
     return round_up(c.off + round_up(margin * c.n.cwiseAbs().sum() * (1.0 + 1e-15)));
@@ -547,19 +569,48 @@ double cover_margin(const MoverOrientation& o, const Vec3& t0, const Vec3& d, do
   return round_up(round_up(2.0 * advance_rounding(o, t0, d, slack, lambda_max).farthest) + slack);
 }
 
+// A node of the mover's sweep tree placed at t0 (OrientationFrame::swept) as a cover query sees
+// it. Its volumes hold R x + t0 (within their pads) and the placed doubles fl(r + t0); the query's
+// points r + t0 (r = fl(R x)) lie within pad = transform_error(t0) of both. Its box in rotated
+// coordinates (CoverGeometry's): the placed box less t0, grown by the pad, outwards.
+Aabb rotated_box(const Aabb& placed, const Vec3& t0, double pad) {
+  Aabb A;
+  for (int k = 0; k < 3; ++k) {
+    A.lo[k] = round_down(round_down(placed.lo[k] - t0[k]) - pad);
+    A.hi[k] = round_up(round_up(placed.hi[k] - t0[k]) + pad);
+  }
+  return A;
+}
+// The lambdas where such a node may meet the grown box G: its box, then its oriented box's axes
+// (thin, tilted nodes, whose axis-aligned boxes are far fatter than they are: rotor's blades;
+// doc/performance.md, "Oriented boxes in the zone's octree").
+LambdaRange placed_node_range(const CoverGeometry& g, const SweepVolume& v, double pad, const Aabb& G) {
+  LambdaRange r = g.boxes(rotated_box(v.box, g.t0, pad), G);
+  if (!r.empty() && v.obb.half[0] >= 0.0) g.oriented(v.obb, pad, G, r);
+  return r;
+}
+double placed_node_pad(const MoverOrientation& o, const Vec3& t0) {
+  return round_up(o.transform_error(t0) * (1.0 + 1e-12));
+}
+
 struct CoverContactPolicy {
   CoverGeometry g;
   const DeepCover& cover;
   double stop_at;  // a contact at or beyond it settles the query
+  double pad = 0.0;  // with the mover's sweep tree: placed_node_pad
   double best = -std::numeric_limits<double>::infinity();
 
-  double bound(const Aabb& A, const Aabb& B) const {
-    const LambdaRange r = g.boxes(A, g.grown(B));
+  static double later_first(const LambdaRange& r) {
     return r.empty() ? std::numeric_limits<double>::infinity() : -r.hi;
+  }
+  double bound(const Aabb& A, const Aabb& B) const { return later_first(g.boxes(A, g.grown(B))); }
+  double bound(const SweepVolume& A, const Aabb& B) const {
+    return later_first(placed_node_range(g, A, pad, g.grown(B)));
   }
   double prune_bound() const { return -best; }
   bool done() const { return best >= stop_at; }
   bool split_first(const Aabb& a, const Aabb& b) const { return a.extent().squaredNorm() >= b.extent().squaredNorm(); }
+  bool split_first(const SweepVolume& a, const Aabb& b) const { return split_first(a.box, b); }
   void leaf(std::uint32_t face, std::uint32_t box) {
     LambdaRange r;
     g.triangle(face, g.grown(cover.boxes[box]), r);
@@ -570,22 +621,48 @@ struct CoverContactPolicy {
 }  // namespace
 
 double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orientation, const Vec3& t0, const Vec3& d,
-                          double slack, double lambda_max, double stop_at) {
+                          double slack, double lambda_max, double stop_at, const SweepMesh* mover_sweep) {
   if (!cover.complete || cover.boxes.empty() || orientation.boxes.empty())
     return -std::numeric_limits<double>::infinity();
+  if (mover_sweep && mover_sweep->faces.size() != orientation.faces->size())
+    throw std::invalid_argument("deep_cover_contact: the sweep mesh is not the mover's");
   ThreadScratch<MovingTriangles> moving_scratch;
   moving_scratch.get().start(orientation.faces->size());
   CoverContactPolicy p{{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max), &moving_scratch.get()},
-                       cover, stop_at};
-  traverse_pairs_best_first(orientation.boxes, cover.tree, p);
+                       cover, stop_at, placed_node_pad(orientation, t0)};
+  if (mover_sweep && !mover_sweep->tree.empty())
+    traverse_pairs_best_first(mover_sweep->tree, cover.tree, p);
+  else
+    traverse_pairs_best_first(orientation.boxes, cover.tree, p);
   return p.best;
 }
+
+// The mover's tree a deep-zone query walks: the orientation's sweep tree placed at t0 when the
+// caller has it (placed_node_range), else its box tree. Both index the same faces; boxes are
+// handed out in rotated coordinates (CoverGeometry's).
+struct ZoneMover {
+  const Bvh<Aabb>* boxes = nullptr;
+  const Bvh<SweepVolume>* sweep = nullptr;
+  double pad = 0.0;  // placed_node_pad
+
+  std::uint32_t count(std::uint32_t a) const { return sweep ? sweep->nodes[a].count : boxes->nodes[a].count; }
+  std::uint32_t first(std::uint32_t a) const { return sweep ? sweep->nodes[a].first : boxes->nodes[a].first; }
+  std::uint32_t face(std::uint32_t i) const { return sweep ? sweep->order[i] : boxes->order[i]; }
+  Aabb box(const CoverGeometry& g, std::uint32_t a) const {
+    return sweep ? rotated_box(sweep->nodes[a].bv.box, g.t0, pad) : boxes->nodes[a].bv;
+  }
+  // The lambdas where the node may meet the grown box G.
+  LambdaRange range(const CoverGeometry& g, std::uint32_t a, const Aabb& G) const {
+    return sweep ? placed_node_range(g, sweep->nodes[a].bv, pad, G) : g.boxes(boxes->nodes[a].bv, G);
+  }
+};
 
 // A held query (HeldZoneQuery): its octree and queue, what it was asked, and how far it got.
 struct HeldZoneQuery::State {
   ZoneOctree z;
   const SignedDistance* fixed = nullptr;
   const MoverOrientation* orientation = nullptr;
+  const SweepMesh* mover_sweep = nullptr;
   const DeepCubeMemo* memo = nullptr;
   double target = 0.0, cell_size = 0.0, clipped_cell_size = 0.0, slack = 0.0, lambda_max = 0.0;
   Vec3 t0 = Vec3::Zero(), d = Vec3::Zero();
@@ -605,7 +682,8 @@ void HeldZoneQuery::clear() { state_.reset(); }
 DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, double cell_size,
                                   const MoverOrientation& orientation, const Vec3& t0, const Vec3& d, double slack,
                                   double lambda_max, double lambda_top, double stop_at, std::uint64_t max_cubes,
-                                  DeepCubeMemo* memo, double clipped_cell_size, HeldZoneQuery* held) {
+                                  DeepCubeMemo* memo, double clipped_cell_size, HeldZoneQuery* held,
+                                  const SweepMesh* mover_sweep) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   constexpr double kPresplitLeaves = 8.0;
   DeepZoneContact out;
@@ -618,12 +696,17 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
   ThreadScratch<MovingTriangles> moving_scratch;
   moving_scratch.get().start(orientation.faces->size());
   const CoverGeometry g{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max), &moving_scratch.get()};
+  if (mover_sweep && mover_sweep->faces.size() != orientation.faces->size())
+    throw std::invalid_argument("deep_zone_contact: the sweep mesh is not the mover's");
+  const ZoneMover mover{&orientation.boxes, mover_sweep && !mover_sweep->tree.empty() ? &mover_sweep->tree : nullptr,
+                        placed_node_pad(orientation, t0)};
   // A held query of the same question continues where it stopped: every pair it set aside had no
   // contact later than its best, which is at most lambda_top, so its queue still holds every
   // pair that may meet later (pairs queued under an earlier lambda_top keep upper bounds that are
   // still valid, and their tests now stop at lambda_top).
   HeldZoneQuery::State* h = held ? held->state_.get() : nullptr;
-  const bool resume = h && h->fixed == &fixed && h->orientation == &orientation && h->memo == memo &&
+  const bool resume = h && h->fixed == &fixed && h->orientation == &orientation && h->mover_sweep == mover_sweep &&
+                      h->memo == memo &&
                       h->target == target && h->cell_size == cell_size &&
                       h->clipped_cell_size == clipped_cell_size && h->slack == slack && h->lambda_max == lambda_max &&
                       h->t0 == t0 && h->d == d && !(h->best > lambda_top);
@@ -678,6 +761,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       std::swap(s->z, z);  // the thread's scratch is left empty
       s->fixed = &fixed;
       s->orientation = &orientation;
+      s->mover_sweep = mover_sweep;
       s->memo = memo;
       s->target = target;
       s->cell_size = cell_size;
@@ -696,7 +780,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     // A cube already dropped meets nothing (its pairs queued before its verdict are dropped when
     // they come up).
     if (nodes[b].classified && nodes[b].verdict.what == DeepCubeVerdict::drop) return;
-    LambdaRange r = g.boxes(orientation.boxes.nodes[a].bv, g.grown(nodes[b].box));
+    LambdaRange r = mover.range(g, a, g.grown(nodes[b].box));
     r.meet(-kInf, lambda_top);
     if (r.empty() || !(r.hi > out.lambda)) return;
     heap.push_back({a, b, r.hi});
@@ -736,16 +820,17 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
                 (nb.verdict.what == DeepCubeVerdict::split && deep_cube_radius(nb.box) <= leaf_size);
     }
     if (nb.verdict.what == DeepCubeVerdict::drop) continue;
-    const auto& na = orientation.boxes.nodes[e.a];
+    const std::uint32_t na_count = mover.count(e.a), na_first = mover.first(e.a);
+    const Aabb na_box = mover.box(g, e.a);
     const ClipSpan clips{z.clips.data() + nb.clips, nb.verdict.n_clips};
     if (clips.n > 0) {  // the pair again, against the zone's part of the cube
       LambdaRange r;
       r.meet(-kInf, e.hi);
-      g.clips(na.bv, clips, r);
+      g.clips(na_box, clips, r);
       if (r.empty() || !(r.hi > out.lambda)) continue;
     }
     const bool cube_leaf = nb.leaf;
-    if (na.count > 0 && !cube_leaf && clips.n > 0 &&
+    if (na_count > 0 && !cube_leaf && clips.n > 0 &&
         deep_cube_radius(nodes[e.b].box) <= kPresplitLeaves * std::max(cell_size, clipped_cell_size)) {
       // The mover's triangles against the zone's part of the cube before splitting it: where the
       // clips hold the zone, a cube the triangles miss needs no children. Only near the leaves'
@@ -753,22 +838,22 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       // doubled a thin shell's queries (repaired lion -20 %).
       const Aabb G = g.grown(nodes[e.b].box);
       bool meets = false;
-      for (std::uint32_t i = 0; i < na.count && !meets; ++i) {
+      for (std::uint32_t i = 0; i < na_count && !meets; ++i) {
         // From the best contact so far: a range narrowed below it is as good as empty, and the
         // test stops at the first axis that shows it (the same answer as from -inf).
         LambdaRange r;
         r.meet(out.lambda, lambda_top);
-        g.triangle(orientation.boxes.order[na.first + i], G, r, clips);
+        g.triangle(mover.face(na_first + i), G, r, clips);
         meets = !r.empty() && r.hi > out.lambda;
       }
       if (!meets) continue;
     }
-    if (na.count > 0 && cube_leaf) {
+    if (na_count > 0 && cube_leaf) {
       const Aabb G = g.grown(nodes[e.b].box);
-      for (std::uint32_t i = 0; i < na.count; ++i) {
+      for (std::uint32_t i = 0; i < na_count; ++i) {
         LambdaRange r;
         r.meet(out.lambda, lambda_top);  // as above: only a later contact matters
-        const std::uint32_t face = orientation.boxes.order[na.first + i];
+        const std::uint32_t face = mover.face(na_first + i);
         g.triangle(face, G, r, clips);
         if (!r.empty()) out.lambda = std::max(out.lambda, r.hi);
       }
@@ -776,10 +861,10 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     }
     // Split the larger of the two (a leaf never).
     const bool split_mover =
-        cube_leaf || (na.count == 0 && na.bv.extent().squaredNorm() >= nodes[e.b].box.extent().squaredNorm());
+        cube_leaf || (na_count == 0 && na_box.extent().squaredNorm() >= nodes[e.b].box.extent().squaredNorm());
     if (split_mover) {
-      push(na.first, e.b);
-      push(na.first + 1, e.b);
+      push(na_first, e.b);
+      push(na_first + 1, e.b);
       continue;
     }
     if (nodes[e.b].first_child == 0) {

@@ -80,10 +80,13 @@ HalfspaceMinimum least_halfspace_bound(const SupportPlanes& support, const Mover
 // -inf when no box is met on the whole line (or the cover is incomplete: then nothing is claimed,
 // and the caller must not use it). The search stops at the first contact found at or beyond
 // `stop_at` and returns it (a lambda_K that large is of no use to the caller; +inf: the exact
-// latest contact).
+// latest contact). mover_sweep (optional): the orientation's sweep mesh placed at t0
+// (OrientationFrame::swept, the same faces), walked instead of the box tree: its oriented boxes
+// part thin, tilted nodes from boxes (the answer stays valid; it may differ from the box tree's).
 double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orientation, const Vec3& t0, const Vec3& d,
                           double slack, double lambda_max,
-                          double stop_at = std::numeric_limits<double>::infinity());
+                          double stop_at = std::numeric_limits<double>::infinity(),
+                          const SweepMesh* mover_sweep = nullptr);
 
 // The same bound without a prebuilt cover: the octree of distance/deep_cover.h grown on demand,
 // only where the moving mover comes near it between -lambda_max and lambda_top, its cubes kept at
@@ -118,7 +121,7 @@ class HeldZoneQuery {
  private:
   friend DeepZoneContact deep_zone_contact(const SignedDistance&, double, double, const MoverOrientation&,
                                            const Vec3&, const Vec3&, double, double, double, double, std::uint64_t,
-                                           DeepCubeMemo*, double, HeldZoneQuery*);
+                                           DeepCubeMemo*, double, HeldZoneQuery*, const SweepMesh*);
   std::unique_ptr<State> state_;
 };
 // held (optional): a query that runs out is kept there; one held there for the same fixed mesh,
@@ -126,10 +129,11 @@ class HeldZoneQuery {
 // at most lambda_top, is continued with the new lambda_top, stop_at and budget (max_cubes counts
 // its cubes from its start). The answer is then the one above for that query's octree: valid, and a
 // deterministic function of the calls made. Emptied when a query completes.
+// mover_sweep (optional): as for deep_cover_contact.
 DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, double cell_size,
                                   const MoverOrientation& orientation, const Vec3& t0, const Vec3& d, double slack,
                                   double lambda_max, double lambda_top, double stop_at, std::uint64_t max_cubes,
                                   DeepCubeMemo* memo = nullptr, double clipped_cell_size = 0.0,
-                                  HeldZoneQuery* held = nullptr);
+                                  HeldZoneQuery* held = nullptr, const SweepMesh* mover_sweep = nullptr);
 
 }  // namespace cdbench

@@ -155,7 +155,8 @@ class DeepZoneJumps {
     if (use_cover_) {
       if (const DeepCover* cover = options_.deep_cover->get()) {
         use_cover_ = use_octree_ = false;
-        return deep_cover_contact(*cover, frame.orientation, frame.t0, dir, pose_slack, lambda_far, worth);
+        return deep_cover_contact(*cover, frame.orientation, frame.t0, dir, pose_slack, lambda_far, worth,
+                                  &frame.swept);
       }
       use_cover_ = false;
     }
@@ -172,11 +173,11 @@ class DeepZoneJumps {
     // runs out costs at most a few times the advance it could have spared. A pose flat for
     // kPlateauSteps steps is on a plateau that pays for a query before that
     // (PoseOptions::deep_zone_min_cubes).
-    // A level without a cover (shallower than a fifth of M) asks only on a long plateau: there
-    // jumps saved thin shells thousands of steps, while on shorter flat stretches, and where the
-    // zone is a sheet in a thin wall, the queries cost more than they saved (doc/performance.md,
-    // "Shallow levels").
-    if (!has_cover_ && flat < kShallowPlateauSteps) return kNaN;
+    // A level without a cover (shallower than a fifth of M) asks only once on a plateau: there
+    // jumps save thin shells thousands of steps, while before it, and where the zone is a sheet in
+    // a thin wall, a query costs more than it saves (doc/performance.md, "Shallow levels" and
+    // "Oriented boxes in the zone's octree").
+    if (!has_cover_ && flat < kPlateauSteps) return kNaN;
     const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_, flat >= kPlateauSteps);
     if (budget == 0) return kNaN;
     // A query that ran out is held and continued by the next try (with twice the budget) rather
@@ -187,7 +188,7 @@ class DeepZoneJumps {
       const bool keep = q.held() && q.cell_size() <= kHeldLeafGrowth * fine;
       return deep_zone_contact(*setup.fixed, target_, keep ? q.cell_size() : fine, frame.orientation, frame.t0, dir,
                                pose_slack, lambda_far, lambda, worth, budget, memo_,
-                               keep ? q.clipped_cell_size() : clipped, &q);
+                               keep ? q.clipped_cell_size() : clipped, &q, &frame.swept);
     };
     DeepZoneContact z = ask(clipped_query_, kClippedLeafGaps * gap);
     *zone_cubes += z.cubes;
@@ -206,7 +207,7 @@ class DeepZoneJumps {
   }
 
   static constexpr double kFineLeafGaps = 0.25, kClippedLeafGaps = 3.0, kHeldLeafGrowth = 1.2;
-  static constexpr int kPlateauSteps = 8, kShallowPlateauSteps = 32;
+  static constexpr int kPlateauSteps = 8;
 
  private:
   const PoseOptions& options_;

@@ -153,7 +153,7 @@ DeepCoverOptions deep_cover_options(double target,
 // penetration deep. Shallower zones lie just under most of F's surface, so a jump to them is short
 // while their covers are large (about F's area over target^2; armadillo -10 %: 91,000 cubes for
 // no gain; rotor and spool -10 %: over the budget). Such levels still get the octree about the
-// mover's path (a memo, no cover), asked only once c has been flat for 32 steps.
+// mover's path (a memo, no cover), asked only once c has been flat for 8 steps.
 bool deep_cover_wanted(double target, double max_penetration);
 
 // The cube budget of a pose's next octree query (PoseOptions::deep_zone_cubes): cells is the

@@ -226,13 +226,16 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
     run_key["deep_zone_jumps"] = 6;
   // Penetrating levels shallower than a fifth of M (no cover) jump to the octree's contact too since
-  // session 48 (1); absent otherwise.
+  // session 48 after 32 flat steps (1), since session 49 after 8 (2); absent otherwise.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo && !z.cover; }))
-    run_key["shallow_zone_jumps"] = 1;
-  // Plateaus within a tenth of |target| above it ask the zone too once 64 steps long (session 48):
-  // every polished penetrating level; absent otherwise.
-  if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo != nullptr; }))
+    run_key["shallow_zone_jumps"] = 2;
+  // Plateaus within a tenth of |target| above it ask the zone too once 64 steps long (session 48),
+  // and the octree walks the mover's oriented boxes (session 49): every polished penetrating level;
+  // absent otherwise.
+  if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo != nullptr; })) {
     run_key["near_target_jumps"] = 1;
+    run_key["oriented_zone_octree"] = 1;
+  }
   // Penetrating levels' certificates since 2026-11-28 (session 34: no pair-distance path, leaves
   // of one face and hopeless boxes split unevaluated, 2; stale cells re-bounded by their last depth
   // bound's weights, 3; depth bounds from near-point distances since session 36, 4): their

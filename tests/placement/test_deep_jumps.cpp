@@ -9,6 +9,7 @@
 #include <iomanip>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <utility>
 
 #include "distance/deep_cover.h"
@@ -278,6 +279,80 @@ TEST(DeepJumps, GrownOctreeFindsTheCoversContact) {
     EXPECT_GT(tighter, 2);  // the clips moved the contact
     EXPECT_GT(memo.size(), 100u);
   }
+}
+
+// The octree walked with the mover's sweep tree (its oriented boxes) instead of its box tree: a
+// thin ring tilted at random, whose arcs' axis-aligned boxes are far fatter than they are. Its
+// contact is valid (certificates above it leave room above the target, as for the box tree's),
+// it classifies fewer cubes over the approaches, and a sweep mesh of another mesh is refused. The
+// built cover's contact likewise.
+TEST(DeepJumps, OrientedBoxesKeepTheOctreeValidWithFewerCubes) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::uint64_t box_cubes = 0, oriented_cubes = 0;
+  int met = 0, checked = 0;
+  for (int shape = 0; shape < 2; ++shape) {
+    const Scene w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_torus(0.2, 0.01, 32, 6));
+    const double target = shape == 0 ? -0.015 : -0.12;
+    const double cell = 0.25 * std::abs(target), clipped = 3.0 * std::abs(target);
+    const LazyDeepCover cover(w.fixed, target, deep_cover_options(target));
+    std::mt19937_64 rng(71 + shape);
+    for (int i = 0; i < 10; ++i) {
+      const OrientationFrame frame = make_orientation_frame(w.setup, random_rotation(rng));
+      const Vec3 dir = random_direction(rng);
+      const double lambda_far = w.setup.fixed_radius + w.setup.mover_radius + 1.0;
+      const DeepZoneContact boxes = deep_zone_contact(w.fixed, target, cell, frame.orientation, frame.t0, dir, 1e-12,
+                                                      lambda_far, kInf, kInf, 4000000, nullptr, clipped);
+      const DeepZoneContact oriented = deep_zone_contact(w.fixed, target, cell, frame.orientation, frame.t0, dir,
+                                                         1e-12, lambda_far, kInf, kInf, 4000000, nullptr, clipped,
+                                                         nullptr, &frame.swept);
+      ASSERT_TRUE(boxes.complete && oriented.complete);
+      box_cubes += boxes.cubes;
+      oriented_cubes += oriented.cubes;
+      // The built cover's contact: the oriented boxes visit a subset of the triangle-box pairs,
+      // so theirs is at or below the box tree's (the latest over all pairs: in practice the same),
+      // and valid.
+      if (const DeepCover* cv = cover.get()) {
+        const double lb = deep_cover_contact(*cv, frame.orientation, frame.t0, dir, 1e-12, lambda_far);
+        const double lo = deep_cover_contact(*cv, frame.orientation, frame.t0, dir, 1e-12, lambda_far, kInf,
+                                             &frame.swept);
+        EXPECT_LE(lo, lb) << std::setprecision(17) << "shape " << shape << " dir " << dir.transpose();
+        if (lo > -lambda_far) {
+          ClearanceOptions copt;
+          copt.tolerance = 1e-6;
+          for (int k = 0; k < 3; ++k) {
+            const double lambda = lo + 1e-9 + 0.01 * k;
+            const ClearanceResult c = certify_clearance(w.fixed, w.mover, w.setup.components, frame.orientation,
+                                                        pose_translation(frame, dir, lambda), copt);
+            EXPECT_GT(c.clearance.hi, target) << std::setprecision(17) << "shape " << shape << " lambda " << lambda
+                                              << " cover contact " << lo << " dir " << dir.transpose();
+          }
+        }
+      }
+      if (!(oriented.lambda > -lambda_far)) continue;
+      ++met;
+      ClearanceOptions copt;
+      copt.tolerance = 1e-6;
+      // Just above the contact (where a bound that cut into the mover's nodes would claim poses
+      // that meet the zone) and up to the box tree's contact.
+      for (int k = 0; k <= 6; ++k) {
+        const double lambda = k < 6 ? oriented.lambda + 1e-9 + 0.004 * k
+                                    : oriented.lambda + 0.5 * (std::max(boxes.lambda, oriented.lambda) - oriented.lambda);
+        const ClearanceResult c = certify_clearance(w.fixed, w.mover, w.setup.components, frame.orientation,
+                                                    pose_translation(frame, dir, lambda), copt);
+        EXPECT_GT(c.clearance.hi, target) << std::setprecision(17) << "shape " << shape << " lambda " << lambda
+                                          << " contact " << oriented.lambda << " dir " << dir.transpose();
+        ++checked;
+      }
+    }
+    const SweepMesh other = make_sweep_mesh(w.fixed.mesh().vertices, w.fixed.mesh().faces);
+    const OrientationFrame frame = make_orientation_frame(w.setup, Eigen::Matrix3d::Identity());
+    EXPECT_THROW(deep_zone_contact(w.fixed, target, cell, frame.orientation, frame.t0, Vec3(1, 0, 0), 1e-12, 10.0, kInf,
+                                   kInf, 1000, nullptr, clipped, nullptr, &other),
+                 std::invalid_argument);
+  }
+  EXPECT_GT(met, 4);
+  EXPECT_GT(checked, 30);
+  EXPECT_LT(oriented_cubes, box_cubes);
 }
 
 // A query that runs out and is held, then continued (with a larger budget, under the same or a
