@@ -207,7 +207,10 @@ class DeepZoneJumps {
   }
 
   static constexpr double kFineLeafGaps = 0.25, kClippedLeafGaps = 3.0, kHeldLeafGrowth = 1.2;
-  static constexpr int kPlateauSteps = 8;
+  // A pose flat for this many steps is on a plateau (a level without a cover asks from then on).
+  // A plateau within a tenth of |target| above it asks after kNearPlateauSteps (place_pose;
+  // doc/performance.md, "Shallow levels").
+  static constexpr int kPlateauSteps = 8, kNearPlateauSteps = 64;
 
  private:
   const PoseOptions& options_;
@@ -393,9 +396,6 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // A frontier taken over from a higher level (below) is worth it up to this many times the cells
   // of a cold start (about 25 us per cold cell, 4 us per re-evaluated warm one; doc/performance.md).
   constexpr std::uint64_t kColdCellsPerWarm = 6;
-  // A plateau within a tenth of |target| above it gets a deep-zone query after this many flat steps
-  // (doc/performance.md, "Shallow levels").
-  constexpr int kNearPlateauSteps = 64;
   bool last_loose = false;
   // The state a certificate leaves for the next one of the advance.
   const auto adopt = [&](const ClearanceResult& r) {
@@ -610,7 +610,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // Flat within a tenth of |target| too: asked only once that has lasted kNearPlateauSteps
       // (a long plateau just above the target: repaired thin shells' poses of 1,300-1,900 steps).
       near_flat = slope < 0.5 ? near_flat + 1 : 0;
-      if (flat_steps < 2 && near_flat >= kNearPlateauSteps) flat_steps = near_flat;
+      if (flat_steps < 2 && near_flat >= DeepZoneJumps::kNearPlateauSteps) flat_steps = near_flat;
       if (flat_steps >= 2 && jumps.active()) {
         // Worth a jump only beyond what one two-sided step proves.
         const double worth = out.lambda - 2.0 * std::max(0.0, c.clearance.lo - target);
