@@ -31,7 +31,7 @@ double level_distance(const LevelSpec& level, double max_penetration);
 constexpr double kReportedMaxPenetrationWidth = 1e-4;
 double max_penetration_tolerance_for(const std::vector<LevelSpec>& levels, double tolerance, double floor);
 
-// A note for a maximum penetration certified only to `depth`, wider than asked (its search stopped
+// A note for a maximum penetration certified only to [lo, hi], wider than asked (its search stopped
 // at its memory bound: sheet-like parts), when some level is a nonzero percentage of it: such
 // targets are p times lo(M), and M may be up to hi/lo times that. Empty when the tolerance was
 // reached or no level depends on M.

@@ -706,8 +706,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
   // still valid, and their tests now stop at lambda_top).
   HeldZoneQuery::State* h = held ? held->state_.get() : nullptr;
   const bool resume = h && h->fixed == &fixed && h->orientation == &orientation && h->mover_sweep == mover_sweep &&
-                      h->memo == memo &&
-                      h->target == target && h->cell_size == cell_size &&
+                      h->memo == memo && h->target == target && h->cell_size == cell_size &&
                       h->clipped_cell_size == clipped_cell_size && h->slack == slack && h->lambda_max == lambda_max &&
                       h->t0 == t0 && h->d == d && !(h->best > lambda_top);
   if (held && !resume) held->clear();
