@@ -59,6 +59,33 @@ Obb fit_obb(int n, const PointAt& point_at) {
   return b;
 }
 
+// The half-width of a box along L, the one projection kernel of the oriented boxes (the exact
+// sweep's and the separated advance's pair bounds, sweep/mesh_sweep.h; the deep zone's queries,
+// placement/advance.cpp): for every x within b.pad + pad of the box (the exact L and x; the box's
+// axes need not be exactly orthonormal, the half extents hold along the computed ones),
+// |L.x - L.c| <= r, and the computed L.c, or L.(c - c') for another box c' with its own r', is
+// within the slack of r (+ r') of the exact one. Any rounding mode: L.c and each |L.U_k| are within
+// 3u |L|_1 |c|_inf and 3u |L|_1 (|U_k|_inf <= 1 + 1e-15) of their exact values, c - c' within
+// u (|c|_inf + |c'|_inf) per coordinate, and the sums within a few ulps; r grows by 1e-12 |L|_1
+// (|c|_inf + sum of halves), far above that, and the pads by a relative 1e-12 (their product's and
+// the sums' rounding). l1 = |L|_1; mag = obb_magnitude(b).
+inline double obb_magnitude(const Obb& b) { return b.center.cwiseAbs().maxCoeff() + b.half.sum(); }
+inline double obb_radius(const Obb& b, const Eigen::Vector3d& L, double l1, double mag, double pad = 0.0) {
+  double spread = 0.0;
+  for (int k = 0; k < 3; ++k) spread += b.half[k] * std::abs(L.dot(b.axes.col(k)));
+  return (1.0 + 1e-12) * (spread + (b.pad + pad) * l1) + 1e-12 * l1 * mag + 1e-300;
+}
+// The projection of the box on the line of L: [lo, hi] holds L.x for every such x (lo and hi are
+// within the slack of L.c -+ r).
+struct ObbProjection {
+  double lo, hi;
+};
+inline ObbProjection obb_projection(const Obb& b, const Eigen::Vector3d& L, double pad = 0.0) {
+  const double r = obb_radius(b, L, L.cwiseAbs().sum(), obb_magnitude(b), pad);
+  const double c = L.dot(b.center);
+  return {c - r, c + r};
+}
+
 // Whether box a and box b, the latter moved by (R, t) (x -> R x + t), may overlap. Conservative:
 // false only when a separating axis is proven with a margin above rounding.
 inline bool obb_overlap(const Obb& a, const Obb& b, const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {

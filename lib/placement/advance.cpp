@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "core/interval.h"
 #include "distance/deep_cover.h"
@@ -518,24 +519,17 @@ struct CoverGeometry {
     }
   }
   // An oriented box holding points already moved by t0 (a placed sweep tree's, its pad and `pad`
-  // more included), moved by lambda d, against the grown box G along the box's own three axes: the
-  // box's extent along n = U_j is n.c +- (sum_i |n.U_i| half_i + pads |n|), each product bounded
-  // through plane_offset's error, |n| by |n|_1.
+  // more included), moved by lambda d, against the grown box G along the box's own three axes
+  // (obb_projection, bvh/obb.h).
   void oriented(const Obb& b, double pad, const Aabb& G, LambdaRange& r) const {
-    const double pads = round_up(b.pad + pad);
     for (int j = 0; j < 3 && !r.empty(); ++j) {
       const Vec3 n = b.axes.col(j);
-      double spread = pads * n.cwiseAbs().sum();
-      for (int i = 0; i < 3; ++i) {
-        const PlaneOffset ni = plane_offset(n, 0.0, b.axes.col(i));
-        spread += (std::abs(ni.value) + ni.error) * b.half[i];
-      }
-      spread = round_up(spread * (1.0 + 1e-14));
-      const PlaneOffset nc = plane_offset(n, 0.0, b.center), nd = plane_offset(n, 0.0, d);
+      const ObbProjection p = obb_projection(b, n, pad);
+      const PlaneOffset nd = plane_offset(n, 0.0, d);
       double b_lo, b_hi;
       extent(n, G, b_lo, b_hi);
-      axis_range(round_down(round_down(nc.value - nc.error) - spread), round_up(round_up(nc.value + nc.error) + spread),
-                 b_lo, b_hi, round_down(nd.value - nd.error), round_up(nd.value + nd.error), r);
+      axis_range(round_down(p.lo), round_up(p.hi), b_lo, b_hi, round_down(nd.value - nd.error),
+                 round_up(nd.value + nd.error), r);
     }
   }
   // A clip {n.x <= off} grown by the margin: the margin ball reaches at most margin |n|_1 along n.
@@ -593,6 +587,12 @@ double placed_node_pad(const MoverOrientation& o, const Vec3& t0) {
   return round_up(o.transform_error(t0) * (1.0 + 1e-12));
 }
 
+// A query's optional sweep tree must index the mover's faces (its nodes hand out face indices).
+void check_mover_sweep(const SweepMesh* mover_sweep, const MoverOrientation& orientation, const char* query) {
+  if (mover_sweep && mover_sweep->faces.size() != orientation.faces->size())
+    throw std::invalid_argument(std::string(query) + ": the sweep mesh is not the mover's");
+}
+
 struct CoverContactPolicy {
   CoverGeometry g;
   const DeepCover& cover;
@@ -624,8 +624,7 @@ double deep_cover_contact(const DeepCover& cover, const MoverOrientation& orient
                           double slack, double lambda_max, double stop_at, const SweepMesh* mover_sweep) {
   if (!cover.complete || cover.boxes.empty() || orientation.boxes.empty())
     return -std::numeric_limits<double>::infinity();
-  if (mover_sweep && mover_sweep->faces.size() != orientation.faces->size())
-    throw std::invalid_argument("deep_cover_contact: the sweep mesh is not the mover's");
+  check_mover_sweep(mover_sweep, orientation, "deep_cover_contact");
   ThreadScratch<MovingTriangles> moving_scratch;
   moving_scratch.get().start(orientation.faces->size());
   CoverContactPolicy p{{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max), &moving_scratch.get()},
@@ -696,8 +695,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
   ThreadScratch<MovingTriangles> moving_scratch;
   moving_scratch.get().start(orientation.faces->size());
   const CoverGeometry g{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max), &moving_scratch.get()};
-  if (mover_sweep && mover_sweep->faces.size() != orientation.faces->size())
-    throw std::invalid_argument("deep_zone_contact: the sweep mesh is not the mover's");
+  check_mover_sweep(mover_sweep, orientation, "deep_zone_contact");
   const ZoneMover mover{&orientation.boxes, mover_sweep && !mover_sweep->tree.empty() ? &mover_sweep->tree : nullptr,
                         placed_node_pad(orientation, t0)};
   // A held query of the same question continues where it stopped: every pair it set aside had no

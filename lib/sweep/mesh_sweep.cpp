@@ -88,36 +88,23 @@ double box_entry_lower_bound(const Aabb& f, const Aabb& m, const Vec3& v,
   return entry <= exit && exit >= from ? std::max(entry, from) : kInf;
 }
 
-// (mesh_sweep.h) On axis L the boxes' projections are L.c_f +- R_f and L.c_m + t L.v +- R_m,
-// R = sum_k half_k |L.axis_k|: they overlap when |p + t lv| <= R_f + R_m (p = L.(c_m - c_f),
-// lv = L.v), an interval of t when lv != 0. Every computed quantity is within 1e-14 of the
-// magnitude |L|_1 (|c_f| + |c_m| + sum of halves) of its exact value (a few roundings, any mode);
-// the radius grows by 1e-12 of it. Axes nearly perpendicular to v (|lv| below 1e-6 |L|_1 |v|) are
-// skipped, so lv carries a relative error below 1e-9 and the times a relative margin of 1e-8.
-// The magnitude every computed projection of the pair (a, b) is accurate to within 1e-14 of, per
-// unit of |L|_1; and the half-width of their projections on L together, grown by 1e-12 of that
-// and by the pads (|L| <= |L|_1).
-double pair_magnitude(const Obb& a, const Obb& b) {
-  return a.center.cwiseAbs().maxCoeff() + b.center.cwiseAbs().maxCoeff() + a.half.sum() + b.half.sum();
-}
-double projected_radius(const Obb& a, const Obb& b, const Vec3& L, double l1, double mag) {
-  double R = 1e-12 * l1 * mag + (a.pad + b.pad) * l1 + 1e-300;
-  for (int k = 0; k < 3; ++k) R += a.half[k] * std::abs(L.dot(a.axes.col(k))) + b.half[k] * std::abs(L.dot(b.axes.col(k)));
-  return R;
-}
-
+// (mesh_sweep.h) On axis L the boxes' projections are L.c_f +- R_f and L.c_m + t lv +- R_m
+// (obb_radius, pads included; lv = L.v): they overlap when |p + t lv| <= R_f + R_m (p = L.(c_m -
+// c_f), within the radii's slack of the exact), an interval of t when lv != 0. Axes nearly
+// perpendicular to v (|lv| below 1e-6 |L|_1 |v|) are skipped, so lv carries a relative error below
+// 1e-9 and the times a relative margin of 1e-8.
 double obb_entry_lower_bound(const Obb& f, const Obb& m, const Vec3& v,
                              double from = -std::numeric_limits<double>::infinity()) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const Vec3 w = m.center - f.center;
-  const double mag = pair_magnitude(f, m);
+  const double mag_f = obb_magnitude(f), mag_m = obb_magnitude(m);
   const double vmax = v.cwiseAbs().maxCoeff();
   double entry = -kInf, exit = kInf;
   const auto axis = [&](const Vec3& L) {
     const double l1 = L.cwiseAbs().sum();
     const double lv = L.dot(v);
     if (!(std::abs(lv) > 1e-6 * l1 * vmax)) return;
-    const double R = projected_radius(f, m, L, l1, mag);
+    const double R = obb_radius(f, L, l1, mag_f) + obb_radius(m, L, l1, mag_m);
     const double p = L.dot(w);
     double t0 = (-R - p) / lv, t1 = (R - p) / lv;
     if (lv < 0.0) std::swap(t0, t1);
@@ -279,16 +266,17 @@ double obb_entry_time_lower_bound(const Obb& fixed, const Obb& moving, const Vec
   return obb_entry_lower_bound(fixed, moving, v, from);
 }
 
-// (mesh_sweep.h) On axis L the projections are L.c_a +- R_a and L.c_b +- R_b (pads included, the
-// radius grown by the same slack as above): a gap |p| - R > 0 proves every pair of points at least
-// gap / |L| apart. |L|^2 is rounded up by the factor, the quotient down by the final one.
+// (mesh_sweep.h) On axis L the projections are L.c_a +- R_a and L.c_b +- R_b (obb_radius, pads
+// included, their slack covering p = L.(c_b - c_a)): a gap |p| - R_a - R_b > 0 proves every pair of
+// points at least gap / |L| apart. |L|^2 is rounded up by the factor, the quotient down by the
+// final one.
 double obb_squared_distance_lower_bound(const Obb& a, const Obb& b) {
   const Vec3 w = b.center - a.center;
-  const double mag = pair_magnitude(a, b);
+  const double mag_a = obb_magnitude(a), mag_b = obb_magnitude(b);
   double best = 0.0;
   const auto axis = [&](const Vec3& L) {
     const double l1 = L.cwiseAbs().sum();
-    const double gap = std::abs(L.dot(w)) - projected_radius(a, b, L, l1, mag);
+    const double gap = std::abs(L.dot(w)) - obb_radius(a, L, l1, mag_a) - obb_radius(b, L, l1, mag_b);
     if (!(gap > 0.0)) return;
     const double n2 = L.squaredNorm() * (1.0 + 1e-14);
     if (!(n2 > 0.0)) return;
