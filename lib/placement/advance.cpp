@@ -709,8 +709,10 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
                       h->t0 == t0 && h->d == d && !(h->best > lambda_top);
   if (held && !resume) held->clear();
   std::uint64_t done = resume ? h->cubes : 0;  // cubes of this query classified before this call
-  // The octree, grown on demand (ZoneOctree): a cube is classified when a pair holding it comes
-  // up, and split into eight when it is neither dropped nor kept.
+  // The octree, grown on demand (ZoneOctree): a cube that a pair holding it finds neither dropped
+  // nor kept is split into eight, classified at once, so that no pair with a dropped child is
+  // queued (classified when its first pair came up, half of the pairs were such, each queued with
+  // its box's range; rotor's queries, doc/performance.md, "Children classified when made").
   ThreadScratch<ZoneOctree> scratch;
   ZoneOctree& z = resume ? h->z : scratch.get();
   struct Trim {
@@ -774,14 +776,32 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     h->cubes = done + out.cubes;
   };
   const auto push = [&](std::uint32_t a, std::uint32_t b) {
-    // A cube already dropped meets nothing (its pairs queued before its verdict are dropped when
-    // they come up).
+    // A cube dropped meets nothing (only the root is queued before its verdict).
     if (nodes[b].classified && nodes[b].verdict.what == DeepCubeVerdict::drop) return;
     LambdaRange r = mover.range(g, a, g.grown(nodes[b].box));
     r.meet(-kInf, lambda_top);
     if (r.empty() || !(r.hi > out.lambda)) return;
     heap.push_back({a, b, r.hi});
     std::push_heap(heap.begin(), heap.end(), earlier);
+  };
+  const auto classify = [&](std::uint32_t b) {
+    ++out.cubes;
+    ZoneOctree::Node& nb = nodes[b];
+    DeepCubeVerdict v;
+    if (!(memo && memo->find(nb.box, &v))) {
+      // Cell size 0: "split" is "not decided", the cell size applied below, so that the memo
+      // serves queries of any cell size.
+      const DeepCube cube = b == 0 ? root : deep_cube_child(nb.box, nodes[nb.parent].box, nodes[nb.parent].verdict);
+      v = classify_deep_cube(fixed, target, 0.0, cube, ids, b == 0 ? nullptr : parent_list(b));
+      if (memo) memo->insert(nb.box, v);
+    }
+    nb.verdict = v;
+    nb.clips = static_cast<std::uint32_t>(z.clips.size());
+    z.clips.insert(z.clips.end(), v.clips.begin(), v.clips.begin() + v.n_clips);
+    nb.classified = true;
+    const double leaf_size = nb.verdict.n_clips > 0 ? std::max(cell_size, clipped_cell_size) : cell_size;
+    nb.leaf = nb.verdict.what == DeepCubeVerdict::keep ||
+              (nb.verdict.what == DeepCubeVerdict::split && deep_cube_radius(nb.box) <= leaf_size);
   };
   if (!resume) push(0, 0);
   while (!heap.empty()) {
@@ -790,32 +810,16 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     heap.pop_back();
     if (!(e.hi > out.lambda)) break;  // no waiting pair can meet later than the best contact
     if (out.lambda >= stop_at) break;
-    ZoneOctree::Node& nb = nodes[e.b];
-    if (!nb.classified) {
+    if (!nodes[e.b].classified) {  // the root
       // Every cube counts against the budget, found in the memo or not: whether it is found there
       // depends on other threads, the answer must not.
       if (done + out.cubes >= max_cubes) {
         run_out(e);
         return out;
       }
-      ++out.cubes;
-      DeepCubeVerdict v;
-      if (!(memo && memo->find(nb.box, &v))) {
-        // Cell size 0: "split" is "not decided", the cell size applied below, so that the memo
-        // serves queries of any cell size.
-        const DeepCube cube =
-            e.b == 0 ? root : deep_cube_child(nb.box, nodes[nb.parent].box, nodes[nb.parent].verdict);
-        v = classify_deep_cube(fixed, target, 0.0, cube, ids, e.b == 0 ? nullptr : parent_list(e.b));
-        if (memo) memo->insert(nb.box, v);
-      }
-      nb.verdict = v;
-      nb.clips = static_cast<std::uint32_t>(z.clips.size());
-      z.clips.insert(z.clips.end(), v.clips.begin(), v.clips.begin() + v.n_clips);
-      nb.classified = true;
-      const double leaf_size = nb.verdict.n_clips > 0 ? std::max(cell_size, clipped_cell_size) : cell_size;
-      nb.leaf = nb.verdict.what == DeepCubeVerdict::keep ||
-                (nb.verdict.what == DeepCubeVerdict::split && deep_cube_radius(nb.box) <= leaf_size);
+      classify(e.b);
     }
+    ZoneOctree::Node& nb = nodes[e.b];
     if (nb.verdict.what == DeepCubeVerdict::drop) continue;
     const std::uint32_t na_count = mover.count(e.a), na_first = mover.first(e.a);
     const Aabb na_box = mover.box(g, e.a);
@@ -865,9 +869,15 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       continue;
     }
     if (nodes[e.b].first_child == 0) {
+      // Its eight children count against the budget together (the pair is held unsplit).
+      if (done + out.cubes + 8 > max_cubes) {
+        run_out(e);
+        return out;
+      }
       const std::array<Aabb, 8> children = deep_cube_child_boxes(nodes[e.b].box);
       nodes[e.b].first_child = static_cast<std::uint32_t>(nodes.size());
       for (const Aabb& c : children) nodes.push_back({c, {}, false, false, 0, e.b, -1, 0});  // (nb is stale now)
+      for (std::uint32_t k = 0; k < 8; ++k) classify(nodes[e.b].first_child + k);
     }
     const std::uint32_t first = nodes[e.b].first_child;
     for (std::uint32_t k = 0; k < 8; ++k) push(e.a, first + k);
