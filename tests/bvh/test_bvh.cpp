@@ -393,12 +393,12 @@ TEST(Obb, FitContainsPointsAndOverlapIsConservative) {
 }
 
 
-// obb_projection against exact rationals: the corner of the box (and its pad) farthest along L on
-// each side lies in [lo, hi], for fitted boxes far from the origin, any pads and axes L that are
-// the boxes' own axes, their cross products and random vectors; and the interval is no wider than
-// the exact extent by more than a relative 1e-9. The corner's projection is exact in rationals:
-// L.c + sum_k s_k half_k L.U_k + pad |L|_1-wise (a point within the pad: pad times a sign vector
-// over sqrt 3 is within it, so its projection pad |L|_1 / sqrt 3, checked at pad / 2 |L|_1).
+// obb_projection against exact rationals, for fitted boxes far from the origin, any pads, and axes
+// L that are the box's own axes, cross products and random vectors. In rationals, with spread =
+// sum_k half_k |L.U_k| and along = |L|_1: the corners L.c -+ spread, pushed out by a point within
+// the pads (pads / 2 along L's sign vector, whose length is pads sqrt(3) / 2, reaches pads along / 2),
+// lie in [lo, hi]; and hi - lo is at most the exact width 2 (spread + pads along) within a relative
+// 1e-9 (not vacuous).
 TEST(Obb, ProjectionHoldsTheExactExtremes) {
   std::mt19937_64 rng(23);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -418,36 +418,23 @@ TEST(Obb, ProjectionHoldsTheExactExtremes) {
     for (const Eigen::Vector3d& L : axes) {
       const ObbProjection p = obb_projection(b, L, extra);
       ASSERT_LE(p.lo, p.hi);
-      for (int side : {-1, 1}) {
-        mpq_class x = 0, radius = 0;
-        for (int i = 0; i < 3; ++i) x += q(L[i]) * q(b.center[i]);
-        for (int j = 0; j < 3; ++j) {
-          mpq_class lu = 0;
-          for (int i = 0; i < 3; ++i) lu += q(L[i]) * q(b.axes(i, j));
-          radius += q(b.half[j]) * abs(lu);
-        }
-        // A point within the pads: pads / 2 along the sign vector of L (length pads sqrt(3) / 2).
-        mpq_class along = 0;
-        for (int i = 0; i < 3; ++i) along += abs(q(L[i]));
-        radius += q(0.5) * (q(b.pad) + q(extra)) * along;
-        x += side * radius;
-        if (side > 0) {
-          ASSERT_LE(x, q(p.hi)) << k << " L " << L.transpose();
-        } else {
-          ASSERT_GE(x, q(p.lo)) << k << " L " << L.transpose();
-        }
+      mpq_class centre = 0, spread = 0, along = 0;
+      for (int i = 0; i < 3; ++i) {
+        centre += q(L[i]) * q(b.center[i]);
+        along += abs(q(L[i]));
       }
-      // Not vacuous: the width is the exact one (pads at full |L|_1) within a relative 1e-9.
-      mpq_class full = 0, along = 0;
       for (int j = 0; j < 3; ++j) {
         mpq_class lu = 0;
         for (int i = 0; i < 3; ++i) lu += q(L[i]) * q(b.axes(i, j));
-        full += q(b.half[j]) * abs(lu);
+        spread += q(b.half[j]) * abs(lu);
       }
-      for (int i = 0; i < 3; ++i) along += abs(q(L[i]));
-      full += (q(b.pad) + q(extra)) * along;
+      const mpq_class pads = q(b.pad) + q(extra);
+      const mpq_class reach = spread + q(0.5) * pads * along;
+      ASSERT_LE(mpq_class(centre + reach), q(p.hi)) << k << " L " << L.transpose();
+      ASSERT_GE(mpq_class(centre - reach), q(p.lo)) << k << " L " << L.transpose();
+      const double full = mpq_class(spread + pads * along).get_d();
       const double mag = along.get_d() * (b.center.cwiseAbs().maxCoeff() + b.half.sum());
-      tight += mpq_class(q(p.hi) - q(p.lo)).get_d() <= 2.0 * full.get_d() * (1.0 + 1e-9) + 1e-9 * mag;
+      tight += mpq_class(q(p.hi) - q(p.lo)).get_d() <= 2.0 * full * (1.0 + 1e-9) + 1e-9 * mag;
     }
   }
   EXPECT_EQ(tight, 9000);
