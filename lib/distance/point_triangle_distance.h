@@ -1,10 +1,13 @@
 #pragma once
 // Rigorous enclosure of the distance between a point and a triangle, in interval arithmetic with
 // outward rounding (CGAL::Interval_nt). See doc/distance.md for the case analysis.
+#include "core/aabb.h"
 #include "core/interval.h"
 #include "core/triangle_mesh.h"
 
+#include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace cdbench {
@@ -98,6 +101,53 @@ inline double plane_pair_lower_bound(const TrianglePlane& pl, const Vec3& x, con
   const PlaneMargins m = plane_margins(pl, x, y, z);
   const double lo = std::max(m.above, m.below) - pl.eps;
   return lo > 0.0 ? lo / pl.norm_up * (1.0 - 2e-15) : 0.0;
+}
+
+// The box's corners least and greatest along u: u.x over the box lies between their values.
+inline std::array<Vec3, 2> extreme_corners(const Vec3& u, const Aabb& b) {
+  std::array<Vec3, 2> c;
+  for (int k = 0; k < 3; ++k) {
+    const bool pos = u[k] >= 0.0;
+    c[0][k] = pos ? b.lo[k] : b.hi[k];
+    c[1][k] = pos ? b.hi[k] : b.lo[k];
+  }
+  return c;
+}
+
+// A lower bound of the distance between a box and the plane's triangle (0 when nothing is proved):
+// the pair margin of the box's corners extreme along n bounds every point of the box. Any rounding
+// mode.
+inline double box_plane_lower_bound(const TrianglePlane& pl, const Aabb& b) {
+  const auto [lo, hi] = extreme_corners(pl.n, b);
+  return plane_pair_lower_bound(pl, lo, hi, hi);
+}
+
+// A separating axis for boxes against a fixed triangle: the triangle's projection range on u (any
+// nonzero direction), each end widened by its error bound, computed once.
+struct AxisRange {
+  Vec3 u = Vec3::Zero();
+  double lo = 0.0, hi = 0.0, norm_up = 1.0;
+};
+inline AxisRange triangle_axis_range(const Vec3& u, const std::array<Vec3, 3>& t) {
+  AxisRange r;
+  r.u = u;
+  r.lo = std::numeric_limits<double>::infinity();
+  r.hi = -r.lo;
+  for (const Vec3& x : t) {
+    const PlaneOffset o = plane_offset(u, 0.0, x);
+    r.lo = std::min(r.lo, o.value - o.error);
+    r.hi = std::max(r.hi, o.value + o.error);
+  }
+  r.norm_up = std::sqrt(u.squaredNorm()) * (1.0 + 4e-15) + 1e-300;
+  return r;
+}
+// A lower bound of the distance between a box and that triangle from the gap between their
+// projections on the axis (0 when they overlap there). Any rounding mode.
+inline double box_axis_gap_lower_bound(const AxisRange& a, const Aabb& b) {
+  const auto [lo, hi] = extreme_corners(a.u, b);
+  const PlaneOffset bl = plane_offset(a.u, 0.0, lo), bh = plane_offset(a.u, 0.0, hi);
+  const double gap = std::max((bl.value - bl.error) - a.hi, a.lo - (bh.value + bh.error));
+  return gap > 0.0 ? gap / a.norm_up * (1.0 - 4e-15) : 0.0;
 }
 
 // The same margin as a reach time: xyz moved by s v stays more than r from the plane's triangle

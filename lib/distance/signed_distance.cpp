@@ -203,17 +203,30 @@ struct ParityPolicy {
   }
 };
 
-// Pruning on the running minimum of the lower bounds is rigorous: a node is skipped only when its
-// box bound exceeds that minimum, so none of its triangles could lower it.
+// Pruning on the running minimum of the lower bounds is rigorous: a node is skipped only when a
+// lower bound of its distance to v exceeds that minimum, so none of its triangles could lower it.
 struct TriangleLowerPolicy {
   const TriangleMesh& mesh;
   const std::vector<TrianglePlane>& planes;
   const std::array<Vec3, 3>& v;
-  TrianglePlane plane;  // of v
-  Aabb box;
+  TrianglePlane plane;              // of v
+  std::array<AxisRange, 3> sides;   // v's range along each edge's in-plane normal
+  Aabb box;                         // of v
+  double box_diagonal_sq;
   double stop_sq;
   double d2lo;  // starts at the caller's enough_sq: nothing beyond it is looked at
-  double bound(const Aabb& b) const { return squared_distance_lower_bound(b, box); }
+  // The boxes' distance; for a node smaller than v's box, also its distance to v's plane and its
+  // gaps to v along v's in-plane edge normals (a long, tilted cell of a machined part has a box
+  // that holds many of F's nodes its plane and sides keep far from it). Nodes at least as large
+  // as v's box seldom lie beyond those, so they are not asked: on rounded meshes the extra bounds
+  // would cost more than they prune.
+  double bound(const Aabb& b) const {
+    const double boxes = squared_distance_lower_bound(b, box);
+    if (boxes >= d2lo || (b.hi - b.lo).squaredNorm() >= box_diagonal_sq) return boxes;
+    double lb = box_plane_lower_bound(plane, b);
+    for (int k = 0; lb * lb < d2lo && k < 3; ++k) lb = std::max(lb, box_axis_gap_lower_bound(sides[k], b));
+    return lb > 0.0 ? std::max(boxes, round_down(lb * lb)) : boxes;
+  }
   double prune_bound() const { return d2lo; }
   bool done() const { return d2lo <= stop_sq; }
   void leaf(std::uint32_t j) {
@@ -238,7 +251,11 @@ double SignedDistance::triangle_squared_distance_lower(const std::array<Vec3, 3>
   // Starting the running minimum at enough_sq prunes what lies beyond it, and the result is the
   // minimum of the visited triangles' bounds and enough_sq: every skipped node or triangle lies
   // at or beyond that minimum.
-  TriangleLowerPolicy policy{mesh_, planes_, v, make_triangle_plane(v[0], v[1], v[2]), box, stop_sq, enough_sq};
+  const Vec3 normal = (v[1] - v[0]).cross(v[2] - v[0]);
+  std::array<AxisRange, 3> sides;
+  for (int k = 0; k < 3; ++k) sides[k] = triangle_axis_range((v[(k + 1) % 3] - v[k]).cross(normal), v);
+  TriangleLowerPolicy policy{mesh_, planes_, v, make_triangle_plane(v[0], v[1], v[2]), sides, box,
+                             (box.hi - box.lo).squaredNorm(), stop_sq, enough_sq};
   traverse_nearest_first(tree_, policy);
   return policy.d2lo;
 }

@@ -5,7 +5,9 @@
 #include <array>
 #include <cmath>
 #include <iomanip>
+#include <optional>
 #include <random>
+#include <sstream>
 #include <vector>
 
 #include "distance/point_triangle_distance.h"
@@ -15,6 +17,7 @@ namespace cdbench {
 namespace {
 
 using testing::Epeck;
+using testing::Epick;
 using testing::exact_squared_distance;
 
 void expect_encloses(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -155,6 +158,145 @@ TEST(PointTriangleDistance, PlaneLowerBoundNeverExceedsTheExactDistance) {
   EXPECT_GT(tight, 1500);
   EXPECT_GT(degenerate, 100);
   EXPECT_GT(over_without_eps, 10);
+}
+
+// The squared distance between a box and triangle abc in kernel K (CGAL's rationals: exact): 0 when
+// they meet, else the least over the pairs where two disjoint convex polytopes come nearest (a
+// vertex of one and a face of the other, an edge of each).
+template <class K>
+typename K::FT box_triangle_squared_distance(const Aabb& box, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const auto P = [](const Vec3& v) { return typename K::Point_3(v.x(), v.y(), v.z()); };
+  const typename K::Iso_cuboid_3 cube(P(box.lo), P(box.hi));
+  const typename K::Triangle_3 tri(P(a), P(b), P(c));
+  if (!tri.is_degenerate()) {
+    if (CGAL::do_intersect(cube, tri)) return 0;
+  } else {  // collinear: the union of its edges (or a point)
+    for (const auto& [x, y] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
+      if (x == y ? !cube.has_on_unbounded_side(P(x)) : CGAL::do_intersect(cube, typename K::Segment_3(P(x), P(y))))
+        return 0;
+  }
+  const std::array<Vec3, 8> k = box.corners();
+  // The box's 12 edges and its faces as 12 triangles (corner i has bit j set when its coordinate j
+  // is the upper one, as Aabb::corners orders them).
+  std::vector<std::array<int, 2>> edges;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (!(i & (1 << j))) edges.push_back({i, i | (1 << j)});
+  std::vector<std::array<int, 3>> faces;
+  for (int j = 0; j < 3; ++j)
+    for (int side = 0; side < 2; ++side) {
+      std::vector<int> q;
+      for (int i = 0; i < 8; ++i)
+        if (((i >> j) & 1) == side) q.push_back(i);
+      // q holds the face's four corners in bit order: 0-1-3-2 goes round it.
+      faces.push_back({q[0], q[1], q[3]});
+      faces.push_back({q[0], q[3], q[2]});
+    }
+  const std::array<Vec3, 3> t{a, b, c};
+  typename K::FT best = -1;
+  const auto offer = [&](const typename K::FT& d) {
+    if (best < 0 || d < best) best = d;
+  };
+  const auto point_triangle = [&](const Vec3& p, const Vec3& x, const Vec3& y, const Vec3& z) {
+    return CGAL::squared_distance(P(p), typename K::Triangle_3(P(x), P(y), P(z)));
+  };
+  for (const Vec3& v : t)
+    for (const auto& f : faces) offer(point_triangle(v, k[f[0]], k[f[1]], k[f[2]]));
+  for (const Vec3& x : k) offer(point_triangle(x, a, b, c));
+  for (const auto& e : edges)
+    for (int i = 0; i < 3; ++i)
+      offer(CGAL::squared_distance(typename K::Segment_3(P(k[e[0]]), P(k[e[1]])),
+                                   typename K::Segment_3(P(t[i]), P(t[(i + 1) % 3]))));
+  return best;
+}
+
+// The box bounds of a triangle's distance (its plane; its range along an axis: the disjointness
+// test's node bounds, distance/signed_distance.cpp) never exceed the exact distance: random
+// triangles (slivers, degenerate ones, far from the origin) against boxes beside them and boxes
+// with a corner on the triangle's plane or on one of its edges' in-plane normals, where only the
+// error terms keep the bounds below the exact distance; the same bounds without them exceed it
+// somewhere (the control: the test can fail). Where the box lies clear of the triangle's plane
+// above its interior, the plane bound is the distance.
+TEST(PointTriangleDistance, BoxBoundsNeverExceedTheExactDistance) {
+  std::mt19937_64 rng(57);
+  std::uniform_real_distribution<double> w(0, 1);
+  int checked = 0, tight = 0, positive_axis = 0, over_without_errors = 0;
+  for_random_triangles(rng, [&](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& o, double scale, int k) {
+    if (k % 18 != 0 && k % 30 != 1 && k % 50 != 2) return;  // a third of the slivers, the degenerate ones, some others
+    std::uniform_real_distribution<double> u(-scale, scale);
+    const std::array<Vec3, 3> t{a, b, c};
+    const Vec3 n = (b - a).cross(c - a);
+    const TrianglePlane pl = make_triangle_plane(a, b, c);
+    const double s = 0.5 * w(rng), r = 0.5 * w(rng);
+    const Vec3 inside = a + s * (b - a) + r * (c - a);
+    const int edge = k % 3;
+    const Vec3 side = (t[(edge + 1) % 3] - t[edge]).cross(n);
+    const Vec3 on_edge = t[edge] + w(rng) * (t[(edge + 1) % 3] - t[edge]);
+    const double size = std::ldexp(scale, -static_cast<int>(w(rng) * 20));
+    // The corner of a box of that size nearest along `dir` placed at `x`: the box lies on dir's side.
+    const auto box_from = [&](const Vec3& x, const Vec3& dir) {
+      Aabb box;
+      box.extend(x);
+      Vec3 far = x;
+      for (int j = 0; j < 3; ++j) far[j] += (dir[j] >= 0.0 ? 1.0 : -1.0) * size * (0.2 + w(rng));
+      box.extend(far);
+      return box;
+    };
+    const double lift = std::ldexp(scale, -static_cast<int>(w(rng) * 40));
+    const std::array<Aabb, 4> boxes{box_from(o + Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng))),
+                                    box_from(inside + (k % 4 == 0 ? lift : 0.0) * n.normalized(), n),
+                                    box_from(on_edge + (k % 4 == 0 ? lift : 0.0) * side.normalized(), side),
+                                    box_from(inside, -n)};
+    for (const Aabb& box : boxes) {
+      // Exact where doubles cannot tell: a bound clearly below the distance in doubles (by far more
+      // than their rounding) is below the exact one.
+      const double approx = box_triangle_squared_distance<Epick>(box, a, b, c);
+      const double margin = 1e-12 * std::pow(scale + o.cwiseAbs().maxCoeff(), 2);
+      std::optional<Epeck::FT> exact_value;
+      const auto exact = [&]() -> const Epeck::FT& {
+        if (!exact_value) exact_value = box_triangle_squared_distance<Epeck>(box, a, b, c);
+        return *exact_value;
+      };
+      const auto below = [&](double bound) {
+        return bound * bound <= approx * (1.0 - 1e-6) - margin || Epeck::FT(bound) * Epeck::FT(bound) <= exact();
+      };
+      const auto where = [&] {
+        std::ostringstream os;
+        os << std::setprecision(17) << "a=(" << a.transpose() << ") b=(" << b.transpose() << ") c=(" << c.transpose()
+           << ") box (" << box.lo.transpose() << ") (" << box.hi.transpose() << ") exact^2 " << CGAL::to_double(exact());
+        return os.str();
+      };
+      const double lp = box_plane_lower_bound(pl, box);
+      ASSERT_GE(lp, 0.0);
+      ASSERT_TRUE(below(lp)) << where() << " plane bound " << lp;
+      for (int i = 0; i < 3; ++i) {
+        const Vec3 axis = (t[(i + 1) % 3] - t[i]).cross(n);
+        const double la = box_axis_gap_lower_bound(triangle_axis_range(axis, t), box);
+        ASSERT_GE(la, 0.0);
+        ASSERT_TRUE(below(la)) << where() << " axis " << i << " bound " << la;
+        if (la > 0.0) ++positive_axis;
+        // Without the error terms: the gap of the rounded projections over the rounded |axis|.
+        const auto [lo, hi] = extreme_corners(axis, box);
+        double tlo = HUGE_VAL, thi = -HUGE_VAL;
+        for (const Vec3& x : t) tlo = std::min(tlo, axis.dot(x)), thi = std::max(thi, axis.dot(x));
+        const double gap0 = std::max(axis.dot(lo) - thi, tlo - axis.dot(hi)) / axis.norm();
+        if (gap0 > 0.0 && !below(gap0)) ++over_without_errors;
+      }
+      ++checked;
+    }
+    // Above the interior, clear of the plane by more than the box's rounding: the plane bound is
+    // the distance.
+    const Aabb& above = boxes[1];
+    if (k % 4 == 0 && k % 10 != 1 && k % 50 != 2 && lift > 1e-9 * scale) {
+      const double d = std::sqrt(CGAL::to_double(box_triangle_squared_distance<Epeck>(above, a, b, c)));
+      EXPECT_GE(box_plane_lower_bound(pl, above), d * (1.0 - 1e-9) - 1e-12 * (scale + o.norm()));
+      ++tight;
+    }
+  });
+  EXPECT_GT(checked, 7000);
+  EXPECT_GT(tight, 200);
+  EXPECT_GT(positive_axis, 2000);
+  EXPECT_GT(over_without_errors, 20);
 }
 
 // The near-point upper bound is never below the exact distance (random and nearly coplanar points,
