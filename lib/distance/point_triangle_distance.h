@@ -122,31 +122,42 @@ inline double box_plane_lower_bound(const TrianglePlane& pl, const Aabb& b) {
   return plane_pair_lower_bound(pl, lo, hi, hi);
 }
 
-// A separating axis for boxes against a fixed triangle: the triangle's projection range on u (any
-// nonzero direction), each end widened by its error bound, computed once.
+// The range of u.x over a box or a triangle (u any direction), each end moved outwards by its
+// error bound and rounded outwards: it holds the exact range. Any rounding mode. (A box's range is
+// at its corners extreme along u, a triangle's at its vertices.)
+struct AxisExtent {
+  double lo, hi;
+};
+inline AxisExtent box_extent(const Vec3& u, const Aabb& b) {
+  const auto [lo, hi] = extreme_corners(u, b);
+  const PlaneOffset bl = plane_offset(u, 0.0, lo), bh = plane_offset(u, 0.0, hi);
+  return {round_down(bl.value - bl.error), round_up(bh.value + bh.error)};
+}
+inline AxisExtent triangle_extent(const Vec3& u, const Vec3& a, const Vec3& b, const Vec3& c) {
+  AxisExtent e{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const Vec3* x : {&a, &b, &c}) {
+    const PlaneOffset v = plane_offset(u, 0.0, *x);
+    e.lo = std::min(e.lo, round_down(v.value - v.error));
+    e.hi = std::max(e.hi, round_up(v.value + v.error));
+  }
+  return e;
+}
+
+// A separating axis for boxes against a fixed triangle t: its extent along u (any direction) and
+// |u| rounded up, computed once.
 struct AxisRange {
   Vec3 u = Vec3::Zero();
-  double lo = 0.0, hi = 0.0, norm_up = 1.0;
+  AxisExtent t{0.0, 0.0};
+  double norm_up = 1.0;
 };
 inline AxisRange triangle_axis_range(const Vec3& u, const std::array<Vec3, 3>& t) {
-  AxisRange r;
-  r.u = u;
-  r.lo = std::numeric_limits<double>::infinity();
-  r.hi = -r.lo;
-  for (const Vec3& x : t) {
-    const PlaneOffset o = plane_offset(u, 0.0, x);
-    r.lo = std::min(r.lo, o.value - o.error);
-    r.hi = std::max(r.hi, o.value + o.error);
-  }
-  r.norm_up = std::sqrt(u.squaredNorm()) * (1.0 + 4e-15) + 1e-300;
-  return r;
+  return {u, triangle_extent(u, t[0], t[1], t[2]), std::sqrt(u.squaredNorm()) * (1.0 + 4e-15) + 1e-300};
 }
 // A lower bound of the distance between a box and that triangle from the gap between their
-// projections on the axis (0 when they overlap there). Any rounding mode.
+// extents along the axis (0 when they overlap there). Any rounding mode.
 inline double box_axis_gap_lower_bound(const AxisRange& a, const Aabb& b) {
-  const auto [lo, hi] = extreme_corners(a.u, b);
-  const PlaneOffset bl = plane_offset(a.u, 0.0, lo), bh = plane_offset(a.u, 0.0, hi);
-  const double gap = std::max((bl.value - bl.error) - a.hi, a.lo - (bh.value + bh.error));
+  const AxisExtent e = box_extent(a.u, b);
+  const double gap = std::max(e.lo - a.t.hi, a.t.lo - e.hi);
   return gap > 0.0 ? gap / a.norm_up * (1.0 - 4e-15) : 0.0;
 }
 

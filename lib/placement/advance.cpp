@@ -388,25 +388,16 @@ struct CoverGeometry {
     }
     return best;
   }
-  // The extent along n of the box B (outwards), and of the triangle abc.
+  // The extent along n of the box B (outwards), and of the triangle abc (distance/point_triangle_distance.h).
   static void extent(const Vec3& n, const Aabb& B, double& lo, double& hi) {
-    Vec3 lo_corner, hi_corner;
-    for (int k = 0; k < 3; ++k) {
-      lo_corner[k] = n[k] >= 0.0 ? B.lo[k] : B.hi[k];
-      hi_corner[k] = n[k] >= 0.0 ? B.hi[k] : B.lo[k];
-    }
-    const PlaneOffset bl = plane_offset(n, 0.0, lo_corner), bh = plane_offset(n, 0.0, hi_corner);
-    lo = round_down(bl.value - bl.error);
-    hi = round_up(bh.value + bh.error);
+    const AxisExtent e = box_extent(n, B);
+    lo = e.lo;
+    hi = e.hi;
   }
   static void extent(const Vec3& n, const Vec3& a, const Vec3& b, const Vec3& c, double& lo, double& hi) {
-    lo = std::numeric_limits<double>::infinity();
-    hi = -lo;
-    for (const Vec3* x : {&a, &b, &c}) {
-      const PlaneOffset v = plane_offset(n, 0.0, *x);
-      lo = std::min(lo, round_down(v.value - v.error));
-      hi = std::max(hi, round_up(v.value + v.error));
-    }
+    const AxisExtent e = triangle_extent(n, a, b, c);
+    lo = e.lo;
+    hi = e.hi;
   }
   // Points whose extent along n is [p_lo, p_hi] in rotated coordinates, moved by t0 (outward), and
   // d along n.

@@ -222,10 +222,10 @@ TEST(PointTriangleDistance, BoxBoundsNeverExceedTheExactDistance) {
   std::mt19937_64 rng(57);
   std::uniform_real_distribution<double> w(0, 1);
   int checked = 0, tight = 0, positive_axis = 0, over_without_errors = 0;
+  // A third of the slivers, the degenerate ones, some others; a fifth of those under the
+  // sanitizers (exact rationals cost 10-20x there).
+  const int thin = test_scale::pick(1, 5);
   for_random_triangles(rng, [&](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& o, double scale, int k) {
-    // A third of the slivers, the degenerate ones, some others; a fifth of those under the
-    // sanitizers (exact rationals cost 10-20x there).
-    const int thin = test_scale::pick(1, 5);
     if (k % (18 * thin) != 0 && k % (30 * thin) != 1 && k % (50 * thin) != 2) return;
     std::uniform_real_distribution<double> u(-scale, scale);
     const std::array<Vec3, 3> t{a, b, c};
@@ -297,7 +297,6 @@ TEST(PointTriangleDistance, BoxBoundsNeverExceedTheExactDistance) {
       ++tight;
     }
   });
-  const int thin = test_scale::pick(1, 5);
   EXPECT_GT(checked, 6000 / thin);
   EXPECT_GT(tight, 200 / thin);
   EXPECT_GT(positive_axis, 2000 / thin);
