@@ -458,7 +458,9 @@ struct CoverGeometry {
   // parts may meet); the triangle's edges crossed with the clip planes' edges on the box are left
   // out: they parted under 1 % of the pairs and cost a sixth of rotor's -20 % poses
   // (doc/performance.md, "The octree's triangle tests and its cubes' parents"). Narrows r.
-  void triangle(std::uint32_t face, const Aabb& G, LambdaRange& r, ClipSpan v = {}) const {
+  // `clipped_axes` false: the clips only as half-lines, not the 10 axes' clipped extents (a
+  // weaker test, as valid; the test before a split, "Coarser tests before a split").
+  void triangle(std::uint32_t face, const Aabb& G, LambdaRange& r, ClipSpan v = {}, bool clipped_axes = true) const {
     const Face& f = (*o.faces)[face];
     const Vec3 &a0 = o.rotated[f[0]], &a1 = o.rotated[f[1]], &a2 = o.rotated[f[2]];
     Aabb tri;
@@ -482,7 +484,7 @@ struct CoverGeometry {
       axis_range(t.m_lo[i], t.m_hi[i], b_lo, b_hi, t.w_lo[i], t.w_hi[i], r);
     }
     const int n_clips = v.n;
-    if (n_clips == 0 || r.empty()) return;
+    if (n_clips == 0 || r.empty() || !clipped_axes) return;
     // Against the clipped cube: the same axes with its smaller extents.
     std::array<Vec3, 4> cn;
     std::array<double, 4> coff;
@@ -827,7 +829,10 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       // The mover's triangles against the zone's part of the cube before splitting it: where the
       // clips hold the zone, a cube the triangles miss needs no children. Only near the leaves'
       // size: larger cubes' clips seldom part them from whole triangles, and testing every level
-      // doubled a thin shell's queries (repaired lion -20 %).
+      // doubled a thin shell's queries (repaired lion -20 %). Without the clipped extents along
+      // the triangle's axes: two thirds of these tests find a meeting and the cube is split all
+      // the same, and those extents were most of their cost (doc/performance.md, "Coarser tests
+      // before a split").
       const Aabb G = g.grown(nodes[e.b].box);
       bool meets = false;
       for (std::uint32_t i = 0; i < na_count && !meets; ++i) {
@@ -835,7 +840,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
         // test stops at the first axis that shows it (the same answer as from -inf).
         LambdaRange r;
         r.meet(out.lambda, lambda_top);
-        g.triangle(mover.face(na_first + i), G, r, clips);
+        g.triangle(mover.face(na_first + i), G, r, clips, false);
         meets = !r.empty() && r.hi > out.lambda;
       }
       if (!meets) continue;
