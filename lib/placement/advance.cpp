@@ -265,23 +265,41 @@ struct MovingTriangle {
   std::array<double, 10> w_lo, w_hi;  // d along the axis
   std::uint16_t nonzero = 0;          // bit i: axis i is not the zero vector
 };
-// A query's moving triangles, per thread (ThreadScratch): slot[face] holds the query's stamp and
-// the triangle's index in `items` once made; at most kMaxItems (about 40 MB), then made afresh
-// for each test (a million-face mover's query must not keep one per face).
-struct MovingTriangles {
+// Items a query makes once per index (a mover face, a sweep-tree node), per thread
+// (ThreadScratch): slot[i] holds the query's stamp and the item's index in `items` once made; at
+// most kMaxItems, then made afresh for each use (a million-face mover's query must not keep one
+// per face).
+template <class Item>
+struct QueryTable {
   static constexpr std::size_t kMaxItems = 65536;
   std::vector<std::uint64_t> slot;
-  std::vector<MovingTriangle> items;
+  std::vector<Item> items;
   std::uint32_t stamp = 0;
-  void start(std::size_t faces) {
-    if (slot.size() != faces || stamp == 0xffffffffu) {
-      slot.assign(faces, 0);
+  void start(std::size_t n) {
+    if (slot.size() != n || stamp == 0xffffffffu) {
+      slot.assign(n, 0);
       stamp = 0;
     }
     ++stamp;
     items.clear();
   }
+  // Item i, made by make(Item&) the first time this query asks (in `local` once the table is full).
+  template <class Make>
+  const Item& get(std::uint32_t i, Item& local, const Make& make) {
+    std::uint64_t& s = slot[i];
+    if (s >> 32 == stamp) return items[s & 0xffffffffu];
+    if (items.size() >= kMaxItems) {
+      make(local);
+      return local;
+    }
+    s = (static_cast<std::uint64_t>(stamp) << 32) | items.size();
+    items.emplace_back();
+    make(items.back());
+    return items.back();
+  }
 };
+// A query's moving triangles (about 40 MB at most).
+using MovingTriangles = QueryTable<MovingTriangle>;
 
 // A deep-zone query's octree and work lists, kept per thread from query to query: allocating them
 // afresh (and faulting their pages in) was a tenth of rotor's queries. Storage past kKeepBytes is
@@ -435,20 +453,12 @@ struct CoverGeometry {
   }
   // The same from the query's cache when there is one (and it is not full), else made in `local`.
   const MovingTriangle& moving_triangle(std::uint32_t face, MovingTriangle& local) const {
+    const auto make = [&](MovingTriangle& t) { make_moving(face, t); };
     if (!cache) {
-      make_moving(face, local);
+      make(local);
       return local;
     }
-    std::uint64_t& s = cache->slot[face];
-    if (s >> 32 == cache->stamp) return cache->items[s & 0xffffffffu];
-    if (cache->items.size() >= MovingTriangles::kMaxItems) {
-      make_moving(face, local);
-      return local;
-    }
-    s = (static_cast<std::uint64_t>(cache->stamp) << 32) | cache->items.size();
-    cache->items.emplace_back();
-    make_moving(face, cache->items.back());
-    return cache->items.back();
+    return cache->get(face, local, make);
   }
   // The moving triangle `face` against the grown box G, and, with v, against the zone's part of the
   // cube (G with each of v's clips grown by the margin): separating axes of a triangle and a
@@ -568,14 +578,56 @@ Aabb rotated_box(const Aabb& placed, const Vec3& t0, double pad) {
   }
   return A;
 }
+// Such a node's part of every cube test that does not depend on the cube: its box (rotated
+// coordinates) and that box moved by t0, and along each axis of its oriented box (obb_projection,
+// the exact sweep's kernel) its extent, already moved by t0, and the motion d (all outwards).
+struct PlacedNode {
+  Aabb box, moved;
+  bool oriented = false;
+  std::array<Vec3, 3> axes;
+  std::array<double, 3> p_lo, p_hi, w_lo, w_hi;
+};
+PlacedNode placed_node(const CoverGeometry& g, const SweepVolume& v, double pad) {
+  PlacedNode n;
+  n.box = rotated_box(v.box, g.t0, pad);
+  for (int k = 0; k < 3; ++k) {
+    n.moved.lo[k] = round_down(n.box.lo[k] + g.t0[k]);
+    n.moved.hi[k] = round_up(n.box.hi[k] + g.t0[k]);
+  }
+  n.oriented = v.obb.half[0] >= 0.0;
+  if (!n.oriented) return n;
+  for (int j = 0; j < 3; ++j) {
+    n.axes[j] = v.obb.axes.col(j);
+    const ObbProjection p = obb_projection(v.obb, n.axes[j], pad);
+    const PlaneOffset nd = plane_offset(n.axes[j], 0.0, g.d);
+    n.p_lo[j] = round_down(p.lo);
+    n.p_hi[j] = round_up(p.hi);
+    n.w_lo[j] = round_down(nd.value - nd.error);
+    n.w_hi[j] = round_up(nd.value + nd.error);
+  }
+  return n;
+}
 // The lambdas where such a node may meet the grown box G: its box, then its oriented box's axes
 // (thin, tilted nodes, whose axis-aligned boxes are far fatter than they are: rotor's blades;
 // doc/performance.md, "Oriented boxes in the zone's octree").
-LambdaRange placed_node_range(const CoverGeometry& g, const SweepVolume& v, double pad, const Aabb& G) {
-  LambdaRange r = g.boxes(rotated_box(v.box, g.t0, pad), G);
-  if (!r.empty() && v.obb.half[0] >= 0.0) g.oriented(v.obb, pad, G, r);
+LambdaRange placed_node_range(const CoverGeometry& g, const PlacedNode& n, const Aabb& G) {
+  LambdaRange r;
+  for (int k = 0; k < 3 && !r.empty(); ++k) axis_range(n.moved.lo[k], n.moved.hi[k], G.lo[k], G.hi[k], g.d[k], g.d[k], r);
+  if (!n.oriented) return r;
+  for (int j = 0; j < 3 && !r.empty(); ++j) {
+    double b_lo, b_hi;
+    CoverGeometry::extent(n.axes[j], G, b_lo, b_hi);
+    axis_range(n.p_lo[j], n.p_hi[j], b_lo, b_hi, n.w_lo[j], n.w_hi[j], r);
+  }
   return r;
 }
+LambdaRange placed_node_range(const CoverGeometry& g, const SweepVolume& v, double pad, const Aabb& G) {
+  return placed_node_range(g, placed_node(g, v, pad), G);
+}
+// A query's placed nodes, made when a node first meets a cube: each meets many (rotor's -20 %
+// queries: about 9,500 tests of at most 2,400 nodes), and its part was most of a test (about 18 MB
+// at most).
+using PlacedNodes = QueryTable<PlacedNode>;
 double placed_node_pad(const MoverOrientation& o, const Vec3& t0) {
   return round_up(o.transform_error(t0) * (1.0 + 1e-12));
 }
@@ -636,16 +688,23 @@ struct ZoneMover {
   const Bvh<Aabb>* boxes = nullptr;
   const Bvh<SweepVolume>* sweep = nullptr;
   double pad = 0.0;  // placed_node_pad
+  PlacedNodes* placed = nullptr;  // the sweep tree's nodes as placed (PlacedNodes::start done)
 
   std::uint32_t count(std::uint32_t a) const { return sweep ? sweep->nodes[a].count : boxes->nodes[a].count; }
   std::uint32_t first(std::uint32_t a) const { return sweep ? sweep->nodes[a].first : boxes->nodes[a].first; }
   std::uint32_t face(std::uint32_t i) const { return sweep ? sweep->order[i] : boxes->order[i]; }
+  // The sweep tree's node a as placed (only with `sweep`).
+  const PlacedNode& node(const CoverGeometry& g, std::uint32_t a, PlacedNode& local) const {
+    return placed->get(a, local, [&](PlacedNode& n) { n = placed_node(g, sweep->nodes[a].bv, pad); });
+  }
   Aabb box(const CoverGeometry& g, std::uint32_t a) const {
-    return sweep ? rotated_box(sweep->nodes[a].bv.box, g.t0, pad) : boxes->nodes[a].bv;
+    PlacedNode local;
+    return sweep ? node(g, a, local).box : boxes->nodes[a].bv;
   }
   // The lambdas where the node may meet the grown box G.
   LambdaRange range(const CoverGeometry& g, std::uint32_t a, const Aabb& G) const {
-    return sweep ? placed_node_range(g, sweep->nodes[a].bv, pad, G) : g.boxes(boxes->nodes[a].bv, G);
+    PlacedNode local;
+    return sweep ? placed_node_range(g, node(g, a, local), G) : g.boxes(boxes->nodes[a].bv, G);
   }
 };
 
@@ -689,8 +748,10 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
   moving_scratch.get().start(orientation.faces->size());
   const CoverGeometry g{orientation, t0, d, cover_margin(orientation, t0, d, slack, lambda_max), &moving_scratch.get()};
   check_mover_sweep(mover_sweep, orientation, "deep_zone_contact");
-  const ZoneMover mover{&orientation.boxes, mover_sweep && !mover_sweep->tree.empty() ? &mover_sweep->tree : nullptr,
-                        placed_node_pad(orientation, t0)};
+  ThreadScratch<PlacedNodes> placed_scratch;
+  const Bvh<SweepVolume>* sweep_tree = mover_sweep && !mover_sweep->tree.empty() ? &mover_sweep->tree : nullptr;
+  if (sweep_tree) placed_scratch.get().start(sweep_tree->nodes.size());
+  const ZoneMover mover{&orientation.boxes, sweep_tree, placed_node_pad(orientation, t0), &placed_scratch.get()};
   // A held query of the same question continues where it stopped: every pair it set aside had no
   // contact later than its best, which is at most lambda_top, so its queue still holds every
   // pair that may meet later (pairs queued under an earlier lambda_top keep upper bounds that are
