@@ -374,13 +374,24 @@ struct CoverGeometry {
     }
     return G;
   }
-  // The moving box A (rotated coordinates) against the grown box G: the coordinate axes.
-  LambdaRange boxes(const Aabb& A, const Aabb& G) const {
+  // A box in rotated coordinates moved by t0, outwards.
+  Aabb moved_box(const Aabb& A) const {
+    Aabb M;
+    for (int k = 0; k < 3; ++k) {
+      M.lo[k] = round_down(A.lo[k] + t0[k]);
+      M.hi[k] = round_up(A.hi[k] + t0[k]);
+    }
+    return M;
+  }
+  // A box already moved by t0 (moved_box), moving by lambda d, against the grown box G: the
+  // coordinate axes.
+  LambdaRange moving_box(const Aabb& M, const Aabb& G) const {
     LambdaRange r;
-    for (int k = 0; k < 3 && !r.empty(); ++k)
-      axis_range(round_down(A.lo[k] + t0[k]), round_up(A.hi[k] + t0[k]), G.lo[k], G.hi[k], d[k], d[k], r);
+    for (int k = 0; k < 3 && !r.empty(); ++k) axis_range(M.lo[k], M.hi[k], G.lo[k], G.hi[k], d[k], d[k], r);
     return r;
   }
+  // The moving box A (rotated coordinates) against the grown box G.
+  LambdaRange boxes(const Aabb& A, const Aabb& G) const { return moving_box(moved_box(A), G); }
   // An upper bound of max m.x over x in G with n.x <= off (Lagrange: for any mu >= 0 it is at most
   // mu off + max over G of (m - mu n).x; the best mu is 0 or where a coordinate of m - mu n changes
   // sign). The computed m - mu n is within a few ulps of the exact; the error term covers that and
@@ -417,14 +428,19 @@ struct CoverGeometry {
     lo = e.lo;
     hi = e.hi;
   }
+  // The motion d along n, outwards.
+  void motion(const Vec3& n, double& w_lo, double& w_hi) const {
+    const PlaneOffset nd = plane_offset(n, 0.0, d);
+    w_lo = round_down(nd.value - nd.error);
+    w_hi = round_up(nd.value + nd.error);
+  }
   // Points whose extent along n is [p_lo, p_hi] in rotated coordinates, moved by t0 (outward), and
   // d along n.
   void moved(const Vec3& n, double p_lo, double p_hi, double& m_lo, double& m_hi, double& w_lo, double& w_hi) const {
-    const PlaneOffset nt = plane_offset(n, 0.0, t0), nd = plane_offset(n, 0.0, d);
+    const PlaneOffset nt = plane_offset(n, 0.0, t0);
     m_lo = round_down(p_lo + round_down(nt.value - nt.error));
     m_hi = round_up(p_hi + round_up(nt.value + nt.error));
-    w_lo = round_down(nd.value - nd.error);
-    w_hi = round_up(nd.value + nd.error);
+    motion(n, w_lo, w_hi);
   }
   // Moving points whose extent along n is [p_lo, p_hi] in rotated coordinates, moved by
   // t0 + lambda d, against the fixed extent [b_lo, b_hi], narrowing r.
@@ -521,20 +537,6 @@ struct CoverGeometry {
       axis_range(t.m_lo[i], t.m_hi[i], b_lo, b_hi, t.w_lo[i], t.w_hi[i], r);
     }
   }
-  // An oriented box holding points already moved by t0 (a placed sweep tree's, its pad and `pad`
-  // more included), moved by lambda d, against the grown box G along the box's own three axes
-  // (obb_projection, bvh/obb.h).
-  void oriented(const Obb& b, double pad, const Aabb& G, LambdaRange& r) const {
-    for (int j = 0; j < 3 && !r.empty(); ++j) {
-      const Vec3 n = b.axes.col(j);
-      const ObbProjection p = obb_projection(b, n, pad);
-      const PlaneOffset nd = plane_offset(n, 0.0, d);
-      double b_lo, b_hi;
-      extent(n, G, b_lo, b_hi);
-      axis_range(round_down(p.lo), round_up(p.hi), b_lo, b_hi, round_down(nd.value - nd.error),
-                 round_up(nd.value + nd.error), r);
-    }
-  }
   // A clip {n.x <= off} grown by the margin: the margin ball reaches at most margin |n|_1 along n.
   double grown_off(const DeepClip& c) const {
     return round_up(c.off + round_up(margin * c.n.cwiseAbs().sum() * (1.0 + 1e-15)));
@@ -590,20 +592,15 @@ struct PlacedNode {
 PlacedNode placed_node(const CoverGeometry& g, const SweepVolume& v, double pad) {
   PlacedNode n;
   n.box = rotated_box(v.box, g.t0, pad);
-  for (int k = 0; k < 3; ++k) {
-    n.moved.lo[k] = round_down(n.box.lo[k] + g.t0[k]);
-    n.moved.hi[k] = round_up(n.box.hi[k] + g.t0[k]);
-  }
+  n.moved = g.moved_box(n.box);
   n.oriented = v.obb.half[0] >= 0.0;
   if (!n.oriented) return n;
   for (int j = 0; j < 3; ++j) {
     n.axes[j] = v.obb.axes.col(j);
     const ObbProjection p = obb_projection(v.obb, n.axes[j], pad);
-    const PlaneOffset nd = plane_offset(n.axes[j], 0.0, g.d);
     n.p_lo[j] = round_down(p.lo);
     n.p_hi[j] = round_up(p.hi);
-    n.w_lo[j] = round_down(nd.value - nd.error);
-    n.w_hi[j] = round_up(nd.value + nd.error);
+    g.motion(n.axes[j], n.w_lo[j], n.w_hi[j]);
   }
   return n;
 }
@@ -611,8 +608,7 @@ PlacedNode placed_node(const CoverGeometry& g, const SweepVolume& v, double pad)
 // (thin, tilted nodes, whose axis-aligned boxes are far fatter than they are: rotor's blades;
 // doc/performance.md, "Oriented boxes in the zone's octree").
 LambdaRange placed_node_range(const CoverGeometry& g, const PlacedNode& n, const Aabb& G) {
-  LambdaRange r;
-  for (int k = 0; k < 3 && !r.empty(); ++k) axis_range(n.moved.lo[k], n.moved.hi[k], G.lo[k], G.hi[k], g.d[k], g.d[k], r);
+  LambdaRange r = g.moving_box(n.moved, G);
   if (!n.oriented) return r;
   for (int j = 0; j < 3 && !r.empty(); ++j) {
     double b_lo, b_hi;
