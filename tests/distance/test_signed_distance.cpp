@@ -143,6 +143,41 @@ TEST(SignedDistance, TrianglesWithinListEveryTriangleWithinTheRadius) {
   EXPECT_GT(listed, 1000);
 }
 
+// The same at radii on the edge of a triangle's farthest vertex, where a triangle is kept by its
+// vertices alone (every vertex within the radius) or by its slab bound: every triangle within the
+// radius (exact rationals) is listed, from the tree and from a list alike.
+TEST(SignedDistance, TrianglesWithinAtAFarthestVertexRadius) {
+  const TriangleMesh mesh = make_torus(2.0, 0.6, 24, 12);
+  const SignedDistance sdf(mesh);
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<std::size_t> face(0, mesh.faces.size() - 1);
+  std::vector<std::uint32_t> ids, all(mesh.faces.size()), among;
+  for (std::size_t f = 0; f < all.size(); ++f) all[f] = static_cast<std::uint32_t>(f);
+  int edge_cases = 0;
+  for (const Vec3& p : sample_points(mesh, 7)) {
+    const Face& g = mesh.faces[face(rng)];
+    const double far = std::max({(mesh.vertices[g[0]] - p).norm(), (mesh.vertices[g[1]] - p).norm(),
+                                 (mesh.vertices[g[2]] - p).norm()});
+    for (int k = -3; k <= 3; ++k) {
+      const double radius = far * (1.0 + k * 1e-16);
+      ASSERT_TRUE(sdf.triangles_within(p, radius, mesh.faces.size(), ids));
+      sdf.triangles_within_among(p, radius, all, among);
+      std::vector<bool> in(mesh.faces.size(), false), in_among(mesh.faces.size(), false);
+      for (std::uint32_t f : ids) in[f] = true;
+      for (std::uint32_t f : among) in_among[f] = true;
+      for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        const Face& t = mesh.faces[f];
+        if (!testing::exact_within(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], radius)) continue;
+        ++edge_cases;
+        ASSERT_TRUE(in[f]) << std::setprecision(17) << "face " << f << " within " << radius << " of (" << p.transpose()
+                           << ") but not listed";
+        ASSERT_TRUE(in_among[f]) << "face " << f << " within the radius but not kept from the full list";
+      }
+    }
+  }
+  EXPECT_GT(edge_cases, 100);
+}
+
 // A query answered from a candidate list (the branch and bound lists a split cell's triangles once
 // for its children) encloses the exact distance whenever the list holds every triangle within a
 // radius at least the distance: lists from triangles_within at radii from the distance itself to

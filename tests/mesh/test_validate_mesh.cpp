@@ -106,8 +106,11 @@ TEST(Validate, NestedSphereWithoutSelfIntersectionIsDetectedAsSelfIntersectingWh
   EXPECT_TRUE(std::is_sorted(pairs.begin(), pairs.end()));
   const std::size_t first = make_icosphere(1.0, 2).faces.size();
   for (const auto& [a, b] : pairs) EXPECT_TRUE(a < first && b >= first) << a << " " << b;
-  for (const auto& e : v.report.errors)
-    if (e.kind == "self-intersection") EXPECT_EQ(e.count, pairs.size());
+  for (const auto& e : v.report.errors) {
+    if (e.kind == "self-intersection") {
+      EXPECT_EQ(e.count, pairs.size());
+    }
+  }
   EXPECT_TRUE(validate_mesh(make_icosphere(1.0, 2)).report.intersecting_faces.empty());
 }
 
