@@ -273,7 +273,8 @@ double witness_depth_bound(const SignedDistance& sdf, const DepthWitness& w, con
 }
 
 double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uint32_t>& ids, const Vec3* corners,
-                           int n_corners, std::size_t max_members, DepthWitness* witness) {
+                           int n_corners, std::size_t max_members, DepthWitness* witness,
+                           const CornerDistances* known) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const std::size_t M = std::min({ids.size(), max_members, std::size_t{16}});
   if (M == 0 || n_corners <= 0 || n_corners > 16) return kInf;
@@ -283,7 +284,11 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
   thread_local std::vector<double> lambda;
   D.resize(static_cast<std::size_t>(n_corners) * M);
   for (int k = 0; k < n_corners; ++k)
-    for (std::size_t j = 0; j < M; ++j) D[k * M + j] = point_triangle_distance_upper_near(corners[k], m, ids[j]);
+    for (std::size_t j = 0; j < M; ++j) {
+      const double d = known && k < 8 && j < 4 ? known->d[static_cast<std::size_t>(k)][j]
+                                               : std::numeric_limits<double>::quiet_NaN();
+      D[k * M + j] = std::isnan(d) ? point_triangle_distance_upper_near(corners[k], m, ids[j]) : d;
+    }
   if (!minimax_weights(D.data(), n_corners, static_cast<int>(M), lambda)) return kInf;
   keep_witness(ids, lambda, M, witness);
   double worst = 0.0;
@@ -372,12 +377,13 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
       if (lambda[j] <= 0.0) continue;
       const Face& f = m.faces[ids[j]];
       const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &cc = m.vertices[f[2]];
-      const double dj = point_triangle_distance_upper_near(v, a, b, cc);
+      Vec3 q;  // the point of the triangle behind dj, for the moments too
+      const double dj = point_triangle_distance_upper_near(v, a, b, cc, &q);
       if (computed && j < 4 && corner < 8) computed->d[static_cast<std::size_t>(corner)][j] = dj;
       sum += lambda[j] * dj;
       weights += lambda[j];
       if (with_moments) {
-        const Vec3 w = v - point_of_triangle_near(v, a, b, cc);
+        const Vec3 w = v - q;
         cm.a += lambda[j] * w.squaredNorm();
         cm.w += lambda[j] * w;
         // q's distance to the triangle, and fl(v - q) within 2 u |w| (norm) of v - q.

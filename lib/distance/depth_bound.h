@@ -92,8 +92,10 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
 // at the seams of a faceted wall whose deepest points lie where several facets are equally near.
 // The program only picks the weights (any weights are valid); the bound is evaluated rigorously at
 // the corners. +inf when `ids` is empty.
+// known (optional): distances a bound over the same ids and corners computed (NaN: not), reused.
 double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uint32_t>& ids, const Vec3* corners,
-                           int n_corners, std::size_t max_members = 12, DepthWitness* witness = nullptr);
+                           int n_corners, std::size_t max_members = 12, DepthWitness* witness = nullptr,
+                           const CornerDistances* known = nullptr);
 // coplanar_slack > 0 (flat cells of at most 3 corners, or the 8 corners of an axis-aligned box):
 // triangles within that distance of a
 // common plane that provably cover the cell's projection form one member, a planar patch

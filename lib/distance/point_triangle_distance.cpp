@@ -211,8 +211,9 @@ Vec3 point_of_triangle_near(const Vec3& p, const Vec3& a, const Vec3& b, const V
   return a + beta * (b - a) + gamma * (c - a);
 }
 
-double point_triangle_distance_upper_near(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+double point_triangle_distance_upper_near(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, Vec3* near) {
   const Vec3 q = point_of_triangle_near(p, a, b, c);
+  if (near) *near = q;
   const double d = (p - q).norm();
   return round_up(round_up(d * (1.0 + 1e-14)) + closest_point_error(a, b, c));
 }

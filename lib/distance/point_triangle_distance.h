@@ -34,7 +34,9 @@ inline double point_triangle_distance_upper(const Vec3& p, const TriangleMesh& m
 // rounding mode) covered by 1e-14 relative and that error added. At most about 1e-13 max|coordinate|
 // above the enclosure's bound. For the depth bounds and clips evaluated at many corners
 // (doc/distance.md, "Near-point upper bounds").
-double point_triangle_distance_upper_near(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+// near (optional) receives that q, for a caller that needs it too.
+double point_triangle_distance_upper_near(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                                          Vec3* near = nullptr);
 inline double point_triangle_distance_upper_near(const Vec3& p, const TriangleMesh& m, std::uint32_t face) {
   const Face& f = m.faces[face];
   return point_triangle_distance_upper_near(p, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);

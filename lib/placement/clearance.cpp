@@ -162,6 +162,9 @@ struct Cell {
   double ud_hi = std::numeric_limits<double>::infinity();  // upper end of dist(centre, F) when evaluated
   std::int64_t near_face = -1;  // a triangle of F at that upper end
   DepthWitness witness = {};  // the weights of its depth bound, when it had one (restale)
+  // Its separating plane's gather found more than kMaxSeparatingCandidates triangles within its
+  // reach: its children's candidate list, over a larger ball about the same centre, would too.
+  bool crowded = false;
 };
 
 // Triangles of F listed once for the four children of a split cell: every triangle within `radius`
@@ -585,7 +588,7 @@ class BranchAndBound {
   // candidates (within dist(x, F) + 2 r/2 of x) within dist(m, F) + 2 r; the margin covers rounding.
   // nullptr when the list would be long (a traversal per child is then cheaper).
   const ParentCandidates* list_candidates(const Cell& c) {
-    if (!(c.ud_hi < kInf)) return nullptr;
+    if (!(c.ud_hi < kInf) || c.crowded) return nullptr;
     const FaceGeometry g = geometry(c);
     parent_.m = g.m;
     parent_.ud_hi = c.ud_hi;
@@ -602,6 +605,8 @@ class BranchAndBound {
   // list is a cell far larger than its distance to F (a sliver across F), where a plane through
   // all of them seldom clears the cell, and gathering them took a tenth of pinion's -20 % time.
   static constexpr std::size_t kMaxSeparatingCandidates = 64;
+  // A crowded cell's list would overflow: its ball (radius ud + 2.5 r) holds the gather's (ud + 2 r).
+  static_assert(kMaxSeparatingCandidates >= kMaxParentCandidates, "Cell::crowded implies a long list");
 
   // dist(x, F) from the parent's list when it provably holds x's nearest triangles: they lie within
   // dist(x, F) <= `ud_bound` of x.
@@ -657,6 +662,7 @@ class BranchAndBound {
         // every triangle within reach.
         // Every triangle within reach, or no plane (kMaxSeparatingCandidates).
         const bool complete = listed || fixed_.triangles_within(m, reach, kMaxSeparatingCandidates, ids_);
+        c.crowded = !complete;
         int corner = 0;
         const double sep = complete ? separating_plane_lower(v, m, r, eta_m, ud.lo, &corner) : -kInf;
         if (sep > -kInf) {
@@ -676,11 +682,13 @@ class BranchAndBound {
         int corner = 0;
         if (len > 0.0) normal /= len;
         TranslatedDepthBound moments;
+        CornerDistances known;  // for the minimax weights below
         const double depth =
             listed ? depth_upper_bound_among(fixed_, m, ids_, v.data(), 3, nullptr, len > 0.0 ? &normal : nullptr,
-                                             &corner, &moments, coplanar_slack(), DepthWeights::sparse, &c.witness)
+                                             &corner, &moments, coplanar_slack(), DepthWeights::sparse, &c.witness,
+                                             &known)
                    : depth_upper_bound(fixed_, m, reach, v.data(), 3, ids_, nullptr, len > 0.0 ? &normal : nullptr,
-                                       &corner, &moments, coplanar_slack(), DepthWeights::sparse, &c.witness);
+                                       &corner, &moments, coplanar_slack(), DepthWeights::sparse, &c.witness, &known);
         c.depth = keep_depth(moments, eta);
         // The deepest point of a cell is often a corner (a mover vertex or edge): certify it, so
         // that the upper end meets the convexity bound without subdividing towards that corner.
@@ -698,7 +706,7 @@ class BranchAndBound {
         // nearest triangles (doc/poses.md; four measured cheapest, 6 and 12 no tighter where it pays).
         if (lower < threshold() && depth < kInf) {
           DepthWitness w;
-          const double mm = down(-minimax_depth_bound(fixed_, ids_, v.data(), 3, 4, &w) - eta);
+          const double mm = down(-minimax_depth_bound(fixed_, ids_, v.data(), 3, 4, &w, &known) - eta);
           if (mm > lower) {
             lower = mm;
             if (w.n > 0) c.witness = w;
