@@ -651,8 +651,10 @@ class BranchAndBound {
       const double reach = up(ud.hi + 2 * r);
       const bool listed = list && list->covers(m, reach);
       if (listed) fixed_.triangles_within_among(m, reach, list->ids, ids_);
+      bool gathered = listed;  // ids_ holds every triangle within reach
       // Only an outside centre can prove the cell disjoint (the first branch below); otherwise
-      // the depth bound is taken whatever dlo is (and gathers its own triangles when unlisted).
+      // the depth bound is taken whatever dlo is (from the triangles gathered here or for the
+      // separating plane, else its own gather).
       if (!(dlo > 0.0) && s.lo > 0.0) dlo = cell_distance_lower(v, eta, eta_m, threshold());
       if (dlo > eta_m && s.lo > 0.0) {
         // The exact cell is disjoint from F and on m's side (outside).
@@ -663,6 +665,7 @@ class BranchAndBound {
         // Every triangle within reach, or no plane (kMaxSeparatingCandidates).
         const bool complete = listed || fixed_.triangles_within(m, reach, kMaxSeparatingCandidates, ids_);
         c.crowded = !complete;
+        gathered = complete;
         int corner = 0;
         const double sep = complete ? separating_plane_lower(v, m, r, eta_m, ud.lo, &corner) : -kInf;
         if (sep > -kInf) {
@@ -684,7 +687,7 @@ class BranchAndBound {
         TranslatedDepthBound moments;
         CornerDistances known;  // for the minimax weights below
         const double depth =
-            listed ? depth_upper_bound_among(fixed_, m, ids_, v.data(), 3, nullptr, len > 0.0 ? &normal : nullptr,
+            gathered ? depth_upper_bound_among(fixed_, m, ids_, v.data(), 3, nullptr, len > 0.0 ? &normal : nullptr,
                                              &corner, &moments, coplanar_slack(), DepthWeights::sparse, &c.witness,
                                              &known)
                    : depth_upper_bound(fixed_, m, reach, v.data(), 3, ids_, nullptr, len > 0.0 ? &normal : nullptr,
