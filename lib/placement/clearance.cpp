@@ -679,7 +679,16 @@ class BranchAndBound {
           }
         }
       }
-      if (lower < threshold() && (s.hi < 0.0 || !(dlo > eta_m))) {
+      // The depth bound sets a cell aside only when -bound >= threshold < 0, and the bound is at
+      // least the distance of each point of the cell: where its centre lies outside F farther than
+      // -threshold it cannot (eta_m: the computed centre's offset from the cell). Nor, measured,
+      // where the cell's radius exceeds twice -threshold: its corners then lie far outside F (a
+      // mover face across a thin wall). Such a cell is split without it; only the bound's by-products
+      // (its worst corner certified, a warm start's moments) are lost (doc/performance.md,
+      // "Post-jump certificates").
+      const bool depth_hopeless = s.lo > 0.0 && threshold() < 0.0 &&
+                                  (down(ud.lo - eta_m) > -threshold() || r > 2.0 * -threshold());
+      if (lower < threshold() && (s.hi < 0.0 || !(dlo > eta_m)) && !depth_hopeless) {
         Vec3 normal = (v[1] - v[0]).cross(v[2] - v[0]);
         const double len = normal.norm();
         int corner = 0;
