@@ -53,10 +53,7 @@ bool clip_deep_cube(const SignedDistance& fixed, double depth, const Aabb& Q, co
   const std::size_t n = std::min<std::size_t>(ids.size(), v.clips.size());
   for (std::size_t j = 0; j < n && v.n_clips < static_cast<signed char>(v.clips.size()); ++j) {
     std::array<double, 8> f;
-    for (int k = 0; k < 8; ++k) {
-      const double d = known.d[static_cast<std::size_t>(k)][j];  // the depth bound's, when it has it
-      f[k] = std::isnan(d) ? point_triangle_distance_upper_near(corners[k], m, ids[j]) : d;
-    }
+    for (int k = 0; k < 8; ++k) f[k] = known.at(m, corners.data(), k, j, ids[j]);  // the depth bound's, when it has it
     // The least-squares gradient over the corners (only tightness depends on it); corner k is on
     // the upper side of axis a when bit a of k is set (Aabb::corners).
     Vec3 a = Vec3::Zero();

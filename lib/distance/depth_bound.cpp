@@ -272,6 +272,13 @@ double witness_depth_bound(const SignedDistance& sdf, const DepthWitness& w, con
   return round_up(worst);
 }
 
+double CornerDistances::at(const TriangleMesh& m, const Vec3* corners, int k, std::size_t j,
+                           std::uint32_t face) const {
+  const double v =
+      k >= 0 && k < 8 && j < 4 ? d[static_cast<std::size_t>(k)][j] : std::numeric_limits<double>::quiet_NaN();
+  return std::isnan(v) ? point_triangle_distance_upper_near(corners[k], m, face) : v;
+}
+
 double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uint32_t>& ids, const Vec3* corners,
                            int n_corners, std::size_t max_members, DepthWitness* witness,
                            const CornerDistances* known) {
@@ -284,11 +291,9 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
   thread_local std::vector<double> lambda;
   D.resize(static_cast<std::size_t>(n_corners) * M);
   for (int k = 0; k < n_corners; ++k)
-    for (std::size_t j = 0; j < M; ++j) {
-      const double d = known && k < 8 && j < 4 ? known->d[static_cast<std::size_t>(k)][j]
-                                               : std::numeric_limits<double>::quiet_NaN();
-      D[k * M + j] = std::isnan(d) ? point_triangle_distance_upper_near(corners[k], m, ids[j]) : d;
-    }
+    for (std::size_t j = 0; j < M; ++j)
+      D[k * M + j] = known ? known->at(m, corners, k, j, ids[j])
+                           : point_triangle_distance_upper_near(corners[k], m, ids[j]);
   if (!minimax_weights(D.data(), n_corners, static_cast<int>(M), lambda)) return kInf;
   keep_witness(ids, lambda, M, witness);
   double worst = 0.0;

@@ -51,9 +51,12 @@ double witness_depth_bound(const SignedDistance& sdf, const DepthWitness& w, con
 
 // The certified distances (point_triangle_distance_upper_near) of the first four triangles of `ids`, as
 // the bound leaves them, at up to eight corners, where the bound computed them (NaN elsewhere): a
-// caller that needs the same distances (deep_cover.cpp's clips) takes them from here.
+// caller that needs the same distances (deep_cover.cpp's clips, minimax_depth_bound) takes them from here.
 struct CornerDistances {
   std::array<std::array<double, 4>, 8> d;
+  // d_face at corners[k], face being the j-th triangle of those `ids`: the bound's value when it
+  // computed it, else computed now (point_triangle_distance_upper_near).
+  double at(const TriangleMesh& m, const Vec3* corners, int k, std::size_t j, std::uint32_t face) const;
 };
 
 // How far the weights are optimised (only the bound's tightness and cost depend on it).
