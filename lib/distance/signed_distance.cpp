@@ -212,34 +212,52 @@ struct ParityPolicy {
 
 // Pruning on the running minimum of the lower bounds is rigorous: a node is skipped only when a
 // lower bound of its distance to v exceeds that minimum, so none of its triangles could lower it.
-struct TriangleLowerPolicy {
-  const TriangleMesh& mesh;
-  const std::vector<TrianglePlane>& planes;
+// Lower bounds of the squared distance from a node of F's tree to a triangle v: the boxes'
+// distance; for a node smaller than v's box, also its distance to v's plane and its gaps to v along
+// v's in-plane edge normals (a long, tilted cell of a machined part has a box that holds many of
+// F's nodes its plane and sides keep far from it). Nodes at least as large as v's box seldom lie
+// beyond those, so they are not asked: on rounded meshes the extra bounds would cost more than they
+// prune. `limit_sq`: the caller's pruning bound (the extra bounds are skipped past it).
+struct TriangleNodeBound {
   const std::array<Vec3, 3>& v;
   TrianglePlane plane;              // of v
   std::array<AxisRange, 3> sides;   // v's range along each edge's in-plane normal
   Aabb box;                         // of v
   double box_diagonal_sq;
-  double stop_sq;
-  double d2lo;  // starts at the caller's enough_sq: nothing beyond it is looked at
-  // The boxes' distance; for a node smaller than v's box, also its distance to v's plane and its
-  // gaps to v along v's in-plane edge normals (a long, tilted cell of a machined part has a box
-  // that holds many of F's nodes its plane and sides keep far from it). Nodes at least as large
-  // as v's box seldom lie beyond those, so they are not asked: on rounded meshes the extra bounds
-  // would cost more than they prune.
-  double bound(const Aabb& b) const {
+  explicit TriangleNodeBound(const std::array<Vec3, 3>& t) : v(t), plane(make_triangle_plane(t[0], t[1], t[2])) {
+    for (const Vec3& x : t) box.extend(x);
+    box_diagonal_sq = (box.hi - box.lo).squaredNorm();
+    const Vec3 normal = (t[1] - t[0]).cross(t[2] - t[0]);
+    for (int k = 0; k < 3; ++k) sides[k] = triangle_axis_range((t[(k + 1) % 3] - t[k]).cross(normal), t);
+  }
+  double operator()(const Aabb& b, double limit_sq) const {
     const double boxes = squared_distance_lower_bound(b, box);
-    if (boxes >= d2lo || (b.hi - b.lo).squaredNorm() >= box_diagonal_sq) return boxes;
+    if (boxes >= limit_sq || (b.hi - b.lo).squaredNorm() >= box_diagonal_sq) return boxes;
     double lb = box_plane_lower_bound(plane, b);
-    for (int k = 0; lb * lb < d2lo && k < 3; ++k) lb = std::max(lb, box_axis_gap_lower_bound(sides[k], b));
+    for (int k = 0; lb * lb < limit_sq && k < 3; ++k) lb = std::max(lb, box_axis_gap_lower_bound(sides[k], b));
     return lb > 0.0 ? std::max(boxes, round_down(lb * lb)) : boxes;
   }
+  // A rigorous lower bound of the distance from F's triangle (a, b, c) to v, from the two planes
+  // alone (each triangle's plane against the other's vertices).
+  double planes_lower(const TrianglePlane& fp, const Vec3& a, const Vec3& b, const Vec3& c) const {
+    return std::max(plane_pair_lower_bound(fp, v[0], v[1], v[2]), plane_pair_lower_bound(plane, a, b, c));
+  }
+};
+
+struct TriangleLowerPolicy {
+  const TriangleMesh& mesh;
+  const std::vector<TrianglePlane>& planes;
+  const TriangleNodeBound& nb;
+  double stop_sq;
+  double d2lo;  // starts at the caller's enough_sq: nothing beyond it is looked at
+  double bound(const Aabb& b) const { return nb(b, d2lo); }
   double prune_bound() const { return d2lo; }
   bool done() const { return d2lo <= stop_sq; }
   void leaf(std::uint32_t j) {
     const Face& g = mesh.faces[j];
     const Vec3 &a = mesh.vertices[g[0]], &b = mesh.vertices[g[1]], &c = mesh.vertices[g[2]];
-    const double lb = std::max(plane_pair_lower_bound(planes[j], v[0], v[1], v[2]), plane_pair_lower_bound(plane, a, b, c));
+    const auto& v = nb.v;
+    const double lb = nb.planes_lower(planes[j], a, b, c);
     if (round_down(lb * lb) >= d2lo) return;  // cannot lower the minimum
     Vec3 p, q;
     const double e2 = triangle_triangle_closest_points(a, b, c, v[0], v[1], v[2], &p, &q);
@@ -249,22 +267,56 @@ struct TriangleLowerPolicy {
   }
 };
 
+// Every triangle of F that may lie within sqrt(reach_sq) of v: a triangle is left out only when a
+// rigorous lower bound of its distance (the planes, then the projection gap) exceeds it.
+struct TriangleWithinPolicy {
+  const TriangleMesh& mesh;
+  const std::vector<TrianglePlane>& planes;
+  const TriangleNodeBound& nb;
+  double reach_sq;
+  std::size_t max_count;
+  std::vector<std::uint32_t>& out;
+  bool overflow = false;
+  double bound(const Aabb& b) const { return nb(b, reach_sq); }
+  double prune_bound() const { return reach_sq; }
+  bool done() const { return overflow; }
+  void leaf(std::uint32_t j) {
+    const Face& g = mesh.faces[j];
+    const Vec3 &a = mesh.vertices[g[0]], &b = mesh.vertices[g[1]], &c = mesh.vertices[g[2]];
+    const auto& v = nb.v;
+    const double lb = nb.planes_lower(planes[j], a, b, c);
+    if (round_down(lb * lb) > reach_sq) return;
+    Vec3 p, q;
+    if (triangle_triangle_closest_points(a, b, c, v[0], v[1], v[2], &p, &q) > 0.0) {
+      const double gap = triangle_distance_lower_bound(a, b, c, v[0], v[1], v[2], q - p);
+      if (round_down(gap * gap) > reach_sq) return;
+    }
+    out.push_back(j);
+    overflow = out.size() > max_count;
+  }
+};
+
 }  // namespace
 
 double SignedDistance::triangle_squared_distance_lower(const std::array<Vec3, 3>& v, double stop_sq,
                                                        double enough_sq) const {
-  Aabb box;
-  for (const Vec3& x : v) box.extend(x);
   // Starting the running minimum at enough_sq prunes what lies beyond it, and the result is the
   // minimum of the visited triangles' bounds and enough_sq: every skipped node or triangle lies
   // at or beyond that minimum.
-  const Vec3 normal = (v[1] - v[0]).cross(v[2] - v[0]);
-  std::array<AxisRange, 3> sides;
-  for (int k = 0; k < 3; ++k) sides[k] = triangle_axis_range((v[(k + 1) % 3] - v[k]).cross(normal), v);
-  TriangleLowerPolicy policy{mesh_, planes_, v, make_triangle_plane(v[0], v[1], v[2]), sides, box,
-                             (box.hi - box.lo).squaredNorm(), stop_sq, enough_sq};
+  const TriangleNodeBound nb(v);
+  TriangleLowerPolicy policy{mesh_, planes_, nb, stop_sq, enough_sq};
   traverse_nearest_first(tree_, policy);
   return policy.d2lo;
+}
+
+bool SignedDistance::triangles_near_triangle(const std::array<Vec3, 3>& v, double reach, std::size_t max_count,
+                                             std::vector<std::uint32_t>& out) const {
+  out.clear();
+  const TriangleNodeBound nb(v);
+  // reach^2 rounded up, so that no triangle within reach is pruned.
+  TriangleWithinPolicy q{mesh_, planes_, nb, round_up(reach * reach * (1.0 + kRoundingSlack)), max_count, out};
+  traverse_nearest_first(tree_, q);
+  return !q.overflow;
 }
 
 SignedDistance::SignedDistance(TriangleMesh mesh) : mesh_(std::move(mesh)), bbox_(mesh_.bbox()) {

@@ -69,6 +69,12 @@ class SignedDistance {
   double triangle_squared_distance_lower(const std::array<Vec3, 3>& v, double stop_sq = -1.0,
                                          double enough_sq = std::numeric_limits<double>::infinity()) const;
 
+  // Ids of all triangles of F whose distance to the triangle v may be <= reach (certified superset),
+  // F's tree searched from v's box with the bounds of triangle_squared_distance_lower. Returns false,
+  // leaving `out` partial, once more than `max_count` qualify.
+  bool triangles_near_triangle(const std::array<Vec3, 3>& v, double reach, std::size_t max_count,
+                               std::vector<std::uint32_t>& out) const;
+
   // A lower bound of dist(p, F), at most `enough`: min(dist(p, F), enough) less the bounds' slack.
   // Only what lies within `enough` of p is visited: for a point far from F, where the nearest
   // triangle is found only after every box nearer than it (a point inside a hollow shell meets

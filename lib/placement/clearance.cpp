@@ -207,13 +207,14 @@ struct CellOrder {
 struct BranchAndBoundStorage {
   std::vector<Cell> heap, discarded;
   std::vector<CellDepthBound> depth;
-  std::vector<std::uint32_t> ids, parent_ids;
+  std::vector<std::uint32_t> ids, parent_ids, slab_ids;
   void clear() {
     heap.clear();
     discarded.clear();
     depth.clear();
     ids.clear();
     parent_ids.clear();
+    slab_ids.clear();
   }
 };
 
@@ -226,7 +227,8 @@ class BranchAndBound {
                  const Vec3& t, const ClearanceOptions& opt, bool keep_frontier)
       : fixed_(fixed), mover_(mover), o_(o), P_(P), t_(t), tol_(opt.tolerance), rel_(opt.relative_tolerance),
         target_(opt.target), keep_discarded_(keep_frontier), store_(scratch_.get()), heap_(store_.heap),
-        discarded_(store_.discarded), depth_(store_.depth), ids_(store_.ids) {
+        discarded_(store_.discarded), depth_(store_.depth), ids_(store_.ids),
+        slab_ids_(store_.slab_ids) {
     store_.clear();
     std::swap(parent_.ids, store_.parent_ids);
   }
@@ -725,6 +727,12 @@ class BranchAndBound {
           }
         }
       }
+      // A cell centred outside F and across it (a mover face through a wall, or into F through a
+      // face), whose convexity bound grows with its corners beyond the faces it crosses: its part
+      // that may lie inside F cut by the planes of those faces (slab_lower). (Tried for cells
+      // centred inside too: more instructions on every thin part measured.)
+      if (lower < threshold() && threshold() < 0.0 && !(dlo > eta_m) && s.lo > 0.0)
+        lower = std::max(lower, slab_lower(v, m, eta, eta_m, nearest, c.id, c.bary, &c.ball));
     }
     c.lower = lower;
     return c;
@@ -801,6 +809,173 @@ class BranchAndBound {
     }
     return best;
   }
+
+  // A lower bound of s over a face cell K whose centre m lies outside F and which crosses F (a
+  // mover face through a thin wall, or dipping into F through a face), or -inf. Its convexity bound
+  // grows with its corners beyond the faces it crosses; this one cuts them off. K's computed
+  // corners v lie within eta of its exact ones, m within eta_m of a point of K. With T every
+  // triangle of F within delta > max(eta, eta_m) of K (a certified superset: triangles_near_triangle
+  // about the computed triangle, reach delta + eta), an axis n and h >= n.w >= l over T's vertices w:
+  // - R+ = {y : dist(y, K) < delta, n.y > h} is convex and meets no triangle of F (a triangle
+  //   meeting it lies within delta of K, so in T, all of whose points have n.y <= h): it lies on
+  //   one side of F. It is outside when it holds m, or a corner v_k with n.v_k > h (within eta of
+  //   K) whose side is found outside by the segment from m (within delta of K: its crossings are
+  //   among T). Likewise R- = {dist(y, K) < delta, n.y < l}.
+  // - A point x of K inside F lies in neither (K's points beyond h lie in R+), so n.x <= h where R+
+  //   is outside (cut_hi), n.x >= l where R- is (cut_lo); its computed counterpart x~ (within eta)
+  //   lies in the computed triangle cut by those planes moved out by eta |n|: in the convex hull of
+  //   the computed corners there and of the edges' crossings of the planes, each within `err` of
+  //   its computed point (the crossing's parameter enclosed).
+  // - The convexity bound over T at those points (any triangles of F give a valid bound) bounds
+  //   dist(x~, F) - err from above, and dist(x, F) <= dist(x~, F) + eta.
+  // So s >= min(0, -(bound + err + eta)) on K: for a wall whose two faces are planes, half its
+  // thickness whatever K's size; for a dip through a plane face, the deepest corner's depth. The
+  // axis (the thinnest span of the normals of m's nearest triangle and of T's first four) and the
+  // points certified for the upper end (the deepest corner, an edge's point midway through the
+  // wall) are heuristics.
+  double slab_lower(const std::array<Vec3, 3>& v, const Vec3& m, double eta, double eta_m, std::uint32_t nearest,
+                    std::uint32_t face, const std::array<std::array<double, 2>, 3>& bary, SideBall* ball) {
+    const double delta = up(2.0 * up(eta + eta_m));  // eta_m > 0
+    if (!fixed_.triangles_near_triangle(v, up(delta + eta), kMaxSlabCandidates, slab_ids_)) return -kInf;
+    if (slab_ids_.empty()) return 0.0;  // {dist(y, K) < delta} misses F and holds m: K lies outside
+    const auto& F = fixed_.mesh();
+    // The axis: of the normals of m's nearest triangle and of the first triangles of T, the one
+    // across which T's vertices span the thinnest slab (only tightness depends on it).
+    const auto span = [&](const Vec3& n, double* h, double* l) {
+      *h = -kInf, *l = kInf;
+      for (std::uint32_t j : slab_ids_)
+        for (std::uint32_t w : F.faces[j]) {
+          const PlaneOffset o = plane_offset(n, 0.0, F.vertices[w]);
+          *h = std::max(*h, up(o.value + o.error));
+          *l = std::min(*l, down(o.value - o.error));
+        }
+    };
+    Vec3 n = fixed_.planes()[nearest].n;
+    double h, l;
+    span(n, &h, &l);
+    double thick = (h - l) / n.norm();
+    for (std::size_t i = 0; i < std::min<std::size_t>(slab_ids_.size(), 4); ++i) {
+      const Vec3 ni = fixed_.planes()[slab_ids_[i]].n;
+      double hi, li;
+      span(ni, &hi, &li);
+      if ((hi - li) / ni.norm() < thick) n = ni, h = hi, l = li, thick = (hi - li) / ni.norm();
+    }
+    const double n_up = up(n.norm() * (1.0 + 1e-12));  // >= |n|
+    const double eta_n = up(eta * n_up);
+    std::array<PlaneOffset, 3> ov;
+    int top = 0, bottom = 0;
+    double reach_hi = -kInf, reach_lo = kInf;  // n.x over K's exact points lies within
+    for (int k = 0; k < 3; ++k) {
+      ov[k] = plane_offset(n, 0.0, v[k]);
+      if (ov[k].value > ov[top].value) top = k;
+      if (ov[k].value < ov[bottom].value) bottom = k;
+      reach_hi = std::max(reach_hi, up(up(ov[k].value + ov[k].error) + eta_n));
+      reach_lo = std::min(reach_lo, down(down(ov[k].value - ov[k].error) - eta_n));
+    }
+    // Not worth the side tests where the bound cannot set the cell aside (a heuristic: only the
+    // bound decides): a wall thicker than twice -threshold, or a single face's dip deeper than it.
+    const double reach_both = reach_hi > h && reach_lo < l ? 0.5 : 1.0;
+    if (!(reach_both * (h - l) < 2.0 * n_up * -threshold())) return -kInf;
+    const PlaneOffset om = plane_offset(n, 0.0, m);
+    // Whether the region beyond h (above) or l (below) lies outside F.
+    const auto outside = [&](int k, bool above) {
+      if (above ? down(om.value - om.error) > h : up(om.value + om.error) < l) return true;  // m is in it
+      if (!(above ? down(ov[k].value - ov[k].error) > h : up(ov[k].value + ov[k].error) < l)) return false;
+      // v_k lies in the region, hence off F (dist > 0); its side from m's (outside).
+      return fixed_.side_among(v[k], Interval{std::numeric_limits<double>::min(), kInf}, m, 1, slab_ids_) > 0;
+    };
+    // The planes that cut K's part that may lie inside F: h when K reaches beyond it and that
+    // region is outside, likewise l.
+    const bool cut_hi = reach_hi > h && outside(top, true), cut_lo = reach_lo < l && outside(bottom, false);
+    if (!cut_hi && !cut_lo) return -kInf;
+    // A part of K kept beyond a plane (inside F there) no deeper than -threshold below it.
+    if ((!cut_hi && reach_hi > h && !(reach_hi - h < 2.0 * n_up * -threshold())) ||
+        (!cut_lo && reach_lo < l && !(l - reach_lo < 2.0 * n_up * -threshold()))) return -kInf;
+    // The computed triangle cut to the widened slab [ls, hs]: its corners there and the crossings.
+    const double hs = cut_hi ? up(h + eta_n) : kInf, ls = cut_lo ? down(l - eta_n) : -kInf;
+    std::array<Vec3, 8> q;
+    std::array<int, 8> corner_of;  // the corner of K a point is, or -1
+    int nq = 0;
+    double err = 0.0;
+    for (int k = 0; k < 3; ++k)
+      if (!(down(ov[k].value - ov[k].error) > hs) && !(up(ov[k].value + ov[k].error) < ls)) corner_of[nq] = k, q[nq++] = v[k];
+    std::array<std::array<double, 2>, 3> cross_t{{{-1.0, -1.0}, {-1.0, -1.0}, {-1.0, -1.0}}};  // per edge and plane
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 &a = v[k], &b = v[(k + 1) % 3];
+      const PlaneOffset &oa = ov[k], &ob = ov[(k + 1) % 3];
+      for (int side = 0; side < 2; ++side) {
+        const double H = side == 0 ? hs : ls;
+        if (!std::isfinite(H)) continue;
+        // n.a - H and n.b - H enclosed; the crossing's parameter t = A / (A - B) from a.
+        Interval A{down(down(oa.value - oa.error) - H), up(up(oa.value + oa.error) - H)};
+        Interval B{down(down(ob.value - ob.error) - H), up(up(ob.value + ob.error) - H)};
+        if ((A.lo > 0.0 && B.lo > 0.0) || (A.hi < 0.0 && B.hi < 0.0)) continue;  // no crossing
+        if (nq + 2 > static_cast<int>(q.size())) return -kInf;
+        if (!(A.lo > 0.0 || A.hi < 0.0) || !(B.lo > 0.0 || B.hi < 0.0)) {
+          corner_of[nq] = k, q[nq++] = a;  // an end on the plane within its error: the crossing anywhere on the edge
+          corner_of[nq] = (k + 1) % 3, q[nq++] = b;
+          continue;
+        }
+        if (A.hi < 0.0) A = {-A.hi, -A.lo}, B = {-B.hi, -B.lo};  // now A > 0 > B: t rises with both
+        const double t_lo = std::max(0.0, down(A.lo / up(A.lo - B.lo)));
+        const double t_hi = std::min(1.0, up(A.hi / down(A.hi - B.hi)));
+        const double t = 0.5 * (t_lo + t_hi);
+        cross_t[k][side] = t;
+        const Vec3 e = b - a;
+        corner_of[nq] = -1, q[nq++] = a + t * e;
+        // |exact crossing - (a + t e) exact| <= (t_hi - t_lo) |b - a|; the computed point's rounding
+        // is within 4e-15 (|a| + |b|) (max norms) of the exact one, in any rounding mode.
+        const double mag = a.cwiseAbs().maxCoeff() + b.cwiseAbs().maxCoeff();
+        err = std::max(err, up(up(up(t_hi - t_lo) * up(e.norm() * (1.0 + 1e-12))) + up(4e-15 * mag)));
+      }
+    }
+    if (nq == 0) return 0.0;  // no point of K inside F
+    Vec3 c = Vec3::Zero();
+    for (int k = 0; k < nq; ++k) c += q[k];
+    c /= nq;
+    Vec3 normal = (v[1] - v[0]).cross(v[2] - v[0]);
+    const double len = normal.norm();
+    if (len > 0.0) normal /= len;
+    CornerDistances known;
+    int worst = 0;
+    const double depth = depth_upper_bound_among(fixed_, c, slab_ids_, q.data(), nq, nullptr, len > 0.0 ? &normal : nullptr,
+                                                 &worst, nullptr, coplanar_slack(), DepthWeights::sparse, nullptr, &known);
+    if (!(depth < kInf)) return -kInf;
+    double lower = down(-up(up(depth + err) + eta));
+    // Points certified for the upper end only where the bound leaves the cell (a lower upper end
+    // may then set it aside).
+    if (lower < threshold()) {
+      // An edge across both planes (a wall): its point midway between them is likely among the
+      // deepest of K (on a flat wall's mid-plane), so certified it is a good upper end. A point of the
+      // computed edge within 4e-15 (|a| + |b|) of the computed one, and within eta of K.
+      for (int k = 0; k < 3; ++k) {
+        if (!(cross_t[k][0] >= 0.0 && cross_t[k][1] >= 0.0)) continue;
+        const Vec3 &a = v[k], &b = v[(k + 1) % 3];
+        const double t = 0.5 * (cross_t[k][0] + cross_t[k][1]);
+        const Vec3 p = a + t * (b - a);
+        ++queries_;
+        const Interval sp = signed_at(p, fixed_.unsigned_distance(p, nullptr, nearest), ball, nullptr);
+        const double rounding = up(4e-15 * (a.cwiseAbs().maxCoeff() + b.cwiseAbs().maxCoeff()));
+        const auto &ba = bary[k], &bb = bary[(k + 1) % 3];
+        offer_upper(up(up(sp.hi + rounding) + eta), face, {ba[0] + t * (bb[0] - ba[0]), ba[1] + t * (bb[1] - ba[1])});
+        break;
+      }
+    }
+    // The deepest point is often a corner of K inside F: certified, it may meet the bound.
+    if (corner_of[worst] >= 0 && lower < threshold()) {
+      const int k = corner_of[worst];
+      ++queries_;
+      const Interval s_corner = signed_at(v[k], fixed_.unsigned_distance(v[k], nullptr, nearest), ball, nullptr);
+      offer_upper(up(s_corner.hi + eta), face, bary[k]);
+    }
+    if (lower < threshold()) {
+      const double mm = minimax_depth_bound(fixed_, slab_ids_, q.data(), nq, 4, nullptr, &known);
+      lower = std::max(lower, down(-up(up(mm + err) + eta)));
+    }
+    return std::min(0.0, lower);
+  }
+  // Triangles near a cell for slab_lower: beyond this many the slab is seldom thin.
+  static constexpr std::size_t kMaxSlabCandidates = 32;
 
   // A lower bound of the distance from the cell (corners v, within eta of the exact cell) to F, or
   // -inf once it is certain to be at most eta_m (the cell may touch F: its value is then not used).
@@ -890,6 +1065,7 @@ class BranchAndBound {
   std::vector<Cell>& discarded_;
   std::vector<CellDepthBound>& depth_;
   std::vector<std::uint32_t>& ids_;
+  std::vector<std::uint32_t>& slab_ids_;  // slab_lower's triangles
   double min_discarded_ = kInf;
   std::uint64_t seq_ = 0, queries_ = 0, far_cells_ = 0;
   ParentCandidates parent_;

@@ -406,5 +406,46 @@ TEST(SignedDistance, TriangleLowerBoundAgainstBruteForce) {
   EXPECT_GT(disjoint, test_scale::cases(400) / 2);
 }
 
+// triangles_near_triangle lists every triangle within the reach of a query triangle (a certified
+// superset) and, its bounds being tight, none much beyond it; the cap is reported.
+TEST(SignedDistance, TrianglesNearATriangleAgainstBruteForce) {
+  const TriangleMesh torus = make_torus(1.0, 0.3, 32, 16);
+  const SignedDistance sdf(torus);
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(-1.6, 1.6), s(-1.0, 1.0);
+  int listed_total = 0, left_out_near = 0;
+  std::vector<std::uint32_t> out;
+  for (int k = 0; k < test_scale::cases(150); ++k) {
+    const double size = k % 3 == 0 ? 1.0 : (k % 3 == 1 ? 0.1 : 0.01);
+    const double reach = k % 2 == 0 ? 1e-9 : 0.05;
+    const Vec3 c(u(rng), u(rng), 0.5 * u(rng));
+    const std::array<Vec3, 3> v{c + size * Vec3(s(rng), s(rng), s(rng)), c + size * Vec3(s(rng), s(rng), s(rng)),
+                                c + size * Vec3(s(rng), s(rng), s(rng))};
+    ASSERT_TRUE(sdf.triangles_near_triangle(v, reach, torus.faces.size(), out));
+    std::vector<char> listed(torus.faces.size(), 0);
+    for (std::uint32_t f : out) listed[f] = 1;
+    for (std::uint32_t f = 0; f < torus.faces.size(); ++f) {
+      const Face& t = torus.faces[f];
+      const Interval d2 = triangle_triangle_squared_distance(v[0], v[1], v[2], torus.vertices[t[0]],
+                                                             torus.vertices[t[1]], torus.vertices[t[2]]);
+      std::ostringstream os;
+      os << std::setprecision(17) << "triangle (" << v[0].transpose() << ") (" << v[1].transpose() << ") ("
+         << v[2].transpose() << "), reach " << reach << ", face " << f << ": [" << d2.lo << ", " << d2.hi << "]";
+      if (d2.hi <= reach * reach) {
+        EXPECT_TRUE(listed[f]) << "left out: " << os.str();
+      } else if (d2.lo > reach * reach * (1.0 + 1e-6) + 1e-24) {
+        EXPECT_FALSE(listed[f]) << "listed though beyond the reach: " << os.str();
+        left_out_near += !listed[f] && d2.lo < 4.0 * reach * reach;
+      }
+    }
+    listed_total += static_cast<int>(out.size());
+    if (out.size() > 1) {
+      EXPECT_FALSE(sdf.triangles_near_triangle(v, reach, out.size() - 1, out));
+    }
+  }
+  EXPECT_GT(listed_total, test_scale::cases(150));
+  EXPECT_GT(left_out_near, 0);  // some triangles just beyond the reach were told apart
+}
+
 }  // namespace
 }  // namespace cdbench

@@ -166,6 +166,34 @@ TEST(Clearance, ContactsSeenFromOutsideWithKnownAnswers) {
   }
 }
 
+// A tetrahedron's faces across a thin plate (0.02 thick), its vertex below it in the open, or in a
+// thick block under the plate: known answers -0.01 (the plate's mid-plane) and -0.05 (the vertex's
+// depth in the block). The large cells across the plate, centred outside, are bounded by the slab
+// between the plate's faces (BranchAndBound::slab_lower); where their part below the plate lies
+// in the block, that part must be kept (its side is tested), or the vertex would be missed.
+TEST(Clearance, CellsAcrossAThinWallWithKnownAnswers) {
+  TriangleMesh tet;
+  tet.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 1), Vec3(-0.5, 0.8660254037844386, 1), Vec3(-0.5, -0.8660254037844386, 1)};
+  tet.faces = {{0, 2, 1}, {0, 3, 2}, {0, 1, 3}, {1, 2, 3}};
+  const TriangleMesh plate = make_box(Vec3(-3, -3, 0), Vec3(3, 3, 0.02));
+  Case wall(plate, tet);
+  Case blocked(merge_meshes(plate, make_box(Vec3(-3, -3, -1), Vec3(3, 3, -0.3))), tet);
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double tol = 1e-7;
+  const ClearanceResult a = wall.run(I, Vec3(0.1, 0.2, -0.3), tol);
+  EXPECT_LE(a.clearance.lo, -0.01 + 1e-12) << std::setprecision(17) << a.clearance.lo;
+  EXPECT_GE(a.clearance.hi, -0.01 - 1e-12) << std::setprecision(17) << a.clearance.hi;
+  EXPECT_TRUE(a.tolerance_reached);
+  EXPECT_LE(a.clearance.width(), tol * 1.001);
+  // 114 cells measured; 2,985 without the slab bound.
+  EXPECT_LT(a.cells, 400u) << "cells across the plate subdivided along the crossing";
+  const ClearanceResult b = blocked.run(I, Vec3(0.1, 0.2, -0.35), tol);
+  EXPECT_LE(b.clearance.lo, -0.05 + 1e-12) << std::setprecision(17) << b.clearance.lo;
+  EXPECT_GE(b.clearance.hi, -0.05 - 1e-12) << std::setprecision(17) << b.clearance.hi;
+  EXPECT_TRUE(b.tolerance_reached);
+  EXPECT_LE(b.clearance.width(), tol * 1.001);
+}
+
 // The same known answer with a needle tetrahedron (faces 6 long and 0.26 wide: needle cells, cut
 // across their length, centred at the middle of a median): its vertex pushed into a box's top face
 // at three tilts; the exact clearance is -push.
