@@ -872,10 +872,11 @@ class BranchAndBound {
       reach_hi = std::max(reach_hi, up(up(ov[k].value + ov[k].error) + eta_n));
       reach_lo = std::min(reach_lo, down(down(ov[k].value - ov[k].error) - eta_n));
     }
-    // Not worth the side tests where the bound cannot set the cell aside (a heuristic: only the
-    // bound decides): a wall thicker than twice -threshold, or a single face's dip deeper than it.
-    const double reach_both = reach_hi > h && reach_lo < l ? 0.5 : 1.0;
-    if (!(reach_both * (h - l) < 2.0 * n_up * -threshold())) return -kInf;
+    // Not worth the side tests where the bound seldom sets the cell aside (a heuristic: only the
+    // bound decides; 2 |threshold|, not 1, since the points certified below may lower the upper
+    // end): T's slab deeper than 2 |threshold|, halved when K crosses both its planes (a wall).
+    const double share = reach_hi > h && reach_lo < l ? 0.5 : 1.0;
+    if (!(share * (h - l) < 2.0 * n_up * -threshold())) return -kInf;
     const PlaneOffset om = plane_offset(n, 0.0, m);
     // Whether the region beyond h (above) or l (below) lies outside F.
     const auto outside = [&](int k, bool above) {
@@ -888,7 +889,7 @@ class BranchAndBound {
     // region is outside, likewise l.
     const bool cut_hi = reach_hi > h && outside(top, true), cut_lo = reach_lo < l && outside(bottom, false);
     if (!cut_hi && !cut_lo) return -kInf;
-    // A part of K kept beyond a plane (inside F there) no deeper than -threshold below it.
+    // Nor where a part of K kept beyond a plane (inside F there) reaches 2 |threshold| beyond it.
     if ((!cut_hi && reach_hi > h && !(reach_hi - h < 2.0 * n_up * -threshold())) ||
         (!cut_lo && reach_lo < l && !(l - reach_lo < 2.0 * n_up * -threshold()))) return -kInf;
     // The computed triangle cut to the widened slab [ls, hs]: its corners there and the crossings.
@@ -897,8 +898,12 @@ class BranchAndBound {
     std::array<int, 8> corner_of;  // the corner of K a point is, or -1
     int nq = 0;
     double err = 0.0;
-    for (int k = 0; k < 3; ++k)
-      if (!(down(ov[k].value - ov[k].error) > hs) && !(up(ov[k].value + ov[k].error) < ls)) corner_of[nq] = k, q[nq++] = v[k];
+    for (int k = 0; k < 3; ++k) {
+      if (!(down(ov[k].value - ov[k].error) > hs) && !(up(ov[k].value + ov[k].error) < ls)) {
+        corner_of[nq] = k;
+        q[nq++] = v[k];
+      }
+    }
     std::array<std::array<double, 2>, 3> cross_t{{{-1.0, -1.0}, {-1.0, -1.0}, {-1.0, -1.0}}};  // per edge and plane
     for (int k = 0; k < 3; ++k) {
       const Vec3 &a = v[k], &b = v[(k + 1) % 3];
@@ -912,8 +917,11 @@ class BranchAndBound {
         if ((A.lo > 0.0 && B.lo > 0.0) || (A.hi < 0.0 && B.hi < 0.0)) continue;  // no crossing
         if (nq + 2 > static_cast<int>(q.size())) return -kInf;
         if (!(A.lo > 0.0 || A.hi < 0.0) || !(B.lo > 0.0 || B.hi < 0.0)) {
-          corner_of[nq] = k, q[nq++] = a;  // an end on the plane within its error: the crossing anywhere on the edge
-          corner_of[nq] = (k + 1) % 3, q[nq++] = b;
+          // An end on the plane within its error: the crossing may lie anywhere on the edge.
+          corner_of[nq] = k;
+          q[nq++] = a;
+          corner_of[nq] = (k + 1) % 3;
+          q[nq++] = b;
           continue;
         }
         if (A.hi < 0.0) A = {-A.hi, -A.lo}, B = {-B.hi, -B.lo};  // now A > 0 > B: t rises with both
@@ -922,7 +930,8 @@ class BranchAndBound {
         const double t = 0.5 * (t_lo + t_hi);
         cross_t[k][side] = t;
         const Vec3 e = b - a;
-        corner_of[nq] = -1, q[nq++] = a + t * e;
+        corner_of[nq] = -1;
+        q[nq++] = a + t * e;
         // |exact crossing - (a + t e) exact| <= (t_hi - t_lo) |b - a|; the computed point's rounding
         // is within 4e-15 (|a| + |b|) (max norms) of the exact one, in any rounding mode.
         const double mag = a.cwiseAbs().maxCoeff() + b.cwiseAbs().maxCoeff();
@@ -938,8 +947,9 @@ class BranchAndBound {
     if (len > 0.0) normal /= len;
     CornerDistances known;
     int worst = 0;
-    const double depth = depth_upper_bound_among(fixed_, c, slab_ids_, q.data(), nq, nullptr, len > 0.0 ? &normal : nullptr,
-                                                 &worst, nullptr, coplanar_slack(), DepthWeights::sparse, nullptr, &known);
+    const double depth =
+        depth_upper_bound_among(fixed_, c, slab_ids_, q.data(), nq, nullptr, len > 0.0 ? &normal : nullptr, &worst,
+                                nullptr, coplanar_slack(), DepthWeights::sparse, nullptr, &known);
     if (!(depth < kInf)) return -kInf;
     double lower = down(-up(up(depth + err) + eta));
     // Points certified for the upper end only where the bound leaves the cell (a lower upper end
