@@ -855,6 +855,7 @@ class BranchAndBound {
     span(n, &h, &l);
     double thick = (h - l) / n.norm();
     for (std::size_t i = 0; i < std::min<std::size_t>(slab_ids_.size(), 4); ++i) {
+      if (slab_ids_[i] == nearest) continue;  // its span is the one above
       const Vec3 ni = fixed_.planes()[slab_ids_[i]].n;
       double hi, li;
       span(ni, &hi, &li);
