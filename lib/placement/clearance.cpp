@@ -1110,6 +1110,258 @@ bool halfspace_certificate(const SignedDistance& fixed, const SupportPlanes& sup
   return true;
 }
 
+
+// Whether s stays above a floor on the mover's surface at every pose of a segment of translations
+// (check_segment_above, clearance.h; doc/poses.md, "Steps proved over a segment"): the mover's
+// cells swept over the segment or a part of it (prisms: the convex hulls of a cell's corners at
+// the part's two ends), from a frontier's cells, bounded by the convexity of the distances to F's
+// triangles over those corners, split across or along the segment where that is not enough.
+class SegmentSearch {
+ public:
+  SegmentSearch(const SignedDistance& fixed, const MoverOrientation& o, const Vec3& ta, const Vec3& tb, double pad,
+                double floor)
+      : fixed_(fixed), o_(o), ta_(ta), tb_(tb), pad_(pad),
+        floor_(floor) {}
+
+  SegmentCheck run(const ClearanceFrontier& f, std::uint64_t budget) {
+    // Every point of a frontier cell moves by at most this from where its bound was evaluated.
+    const double shift =
+        up(up(std::max((ta_ - f.t).norm(), (tb_ - f.t).norm()) * (1.0 + 1e-12)) + up(f.transform_error + pad_));
+    stack_.clear();
+    lists_.clear();
+    lowest_.clear();
+    for (const ClearanceFrontier::Cell& w : f.cells) {
+      if (down(w.lower - shift) > floor_) continue;
+      if (w.depth >= 0) {
+        // The translated depth bound is convex in D (a maximum of square roots of convex
+        // quadratics plus convex rounding terms), so over the segment it is largest at an end.
+        const CellDepthBound& d = f.depth[w.depth];
+        const Vec3 Da = ta_ - d.t, Db = tb_ - d.t;
+        const double depth = up(up(std::max(translated_depth(d.bound, Da) + 1e-15 * Da.norm(),
+                                            translated_depth(d.bound, Db) + 1e-15 * Db.norm()) +
+                                   d.rounding) + pad_);
+        if (down(-up(depth * (1.0 + 1e-15))) > floor_) continue;
+      }
+      stack_.push_back(Item{w.is_node, w.id, w.level, w.bary, w.witness, w.near_face, w.ball, -1, {0.0, 1.0}});
+      lowest_.push_back(w.lower);
+    }
+    // The lowest cells first (popped last pushed): where the segment fails, they show it soonest.
+    std::vector<std::uint32_t> order(stack_.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return lowest_[a] > lowest_[b] || (lowest_[a] == lowest_[b] && a < b);
+    });
+    std::vector<Item> sorted;
+    sorted.reserve(order.size());
+    for (std::uint32_t i : order) sorted.push_back(stack_[i]);
+    stack_.swap(sorted);
+    SegmentCheck r;
+    while (!stack_.empty()) {
+      if (r.cells >= budget) return r;
+      Item c = stack_.back();
+      stack_.pop_back();
+      ++r.cells;
+      const Verdict v = c.is_node ? node_clear(c) : face_clear(c);
+      if (v == Verdict::clear) continue;
+      if (v == Verdict::below) {
+        r.verdict = SegmentVerdict::below;
+        return r;
+      }
+      if (!split(c)) return r;
+    }
+    r.verdict = SegmentVerdict::above;
+    return r;
+  }
+
+ private:
+  enum class Verdict { clear, split, below };
+  struct Item {
+    bool is_node;
+    std::uint32_t id;
+    int level;
+    std::array<std::array<double, 2>, 3> bary;
+    DepthWitness witness;  // the weights of its own or its parent's depth bound
+    std::int64_t near_face;
+    SideBall ball;       // a ball free of F with its side (its own or an ancestor's)
+    std::int32_t list;   // its parent's candidates (lists_), or -1
+    std::array<double, 2> seg;  // its part of the segment: the poses at[x], x in [seg[0], seg[1]]
+    bool along = false;  // when evaluated: to be split along the segment rather than across
+  };
+  // Triangles within `radius` of m, for a split cell's children (as ParentCandidates).
+  struct List {
+    Vec3 m;
+    double ud_hi;  // upper end of dist(m, F)
+    double radius;
+    std::vector<std::uint32_t> ids;
+  };
+  // A face cell this deep, or a part of the segment this short, is not split further (the
+  // segment is left undecided: such a cell is almost surely at a crossing).
+  static constexpr int kMaxLevel = 40;
+  static constexpr double kShortestPart = 0x1p-20;
+  // Longer lists cost more to scan than the tree queries they replace (as kMaxParentCandidates).
+  static constexpr std::size_t kMaxList = 64;
+
+  // Pushes c's parts; false when it cannot be split further.
+  bool split(const Item& c) {
+    if (!c.is_node && c.level >= kMaxLevel) return false;
+    if (!c.is_node && c.along) {
+      if (!(c.seg[1] - c.seg[0] > kShortestPart)) return false;
+      const double h = 0.5 * (c.seg[0] + c.seg[1]);
+      Item x = c;
+      x.seg = {c.seg[0], h};
+      stack_.push_back(x);
+      x.seg = {h, c.seg[1]};
+      stack_.push_back(x);
+      return true;
+    }
+    if (c.is_node) {
+      const auto& node = o_.boxes.nodes[c.id];
+      if (node.count == 0) {
+        for (std::uint32_t k = node.first; k < node.first + 2; ++k)
+          stack_.push_back(Item{true, k, 0, {}, c.witness, c.near_face, c.ball, -1, c.seg});
+      } else {
+        for (std::uint32_t i = 0; i < node.count; ++i)
+          stack_.push_back(Item{false, o_.boxes.order[node.first + i], 0, {{{0, 0}, {1, 0}, {0, 1}}}, c.witness,
+                                c.near_face, c.ball, -1, c.seg});
+      }
+      return true;
+    }
+    const auto& b = c.bary;
+    const auto mid = [](const std::array<double, 2>& x, const std::array<double, 2>& y) {
+      return std::array<double, 2>{0.5 * (x[0] + y[0]), 0.5 * (x[1] + y[1])};
+    };
+    const std::array<double, 2> m01 = mid(b[0], b[1]), m12 = mid(b[1], b[2]), m20 = mid(b[2], b[0]);
+    for (const auto& k : {std::array<std::array<double, 2>, 3>{{b[0], m01, m20}},
+                          std::array<std::array<double, 2>, 3>{{m01, b[1], m12}},
+                          std::array<std::array<double, 2>, 3>{{m20, m12, b[2]}},
+                          std::array<std::array<double, 2>, 3>{{m01, m12, m20}}})
+      stack_.push_back(Item{false, c.id, c.level + 1, k, c.witness, c.near_face, c.ball, c.list, c.seg});
+    return true;
+  }
+
+  // Every bound is of s over the convex hull of the computed corners v (both ends), less their
+  // rounding eta and pad_ (the exact poses' distance from the computed ends): a point of an exact
+  // prism lies within eta + pad_ of the same combination of the computed corners.
+  Verdict clear(Item& c, const Vec3* v, int nv, double eta) {
+    const auto ok = [&](double depth) { return down(-up(up(depth + eta) + pad_)) > floor_; };
+    // s >= -d_f everywhere (inside s = -dist, outside s >= 0) and d_f is convex: its largest value
+    // over the corners bounds the hull.
+    const auto corner_max = [&](std::uint32_t f) {
+      double worst = 0.0;
+      for (int k = 0; k < nv; ++k) worst = std::max(worst, point_triangle_distance_upper_near(v[k], fixed_.mesh(), f));
+      return worst;
+    };
+    if (c.witness.n > 0 && ok(witness_depth_bound(fixed_, c.witness, v, nv))) return Verdict::clear;
+    if (c.near_face >= 0 && ok(corner_max(static_cast<std::uint32_t>(c.near_face)))) return Verdict::clear;
+    Vec3 m = Vec3::Zero();
+    for (int k = 0; k < nv; ++k) m += v[k];
+    m /= nv;
+    double r = 0.0;
+    for (int k = 0; k < nv; ++k) r = std::max(r, (v[k] - m).norm());
+    // Every hull point within r of the computed m (its rounding: a few ulps of its magnitude).
+    r = up(up(r * (1.0 + 1e-12)) + 1e-15 * m.cwiseAbs().maxCoeff());
+    const List* list = c.list >= 0 ? &lists_[static_cast<std::size_t>(c.list)] : nullptr;
+    std::uint32_t nearest = 0;
+    // dist(m, F) <= dist(list's centre, F) + |m - that centre|.
+    const Interval ud = list && covers(*list, m, up(list->ud_hi + up((m - list->m).norm() * (1.0 + 1e-12))))
+                            ? fixed_.unsigned_distance_among(m, list->ids, &nearest)
+                            : fixed_.unsigned_distance(m, &nearest, c.near_face);
+    c.near_face = nearest;
+    if (ok(up(ud.hi + r))) return Verdict::clear;  // s >= -dist(m) - r on the hull
+    const bool may_clear_outside = down(down(ud.lo - r) - up(eta + pad_)) > floor_;
+    // A face cell's m is a mover point at the segment's middle pose up to eta and pad_: deep below
+    // the floor there, the segment is refused at once (refusing is always allowed; the caller only
+    // steers by it).
+    const bool may_be_below = !c.is_node && -ud.lo < floor_;
+    if (may_clear_outside || may_be_below) {
+      int side = side_from_ball(&c.ball, m);
+      if (side == 0) {
+        side = fixed_.side(m, ud);
+        if (side != 0) c.ball = SideBall{m, ud.lo, side};
+      }
+      if (side > 0 && may_clear_outside) return Verdict::clear;  // s(m) >= ud.lo, 1-Lipschitz
+      if (side < 0 && may_be_below) return Verdict::below;
+    }
+    if (ok(corner_max(nearest))) return Verdict::clear;
+    // The convexity bound from the triangles near the hull (any set is valid; those within
+    // ud + 2r of m hold every hull point's nearest ones).
+    const double reach = up(ud.hi + 2.0 * r);
+    DepthWitness w;
+    double depth;
+    if (list && covers(*list, m, reach)) {
+      fixed_.triangles_within_among(m, reach, list->ids, ids_);
+      depth = depth_upper_bound_among(fixed_, m, ids_, v, nv, nullptr, nullptr, nullptr, nullptr, 0.0,
+                                      DepthWeights::sparse, &w);
+    } else {
+      depth = depth_upper_bound(fixed_, m, reach, v, nv, ids_, nullptr, nullptr, nullptr, nullptr, 0.0,
+                                DepthWeights::sparse, &w);
+    }
+    if (w.n > 0) c.witness = w;
+    if (ok(depth)) return Verdict::clear;
+    if (depth < kInf && ok(minimax_depth_bound(fixed_, ids_, v, nv, 4, &w))) return Verdict::clear;
+    // To be split: its children's candidates (a child's centre and corners lie within r of m, so
+    // their nearest triangles within ud + 2.5 r, with margin).
+    if (!c.is_node) {
+      List l{m, ud.hi, up(ud.hi + up(2.5 * r)), {}};
+      if (fixed_.triangles_within(m, l.radius, kMaxList, l.ids)) {
+        c.list = static_cast<std::int32_t>(lists_.size());
+        lists_.push_back(std::move(l));
+      }
+    }
+    return Verdict::split;
+  }
+  // Whether every triangle within `reach` of x is in the list.
+  static bool covers(const List& l, const Vec3& x, double reach) {
+    return up(reach + up((x - l.m).norm() * (1.0 + 1e-12))) <= l.radius;
+  }
+  // The computed pose at x of the segment (ta, tb themselves at its ends), within pad_x() of the
+  // exact ta + x (tb - ta) (x dyadic: x (tb - ta) rounds once, the sum once).
+  Vec3 at(double x) const { return x == 0.0 ? ta_ : x == 1.0 ? tb_ : Vec3(ta_ + x * (tb_ - ta_)); }
+  double pad_x() const { return up(1e-15 * (ta_.cwiseAbs().maxCoeff() + tb_.cwiseAbs().maxCoeff())); }
+  Verdict face_clear(Item& c) {
+    const Face& f = (*o_.faces)[c.id];
+    std::array<Vec3, 6> v;
+    double eta = 0.0;
+    for (int e = 0; e < 2; ++e) {
+      const PlacedView P = o_.placed_view(at(c.seg[e]));
+      const Vec3 p0 = P[f[0]], e1 = P[f[1]] - p0, e2 = P[f[2]] - p0;
+      for (int k = 0; k < 3; ++k) v[3 * e + k] = p0 + c.bary[k][0] * e1 + c.bary[k][1] * e2;
+      eta = std::max(eta, combination_rounding(p0, e1, e2));
+    }
+    const Verdict verdict = clear(c, v.data(), 6, up(eta + pad_x()));
+    if (verdict == Verdict::split) {
+      // Split along the segment where its part is longer than the cell is wide and the cell's
+      // first end lies in a ball known to be outside F (a mover face entering F: the bound over
+      // the whole part is the outside corners' distance, which only a shorter part lowers), else
+      // across. A heuristic: only the cost depends on it.
+      const Vec3 ma = (v[0] + v[1] + v[2]) / 3.0, mb = (v[3] + v[4] + v[5]) / 3.0;
+      const double extent = std::max({(v[0] - ma).norm(), (v[1] - ma).norm(), (v[2] - ma).norm()});
+      c.along = (ma - mb).norm() > 2.0 * extent && side_from_ball(&c.ball, ma) > 0;
+    }
+    return verdict;
+  }
+  // A node's box at both ends of its part and between lies in the box spanning both (8 corners).
+  Verdict node_clear(Item& c) {
+    const Aabb a = moved(o_.boxes.nodes[c.id].bv, at(c.seg[0])), b = moved(o_.boxes.nodes[c.id].bv, at(c.seg[1]));
+    Aabb u;
+    for (int k = 0; k < 3; ++k) {
+      u.lo[k] = std::min(a.lo[k], b.lo[k]);
+      u.hi[k] = std::max(a.hi[k], b.hi[k]);
+    }
+    const std::array<Vec3, 8> corners = u.corners();
+    return clear(c, corners.data(), 8, pad_x());
+  }
+
+  const SignedDistance& fixed_;
+  const MoverOrientation& o_;
+  const Vec3 ta_, tb_;
+  const double pad_, floor_;
+  std::vector<Item> stack_;
+  std::vector<double> lowest_;
+  std::vector<List> lists_;
+  std::vector<std::uint32_t> ids_;
+};
+
 }  // namespace
 
 ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover,
@@ -1212,4 +1464,14 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   return certify_clearance(fixed, mover, component_representatives(mover), make_mover_orientation(mover, R), t, options);
 }
 
+}  // namespace cdbench
+
+
+namespace cdbench {
+SegmentCheck check_segment_above(const SignedDistance& fixed, const MoverOrientation& o, const ClearanceFrontier& f,
+                                 const Vec3& ta, const Vec3& tb, double pad, double floor, std::uint64_t budget) {
+  if (!f.valid) return {};
+  SegmentSearch s(fixed, o, ta, tb, pad, floor);
+  return s.run(f, budget);
+}
 }  // namespace cdbench

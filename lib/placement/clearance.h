@@ -124,6 +124,27 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
                                   const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
                                   const Vec3& t, const ClearanceOptions& options);
 
+// Whether the mover's clearance stays above `floor` at every pose of a segment of translations:
+// every point of the mover's surface (orientation `o`) placed at any pose within `pad` of the
+// computed ends' segment [ta, tb] has s > floor (`pad`: the caller's bound on the exact poses'
+// distance from that segment plus the transforms' rounding). From the frontier `f` of a
+// certificate at a pose nearby, whose cells move by at most their distance from its pose (their
+// lower bounds shifted by that), and where that is not enough from the convexity of the distances
+// to F's triangles over each cell's corners at both ends (the cell swept over the segment is
+// their convex hull), split where needed (doc/poses.md, "Steps proved over a segment").
+enum class SegmentVerdict {
+  above,      // proved: c > floor on the whole segment
+  below,      // a point of a mover face found below the floor at about the segment's middle pose (a
+              // heuristic verdict, for steering: the crossing is likely in the first half)
+  undecided,  // the budget of cell evaluations ran out, or a cell could not be split further
+};
+struct SegmentCheck {
+  SegmentVerdict verdict = SegmentVerdict::undecided;
+  std::uint64_t cells = 0;  // cells evaluated
+};
+SegmentCheck check_segment_above(const SignedDistance& fixed, const MoverOrientation& o, const ClearanceFrontier& f,
+                                 const Vec3& ta, const Vec3& tb, double pad, double floor, std::uint64_t budget);
+
 // F's supporting planes where they pay as a certificate's first try and for steps
 // (ClearanceOptions::support, halfspace_advance): F convex with at most 64 distinct face planes.
 // Each node and triangle the walk bounds picks its planes from all of them, so many planes cost

@@ -107,6 +107,10 @@ struct PoseOptions {
   // Where c is flat (slope below 1/2), try steps of up to twice the gap proved from both ends
   // (doc/poses.md); off: one-sided Lipschitz steps only (for A/B measurements).
   bool two_sided_steps = true;
+  // Targets < 0, on a steady slide (c falling at 1/64 to 1/8 of the advance): steps of up to 64
+  // gaps proved over the whole segment from the last certificate's frontier (doc/poses.md, "Steps
+  // proved over a segment"); off: for A/B measurements.
+  bool segment_steps = true;
   // Targets > 0: once the mover is certified above the target, advance by the pair traversal's
   // reach bounds (advance.h) without a certificate per step; off: a certificate per step (A/B).
   bool separated_advance = true;
@@ -186,6 +190,8 @@ struct PoseOutcome {
   bool on_target = false;  // |c - target| <= tolerance, proven
   int steps = 0;
   int two_sided_tries = 0;  // long steps tried where c is flat (each accepted one is a step)
+  int segment_tries = 0;    // segments tried on a slide (check_segment_above)
+  std::uint64_t segment_cells = 0;  // their cells evaluated
   bool continued = false;   // the advance continued from a higher target's pose (ApproachMemo)
   int cover_jumps = 0;      // jumps to the deep zone's cover taken
   std::uint64_t zone_cubes = 0;  // cubes of the zone's octree classified (deep_zone_contact)

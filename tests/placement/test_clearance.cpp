@@ -732,6 +732,84 @@ TEST(PlacePose, LongStepsStopInFrontOfAThinFin) {
   EXPECT_GT(tries, 0);
 }
 
+// A slide: the mover enters a long slab's top face at a grazing angle (c falls at 0.05 of the
+// advance from 0 to the target over two units), where two-sided steps prove twice the gap each and
+// steps proved over a whole segment (check_segment_above) many gaps. Both land on the first
+// crossing (every pose sampled between it and the far start certified at or above the target), the
+// latter in far fewer steps.
+TEST(PlacePose, SegmentStepsCrossASlideToTheFirstCrossing) {
+  const SignedDistance fixed(make_box(Vec3(-1, -1, -1), Vec3(6, 1, 0)));
+  const TriangleMesh mover = make_icosphere(0.05, 0);
+  ApproachSetup setup = make_approach_setup(fixed, mover);
+  setup.fixed_ref = Vec3(0.0, 0.0, -0.1);  // lambda = 0: the mover's lowest point 0.15 deep
+  const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
+  const Vec3 dir = Vec3(1.0, 0.0, 0.05).normalized();
+  PoseOptions opt;
+  opt.tolerance = 1e-7;
+  opt.start = PoseStart::Far;
+  opt.support_planes = false;  // a convex F: its planes' Newton steps would cross the slide at once
+  const double target = -0.1;
+  std::array<PoseOutcome, 2> p;
+  for (int mode = 0; mode < 2; ++mode) {
+    opt.segment_steps = mode == 0;
+    p[mode] = place_pose(setup, frame, nullptr, dir, target, opt);
+    SCOPED_TRACE("mode " + std::to_string(mode));
+    ASSERT_TRUE(p[mode].contact);
+    EXPECT_TRUE(p[mode].on_target);
+    expect_no_earlier_crossing(fixed, mover, frame, dir, setup, p[mode].lambda, target, opt.tolerance, 200);
+  }
+  // The same first crossing (c falls at about 0.05 per unit of lambda there).
+  EXPECT_NEAR(p[0].lambda, p[1].lambda, 4.0 * opt.tolerance / 0.05);
+  EXPECT_GT(p[0].segment_tries, 0);
+  EXPECT_EQ(p[1].segment_tries, 0);
+  EXPECT_LT(3 * p[0].steps, p[1].steps) << p[0].steps << " " << p[1].steps;
+}
+
+// Segments of poses proved above a floor (check_segment_above) agree with certificates of poses
+// sampled along them. Along chords inside a sphere the middle lies deeper than the ends (the depth
+// inside a convex solid is concave): among the floors tried are ones both ends' certificates clear
+// while the middle's is below, which a bound taken at the ends' poses alone would pass.
+TEST(Clearance, SegmentsProvedAboveAFloorAgreeWithSampledPoses) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Case c(make_icosphere(1.0, 3), make_icosphere(0.05, 1));
+  int above = 0, dips = 0;
+  const int n = test_scale::cases(16);
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const MoverOrientation o = make_mover_orientation(c.mover, R);
+    const Vec3 a = random_direction(rng);
+    Vec3 side = random_direction(rng);
+    side = (side - side.dot(a) * a).normalized();
+    const double angle = 0.02 + 0.1 * u(rng), radius = 0.8 + 0.1 * u(rng);
+    const Vec3 ta = radius * a, tb = radius * (std::cos(angle) * a + std::sin(angle) * side);
+    ClearanceFrontier frontier;
+    ClearanceOptions opt;
+    opt.tolerance = 1e-6;
+    opt.frontier = &frontier;
+    const ClearanceResult ca = certify_clearance(c.fixed, c.mover, c.comps, o, ta, opt);
+    const ClearanceResult cb = c.run(R, tb, 1e-6), cm = c.run(R, 0.5 * (ta + tb), 1e-6);
+    const double ends = std::min(ca.clearance.lo, cb.clearance.lo);
+    const double pad = 2.0 * std::max(o.transform_error(ta), o.transform_error(tb));
+    for (double floor : {cm.clearance.hi + 0.25 * (ends - cm.clearance.hi), cm.clearance.lo - 2e-2}) {
+      const bool dip = floor > cm.clearance.hi && floor < ends;
+      dips += dip;
+      const SegmentCheck check = check_segment_above(c.fixed, o, frontier, ta, tb, pad, floor, 20000);
+      if (check.verdict != SegmentVerdict::above) continue;
+      ++above;
+      SCOPED_TRACE(::testing::Message() << std::setprecision(17) << "case " << k << " floor " << floor << " ta "
+                                      << ta.transpose() << " tb " << tb.transpose());
+      EXPECT_FALSE(dip);
+      for (int i = 0; i <= 32; ++i) {
+        const ClearanceResult r = c.run(R, ta + (i / 32.0) * (tb - ta), 1e-4);
+        ASSERT_GT(r.clearance.hi, floor) << "at " << i << "/32";
+      }
+    }
+  }
+  EXPECT_GT(dips, n / 2);
+  EXPECT_GT(above, n / 2);
+}
+
 // Without polishing, the raw pose against the surface itself is the exact first contact: its
 // certified clearance must be 0 up to the rounding of the stored translation and the tolerance
 // (an independent check of the sweep against the clearance certificate).
