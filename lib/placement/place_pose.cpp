@@ -397,12 +397,13 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // of a cold start (about 25 us per cold cell, 4 us per re-evaluated warm one; doc/performance.md).
   constexpr std::uint64_t kColdCellsPerWarm = 6;
   // Steps proved over a segment (below; doc/poses.md, "Steps proved over a segment"): tried on a
-  // steady slide, where the secant slope of c stays within [1/64, 1/8] and within a factor of 2 of
-  // the previous step's (rotor's plateaus, flat or falling in bursts, refuse them); aimed at 0.8 of
-  // the way to the crossing the slope predicts, at most 64 gaps; a try may evaluate as many cells
-  // as the two-sided steps it replaces would re-evaluate (k gaps: about k/2 steps of this
-  // certificate's cells, twice over), at least 256. Measured on the 77 solids' -20 % poses and with
-  // pinion moving (doc/performance.md, "Steps proved over a segment").
+  // steady slide, where the secant slope of c over the last two steps stays within [1/64, 1/8] and
+  // within a factor of 2 of the previous step's (rotor's plateaus, flat or falling in bursts,
+  // seldom qualify); aimed at 0.8 of the way to the crossing the slope predicts, at most 64 gaps;
+  // a try may evaluate as many cells as the two-sided steps it replaces would re-evaluate (k gaps:
+  // about k/2 steps of this certificate's cells, twice over), at least 256. Measured on spool's
+  // and rotor's -20 % poses, with pinion moving too (doc/performance.md, "Steps proved over a
+  // segment").
   constexpr double kSegmentSlopeMin = 1.0 / 64, kSegmentSlopeMax = 1.0 / 8, kSegmentAim = 0.8;
   constexpr double kMaxSegmentGaps = 64.0;
   constexpr std::uint64_t kMinSegmentBudget = 256;
@@ -542,6 +543,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     // The previous pose of the advance, for the slope of c (a heuristic: it only picks steps).
     double prev_lambda = 0.0, prev_mid = 0.0;
     bool have_prev = false;
+    double prev2_lambda = 0.0, prev2_mid = 0.0;  // the pose before that
+    bool have_prev2 = false;
     int flat_steps = 0, near_flat = 0;
     DeepZoneJumps jumps(options, target);
     bool segments_pay = true;  // until a segment's search runs out of its budget
@@ -634,23 +637,30 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           if (lk < worth) {
             jump_to(lk);
             have_prev = false;
+            have_prev2 = false;
             flat_steps = near_flat = 0;
             continue;
           }
         }
       }
+      // The secant over the last two steps, for segment steps: loose certificates make the one-step
+      // secant jump between 0 and 0.6 on a slide (spool), the two-step one much less.
+      const double slope2 = have_prev2 ? std::max(0.0, (prev2_mid - mid) / (prev2_lambda - out.lambda)) : 1.0;
+      prev2_lambda = prev_lambda;
+      prev2_mid = prev_mid;
+      have_prev2 = have_prev;
       prev_lambda = out.lambda;
       prev_mid = mid;
       have_prev = true;
       bool advanced = false;
-      // (slope is 1 without a previous pose: outside the band.)
-      const bool in_band = slope >= kSegmentSlopeMin && slope <= kSegmentSlopeMax;
-      steady = in_band && slope <= 2.0 * last_slope && last_slope <= 2.0 * slope ? steady + 1 : 0;
-      last_slope = slope;
+      // (slope2 is 1 without two previous poses: outside the band.)
+      const bool in_band = slope2 >= kSegmentSlopeMin && slope2 <= kSegmentSlopeMax;
+      steady = in_band && slope2 <= 2.0 * last_slope && last_slope <= 2.0 * slope2 ? steady + 1 : 0;
+      last_slope = slope2;
       if (options.segment_steps && segments_pay && target < 0.0 && steady >= 1 && frontier.valid) {
         // A steady slide: a step of many gaps, proved over the whole segment from this
         // certificate's frontier (check_segment_above), then certified at its end as any step.
-        double k = std::min(kMaxSegmentGaps, kSegmentAim / slope);
+        double k = std::min(kMaxSegmentGaps, kSegmentAim / slope2);
         while (k >= 3.0) {
           const double h = std::min(k * gap, out.lambda + lambda_far);
           const Vec3 ta = pose_translation(frame, dir, out.lambda), tb = pose_translation(frame, dir, out.lambda - h);
