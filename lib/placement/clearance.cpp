@@ -1156,8 +1156,16 @@ class SegmentSearch {
     for (std::uint32_t i : order) sorted.push_back(stack_[i]);
     stack_.swap(sorted);
     SegmentCheck r;
+    // The frontier's cells lie at the bottom of the stack, their parts above: `low` of them are
+    // still to be done. A try that has spent half its budget on fewer than kAbandon of them
+    // gives up (a heuristic: such tries seldom finish; rotor's through thin blades).
+    const std::size_t base = stack_.size();
+    std::size_t low = base;
     while (!stack_.empty()) {
-      if (r.cells >= budget) return r;
+      low = std::min(low, stack_.size());
+      if (r.cells >= budget ||
+          (2 * r.cells > budget && static_cast<double>(base - low) < kAbandon * static_cast<double>(base)))
+        return r;
       Item c = stack_.back();
       stack_.pop_back();
       ++r.cells;
@@ -1198,6 +1206,9 @@ class SegmentSearch {
   // segment is left undecided: such a cell is almost surely at a crossing).
   static constexpr int kMaxLevel = 40;
   static constexpr double kShortestPart = 0x1p-20;
+  // run(): the share of the frontier's cells to be done by half the budget (0.25: no gain; 0.6:
+  // rotor's instructions -0.4 %, with pinion moving -1.1 %, spool's unchanged).
+  static constexpr double kAbandon = 0.6;
   // Longer lists cost more to scan than the tree queries they replace (as kMaxParentCandidates).
   static constexpr std::size_t kMaxList = 64;
 
