@@ -662,7 +662,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         // certificate's frontier (check_segment_above), then certified at its end as any step.
         double k = std::min(kMaxSegmentGaps, kSegmentAim / slope2);
         while (k >= 3.0) {
-          const double h = std::min(k * gap, out.lambda + lambda_far);
+          const double h = std::min(k * gap, out.lambda + lambda_far);  // not beyond the far side
+          if (!(h > 1.2 * step)) break;  // no longer than a plain step there
           const Vec3 ta = pose_translation(frame, dir, out.lambda), tb = pose_translation(frame, dir, out.lambda - h);
           // The exact poses t0 + x d, x in [lambda - h, lambda], lie within the slack of the
           // computed ends' segment; twice the transform's rounding, as a certificate is widened.
