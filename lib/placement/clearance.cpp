@@ -167,6 +167,18 @@ struct Cell {
   bool crowded = false;
 };
 
+// Dyadic barycentric coordinates (beta, gamma) of a face cell's three corners.
+using CellBary = std::array<std::array<double, 2>, 3>;
+// The midpoint of two corners (exact: dyadic).
+inline std::array<double, 2> bary_mid(const std::array<double, 2>& x, const std::array<double, 2>& y) {
+  return {0.5 * (x[0] + y[0]), 0.5 * (x[1] + y[1])};
+}
+// A face cell's four children by its edges' midpoints.
+inline std::array<CellBary, 4> quarter_cell(const CellBary& b) {
+  const std::array<double, 2> m01 = bary_mid(b[0], b[1]), m12 = bary_mid(b[1], b[2]), m20 = bary_mid(b[2], b[0]);
+  return {{{{b[0], m01, m20}}, {{m01, b[1], m12}}, {{m20, m12, b[2]}}, {{m01, m12, m20}}}};
+}
+
 // Triangles of F listed once for the four children of a split cell: every triangle within `radius`
 // of the parent's centre m (certified superset). A child query that provably cannot reach a
 // triangle outside that ball is answered from the list, without a tree traversal.
@@ -319,22 +331,16 @@ class BranchAndBound {
         // under half of each other) is cut across its length into three, each about half as
         // long, so that thin cells shrink where they are long; any other cell into four.
         const auto& b = c.bary;
-        const auto mid = [](const std::array<double, 2>& x, const std::array<double, 2>& y) {
-          return std::array<double, 2>{0.5 * (x[0] + y[0]), 0.5 * (x[1] + y[1])};
-        };
         const ParentCandidates* parent = list_candidates(c);
         const int base = needle_base(c);
         if (base >= 0) {
           const auto &B = b[base], &C = b[(base + 1) % 3], &A = b[(base + 2) % 3];
-          const std::array<double, 2> M = mid(A, B), N = mid(A, C);
+          const std::array<double, 2> M = bary_mid(A, B), N = bary_mid(A, C);
           const std::array<std::array<std::array<double, 2>, 3>, 3> kids{{{{A, M, N}}, {{M, B, C}}, {{M, C, N}}}};
           for (const auto& k : kids)
             push(evaluate_face(hinted(Cell{0, 0, false, c.id, c.level + 1, k}, c), &c.ball, parent));
         } else {
-          const std::array<double, 2> m01 = mid(b[0], b[1]), m12 = mid(b[1], b[2]), m20 = mid(b[2], b[0]);
-          const std::array<std::array<std::array<double, 2>, 3>, 4> kids{
-              {{{b[0], m01, m20}}, {{m01, b[1], m12}}, {{m20, m12, b[2]}}, {{m01, m12, m20}}}};
-          for (const auto& k : kids)
+          for (const CellBary& k : quarter_cell(b))
             push(evaluate_face(hinted(Cell{0, 0, false, c.id, c.level + 1, k}, c), &c.ball, parent));
         }
       }
@@ -1110,7 +1116,6 @@ bool halfspace_certificate(const SignedDistance& fixed, const SupportPlanes& sup
   return true;
 }
 
-
 // Whether s stays above a floor on the mover's surface at every pose of a segment of translations
 // (check_segment_above, clearance.h; doc/poses.md, "Steps proved over a segment"): the mover's
 // cells swept over the segment or a part of it (prisms: the convex hulls of a cell's corners at
@@ -1132,16 +1137,11 @@ class SegmentSearch {
     lowest_.clear();
     for (const ClearanceFrontier::Cell& w : f.cells) {
       if (down(w.lower - shift) > floor_) continue;
-      if (w.depth >= 0) {
-        // The translated depth bound is convex in D (a maximum of square roots of convex
-        // quadratics plus convex rounding terms), so over the segment it is largest at an end.
-        const CellDepthBound& d = f.depth[w.depth];
-        const Vec3 Da = ta_ - d.t, Db = tb_ - d.t;
-        const double depth = up(up(std::max(translated_depth(d.bound, Da) + 1e-15 * Da.norm(),
-                                            translated_depth(d.bound, Db) + 1e-15 * Db.norm()) +
-                                   d.rounding) + pad_);
-        if (down(-up(depth * (1.0 + 1e-15))) > floor_) continue;
-      }
+      // The translated depth bound is convex in D (the square root of a maximum of convex
+      // quadratics plus convex rounding terms), so over the segment it is largest at an end.
+      if (w.depth >= 0 && std::min(translated_lower(f.depth[w.depth], ta_, pad_),
+                                   translated_lower(f.depth[w.depth], tb_, pad_)) > floor_)
+        continue;
       stack_.push_back(Item{w.is_node, w.id, w.level, w.bary, w.witness, w.near_face, w.ball, -1, {0.0, 1.0}});
       lowest_.push_back(w.lower);
     }
@@ -1191,16 +1191,9 @@ class SegmentSearch {
     DepthWitness witness;  // the weights of its own or its parent's depth bound
     std::int64_t near_face;
     SideBall ball;       // a ball free of F with its side (its own or an ancestor's)
-    std::int32_t list;   // its parent's candidates (lists_), or -1
+    std::int32_t list;   // its parent's candidate list (lists_), or -1
     std::array<double, 2> seg;  // its part of the segment: the poses at[x], x in [seg[0], seg[1]]
     bool along = false;  // when evaluated: to be split along the segment rather than across
-  };
-  // Triangles within `radius` of m, for a split cell's children (as ParentCandidates).
-  struct List {
-    Vec3 m;
-    double ud_hi;  // upper end of dist(m, F)
-    double radius;
-    std::vector<std::uint32_t> ids;
   };
   // A face cell this deep, or a part of the segment this short, is not split further (the
   // segment is left undecided: such a cell is almost surely at a crossing).
@@ -1237,15 +1230,7 @@ class SegmentSearch {
       }
       return true;
     }
-    const auto& b = c.bary;
-    const auto mid = [](const std::array<double, 2>& x, const std::array<double, 2>& y) {
-      return std::array<double, 2>{0.5 * (x[0] + y[0]), 0.5 * (x[1] + y[1])};
-    };
-    const std::array<double, 2> m01 = mid(b[0], b[1]), m12 = mid(b[1], b[2]), m20 = mid(b[2], b[0]);
-    for (const auto& k : {std::array<std::array<double, 2>, 3>{{b[0], m01, m20}},
-                          std::array<std::array<double, 2>, 3>{{m01, b[1], m12}},
-                          std::array<std::array<double, 2>, 3>{{m20, m12, b[2]}},
-                          std::array<std::array<double, 2>, 3>{{m01, m12, m20}}})
+    for (const CellBary& k : quarter_cell(c.bary))
       stack_.push_back(Item{false, c.id, c.level + 1, k, c.witness, c.near_face, c.ball, c.list, c.seg});
     return true;
   }
@@ -1271,10 +1256,10 @@ class SegmentSearch {
     for (int k = 0; k < nv; ++k) r = std::max(r, (v[k] - m).norm());
     // Every hull point within r of the computed m (its rounding: a few ulps of its magnitude).
     r = up(up(r * (1.0 + 1e-12)) + 1e-15 * m.cwiseAbs().maxCoeff());
-    const List* list = c.list >= 0 ? &lists_[static_cast<std::size_t>(c.list)] : nullptr;
+    const ParentCandidates* list = c.list >= 0 ? &lists_[static_cast<std::size_t>(c.list)] : nullptr;
     std::uint32_t nearest = 0;
     // dist(m, F) <= dist(list's centre, F) + |m - that centre|.
-    const Interval ud = list && covers(*list, m, up(list->ud_hi + up((m - list->m).norm() * (1.0 + 1e-12))))
+    const Interval ud = list && list->covers(m, up(list->ud_hi + up((m - list->m).norm() * (1.0 + 1e-12))))
                             ? fixed_.unsigned_distance_among(m, list->ids, &nearest)
                             : fixed_.unsigned_distance(m, &nearest, c.near_face);
     c.near_face = nearest;
@@ -1299,7 +1284,7 @@ class SegmentSearch {
     const double reach = up(ud.hi + 2.0 * r);
     DepthWitness w;
     double depth;
-    if (list && covers(*list, m, reach)) {
+    if (list && list->covers(m, reach)) {
       fixed_.triangles_within_among(m, reach, list->ids, ids_);
       depth = depth_upper_bound_among(fixed_, m, ids_, v, nv, nullptr, nullptr, nullptr, nullptr, 0.0,
                                       DepthWeights::sparse, &w);
@@ -1313,17 +1298,13 @@ class SegmentSearch {
     // To be split: its children's candidates (a child's centre and corners lie within r of m, so
     // their nearest triangles within ud + 2.5 r, with margin).
     if (!c.is_node) {
-      List l{m, ud.hi, up(ud.hi + up(2.5 * r)), {}};
+      ParentCandidates l{m, ud.hi, up(ud.hi + up(2.5 * r)), {}};
       if (fixed_.triangles_within(m, l.radius, kMaxList, l.ids)) {
         c.list = static_cast<std::int32_t>(lists_.size());
         lists_.push_back(std::move(l));
       }
     }
     return Verdict::split;
-  }
-  // Whether every triangle within `reach` of x is in the list.
-  static bool covers(const List& l, const Vec3& x, double reach) {
-    return up(reach + up((x - l.m).norm() * (1.0 + 1e-12))) <= l.radius;
   }
   // The computed pose at x of the segment (ta, tb themselves at its ends), within pad_x() of the
   // exact ta + x (tb - ta) (x dyadic: x (tb - ta) rounds once, the sum once).
@@ -1353,12 +1334,8 @@ class SegmentSearch {
   }
   // A node's box at both ends of its part and between lies in the box spanning both (8 corners).
   Verdict node_clear(Item& c) {
-    const Aabb a = moved(o_.boxes.nodes[c.id].bv, at(c.seg[0])), b = moved(o_.boxes.nodes[c.id].bv, at(c.seg[1]));
-    Aabb u;
-    for (int k = 0; k < 3; ++k) {
-      u.lo[k] = std::min(a.lo[k], b.lo[k]);
-      u.hi[k] = std::max(a.hi[k], b.hi[k]);
-    }
+    Aabb u = moved(o_.boxes.nodes[c.id].bv, at(c.seg[0]));
+    u.extend(moved(o_.boxes.nodes[c.id].bv, at(c.seg[1])));
     const std::array<Vec3, 8> corners = u.corners();
     return clear(c, corners.data(), 8, pad_x());
   }
@@ -1369,7 +1346,7 @@ class SegmentSearch {
   const double pad_, floor_;
   std::vector<Item> stack_;
   std::vector<double> lowest_;
-  std::vector<List> lists_;
+  std::vector<ParentCandidates> lists_;
   std::vector<std::uint32_t> ids_;
 };
 
@@ -1475,10 +1452,6 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   return certify_clearance(fixed, mover, component_representatives(mover), make_mover_orientation(mover, R), t, options);
 }
 
-}  // namespace cdbench
-
-
-namespace cdbench {
 SegmentCheck check_segment_above(const SignedDistance& fixed, const MoverOrientation& o, const ClearanceFrontier& f,
                                  const Vec3& ta, const Vec3& tb, double pad, double floor, std::uint64_t budget) {
   if (!f.valid) return {};

@@ -548,8 +548,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     int flat_steps = 0, near_flat = 0;
     DeepZoneJumps jumps(options, target);
     bool segments_pay = true;  // until a segment's search runs out of its budget
-    int steady = 0;            // consecutive steps of a steady slide (segment steps above)
-    double last_slope = 1.0;   // the previous step's secant slope
+    double last_slope = 1.0;   // the previous step's two-step secant slope
     while (!within(c.clearance) && out.steps < options.max_steps) {
       // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
       // margin; the rounding of t by the absolute one): stepping by c_lo - target cannot pass the
@@ -655,9 +654,9 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       bool advanced = false;
       // (slope2 is 1 without two previous poses: outside the band.)
       const bool in_band = slope2 >= kSegmentSlopeMin && slope2 <= kSegmentSlopeMax;
-      steady = in_band && slope2 <= 2.0 * last_slope && last_slope <= 2.0 * slope2 ? steady + 1 : 0;
+      const bool steady = in_band && slope2 <= 2.0 * last_slope && last_slope <= 2.0 * slope2;
       last_slope = slope2;
-      if (options.segment_steps && segments_pay && target < 0.0 && steady >= 1 && frontier.valid) {
+      if (options.segment_steps && segments_pay && target < 0.0 && steady && frontier.valid) {
         // A steady slide: a step of many gaps, proved over the whole segment from this
         // certificate's frontier (check_segment_above), then certified at its end as any step.
         double k = std::min(kMaxSegmentGaps, kSegmentAim / slope2);
@@ -675,7 +674,6 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           const SegmentCheck check =
               check_segment_above(*setup.fixed, frame.orientation, frontier, ta, tb, pad, target, budget);
           ++out.segment_tries;
-          out.segment_cells += check.cells;
           if (check.verdict == SegmentVerdict::above) {
             out.lambda -= h;
             c = certify(out.lambda, true);

@@ -191,7 +191,6 @@ struct PoseOutcome {
   int steps = 0;
   int two_sided_tries = 0;  // long steps tried where c is flat (each accepted one is a step)
   int segment_tries = 0;    // segments tried on a slide (check_segment_above)
-  std::uint64_t segment_cells = 0;  // their cells evaluated
   bool continued = false;   // the advance continued from a higher target's pose (ApproachMemo)
   int cover_jumps = 0;      // jumps to the deep zone's cover taken
   std::uint64_t zone_cubes = 0;  // cubes of the zone's octree classified (deep_zone_contact)
