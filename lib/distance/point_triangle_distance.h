@@ -42,6 +42,18 @@ inline double point_triangle_distance_upper_near(const Vec3& p, const TriangleMe
   return point_triangle_distance_upper_near(p, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]);
 }
 
+// A certified upper bound of the largest distance from the points to triangle `face` of m (the
+// largest of point_triangle_distance_upper_near, 0 for none). The distance to one triangle is
+// convex, so this bounds it over the points' convex hull too, and with it the depth of every hull
+// point inside m's solid (the convexity bound of doc/poses.md with one triangle).
+inline double max_distance_upper_near(const Vec3* points, int n, const TriangleMesh& m, std::uint32_t face) {
+  const Face& f = m.faces[face];
+  const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &c = m.vertices[f[2]];
+  double worst = 0.0;
+  for (int k = 0; k < n; ++k) worst = std::max(worst, point_triangle_distance_upper_near(points[k], a, b, c));
+  return worst;
+}
+
 // A rigorous lower bound of the distance from p to abc from any direction u != 0: the triangle lies
 // in the half-space {x : (x - p).u >= min_k (v_k - p).u} (a linear function on a triangle is least
 // at a vertex), so the distance is at least that minimum over |u| when it is positive (else 0).

@@ -1020,27 +1020,25 @@ class BranchAndBound {
 
   // A stale cell's bound at this pose with no tree query (lower = -inf when there is none), from
   // the triangle f nearest to its centre at its last evaluation: s >= -dist(., F) >= -d_f
-  // everywhere (inside s = -dist, outside s >= 0), and d_f is 1-Lipschitz and convex, so on the
-  // cell s >= -(d_f(m) + r) and s >= -(max over the corners of d_f) (the corners' rounding added).
-  // Both are what a fresh evaluation gives when f is still the nearest, minus the tree query.
+  // everywhere (inside s = -dist, outside s >= 0), and d_f is convex, so on the cell s >= -(max
+  // over the corners of d_f) (the corners' rounding added): what a fresh evaluation's convexity
+  // bound gives when f is still the nearest, minus the tree query. (The Lipschitz bound from the
+  // centre, -(d_f(m) + r), is never above it: each corner lies within r of m.)
   Cell restale(const Cell& c) {
     Cell q{-kInf, 0, c.is_node, c.id, c.level, c.bary};
     q.ball = c.ball;
     q.near_face = c.near_face;
     if (c.near_face < 0) return q;
     const auto f = static_cast<std::uint32_t>(c.near_face);
-    const auto dist_hi = [&](const Vec3& x) { return sqrt_interval(fixed_.face_squared_distance(x, f)).hi; };
     q.witness = c.witness;
     if (c.is_node) {
-      const Aabb box = moved(o_.boxes.nodes[c.id].bv, t_);
-      const double r = up(up(0.5 * box.diagonal()) * (1.0 + 1e-12));
-      const std::array<Vec3, 8> corners = box.corners();
-      q.lower = std::max(down(-dist_hi(box.center()) - r), face_corner_lower(f, corners.data(), 8, 0.0));
+      const std::array<Vec3, 8> corners = moved(o_.boxes.nodes[c.id].bv, t_).corners();
+      q.lower = face_corner_lower(f, corners.data(), 8, 0.0);
       if (q.lower < threshold() && c.witness.n > 0)
         q.lower = std::max(q.lower, down(-witness_depth_bound(fixed_, c.witness, corners.data(), 8)));
     } else {
       const FaceGeometry geo = geometry(c);
-      q.lower = std::max(down(down(-dist_hi(geo.m) - geo.r) - geo.eta_m), face_corner_lower(f, geo.v.data(), 3, geo.eta));
+      q.lower = face_corner_lower(f, geo.v.data(), 3, geo.eta);
       // The weights of its last depth bound, at the corners where it is now: on a wall between
       // two faces of F (a plateau, a slide) as tight as a fresh evaluation, without its queries.
       if (q.lower < threshold() && c.witness.n > 0)
@@ -1052,9 +1050,7 @@ class BranchAndBound {
   // -(max over the corners of d_f) - eta: a lower bound of s on their convex hull (d_f is convex,
   // s >= -d_f everywhere), eta the corners' distance from the exact cell's.
   double face_corner_lower(std::uint32_t f, const Vec3* corners, int n, double eta) const {
-    double worst = 0.0;
-    for (int k = 0; k < n; ++k) worst = std::max(worst, sqrt_interval(fixed_.face_squared_distance(corners[k], f)).hi);
-    return down(-worst - eta);
+    return down(-max_distance_upper_near(corners, n, fixed_.mesh(), f) - eta);
   }
 
   // A certified value of s at a mover surface point (face, barycentrics): the upper end so far.
@@ -1242,11 +1238,7 @@ class SegmentSearch {
     const auto ok = [&](double depth) { return down(-up(up(depth + eta) + pad_)) > floor_; };
     // s >= -d_f everywhere (inside s = -dist, outside s >= 0) and d_f is convex: its largest value
     // over the corners bounds the hull.
-    const auto corner_max = [&](std::uint32_t f) {
-      double worst = 0.0;
-      for (int k = 0; k < nv; ++k) worst = std::max(worst, point_triangle_distance_upper_near(v[k], fixed_.mesh(), f));
-      return worst;
-    };
+    const auto corner_max = [&](std::uint32_t f) { return max_distance_upper_near(v, nv, fixed_.mesh(), f); };
     if (c.witness.n > 0 && ok(witness_depth_bound(fixed_, c.witness, v, nv))) return Verdict::clear;
     if (c.near_face >= 0 && ok(corner_max(static_cast<std::uint32_t>(c.near_face)))) return Verdict::clear;
     Vec3 m = Vec3::Zero();

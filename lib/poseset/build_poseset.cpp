@@ -243,10 +243,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // bound's weights, 3; depth bounds from near-point distances since session 36, 4; cells with an
   // outside centre split without a depth bound that cannot or seldom sets them aside, session 53,
   // 5; cells centred outside and across F bounded between the planes of the faces they cross,
-  // session 54, 6; steps proved over a segment on slides, session 55, 7): their intervals, and so
-  // the polished poses, may differ within the tolerance from earlier binaries'. Absent otherwise.
+  // session 54, 6; steps proved over a segment on slides, session 55, 7; the nearest triangle's own
+  // bound from near-point distances, a stale cell re-bounded by its corners only, session 56, 8):
+  // their intervals, and so the polished poses, may differ within the tolerance from earlier
+  // binaries'. Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
-    run_key["penetrating_certificates"] = 7;
+    run_key["penetrating_certificates"] = 8;
   // Every certificate since 2026-11-29 (session 37) sets cells far outside F aside by a lower bound
   // of their centre's distance alone (1): intervals and polishing steps, rarely poses, may differ
   // within the tolerance from earlier binaries', whose journals have no such key.

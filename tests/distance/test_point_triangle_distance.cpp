@@ -333,6 +333,51 @@ TEST(PointTriangleDistance, NearPointUpperBoundEnclosesTheExactDistance) {
   EXPECT_GT(below_without_error, 10);
 }
 
+// The largest near-point upper bound over a few points bounds the exact distance at each of them
+// and, the distance to one triangle being convex, at every point of their hull (exact rational
+// combinations of the computed points); and it is the largest point's bound, not a smaller one
+// (the control: the hull's farthest corner reaches it within 2e-13 of the magnitude).
+TEST(PointTriangleDistance, LargestNearPointBoundHoldsOverTheHull) {
+  std::mt19937_64 rng(47);
+  std::uniform_real_distribution<double> w(0, 1);
+  int reached = 0, cases = 0;
+  for_random_triangles(rng, [&](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& o, double scale, int) {
+    TriangleMesh m;
+    m.vertices = {a, b, c};
+    m.faces = {{0, 1, 2}};
+    std::uniform_real_distribution<double> u(-scale, scale);
+    std::array<Vec3, 4> pts;
+    for (Vec3& q : pts) q = o + Vec3(u(rng), u(rng), u(rng));
+    const int n = 3 + static_cast<int>(w(rng) * 2);  // 3 or 4 points
+    const double bound = max_distance_upper_near(pts.data(), n, m, 0);
+    const Epeck::FT b2 = Epeck::FT(bound) * Epeck::FT(bound);
+    double worst = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const Epeck::FT e = exact_squared_distance(pts[k], a, b, c);
+      ASSERT_LE(e, b2) << std::setprecision(17) << "point " << k << " (" << pts[k].transpose() << ") bound " << bound;
+      worst = std::max(worst, std::sqrt(CGAL::to_double(e)));
+    }
+    // An exact point of the hull: a rational combination of the points, its distance by the exact
+    // kernel on the combination's coordinates (no rounding).
+    std::array<double, 4> lambda{};
+    double sum = 0.0;
+    for (int k = 0; k < n; ++k) sum += (lambda[k] = w(rng) + 1e-3);
+    Epeck::FT x[3] = {0, 0, 0};
+    for (int k = 0; k < n; ++k)
+      for (int i = 0; i < 3; ++i) x[i] += Epeck::FT(lambda[k]) / Epeck::FT(sum) * Epeck::FT(pts[k][i]);
+    const Epeck::Point_3 q(x[0], x[1], x[2]);
+    const Epeck::Triangle_3 t(Epeck::Point_3(a[0], a[1], a[2]), Epeck::Point_3(b[0], b[1], b[2]),
+                              Epeck::Point_3(c[0], c[1], c[2]));
+    if (!t.is_degenerate()) ASSERT_LE(CGAL::squared_distance(q, t), b2) << std::setprecision(17) << "bound " << bound;
+    const double mag = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff(),
+                                 o.cwiseAbs().maxCoeff() + scale});
+    ++cases;
+    if (bound <= worst * (1.0 + 1e-13) + 2e-13 * mag) ++reached;
+  });
+  EXPECT_EQ(reached, cases);
+  EXPECT_GT(cases, 1000);
+}
+
 TEST(PointTriangleDistance, HandBuiltDegenerateAndBoundaryCases) {
   const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
   const std::vector<Vec3> points = {
