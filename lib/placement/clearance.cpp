@@ -183,6 +183,12 @@ inline std::array<CellBary, 4> quarter_cell(const CellBary& b) {
 // of the parent's centre m (certified superset). A child query that provably cannot reach a
 // triangle outside that ball is answered from the list, without a tree traversal.
 struct ParentCandidates {
+  // Longer lists cost more than the queries they replace: a child's query scans its parent's whole
+  // list, while a tree query visits about 85 leaves. 64 since 2026-11-28 (1,024 before): CAD parts
+  // whose faces are many times |target| long listed much of the mesh for each split (pinion,
+  // spool: 10-14 % faster); armadillo, bunny00 and fandisk_large unchanged (doc/performance.md).
+  // The branch and bound's lists and the segment search's alike.
+  static constexpr std::size_t kMaxCount = 64;
   Vec3 m;
   double ud_hi = 0.0;   // upper end of dist(m, F)
   double radius = 0.0;
@@ -601,20 +607,15 @@ class BranchAndBound {
     parent_.m = g.m;
     parent_.ud_hi = c.ud_hi;
     parent_.radius = up(c.ud_hi + up(2.5 * g.r));
-    if (!fixed_.triangles_within(g.m, parent_.radius, kMaxParentCandidates, parent_.ids)) return nullptr;
+    if (!fixed_.triangles_within(g.m, parent_.radius, ParentCandidates::kMaxCount, parent_.ids)) return nullptr;
     return &parent_;
   }
-  // Longer lists cost more than the queries they replace: a child's query scans its parent's whole
-  // list, while a tree query visits about 85 leaves. 64 since 2026-11-28 (1,024 before): CAD parts
-  // whose faces are many times |target| long listed much of the mesh for each split (pinion,
-  // spool: 10-14 % faster); armadillo, bunny00 and fandisk_large unchanged (doc/performance.md).
-  static constexpr std::size_t kMaxParentCandidates = 64;
   // The separating plane's candidates (evaluate_face): beyond this many, no plane is tried. Such a
   // list is a cell far larger than its distance to F (a sliver across F), where a plane through
   // all of them seldom clears the cell, and gathering them took a tenth of pinion's -20 % time.
   static constexpr std::size_t kMaxSeparatingCandidates = 64;
   // A crowded cell's list would overflow: its ball (radius ud + 2.5 r) holds the gather's (ud + 2 r).
-  static_assert(kMaxSeparatingCandidates >= kMaxParentCandidates, "Cell::crowded implies a long list");
+  static_assert(kMaxSeparatingCandidates >= ParentCandidates::kMaxCount, "Cell::crowded implies a long list");
 
   // dist(x, F) from the parent's list when it provably holds x's nearest triangles: they lie within
   // dist(x, F) <= `ud_bound` of x.
@@ -1138,7 +1139,8 @@ class SegmentSearch {
       if (w.depth >= 0 && std::min(translated_lower(f.depth[w.depth], ta_, pad_),
                                    translated_lower(f.depth[w.depth], tb_, pad_)) > floor_)
         continue;
-      stack_.push_back(Item{w.is_node, w.id, w.level, w.bary, w.witness, w.near_face, w.ball, -1, {0.0, 1.0}});
+      stack_.push_back(
+          Item{w.is_node, w.id, w.level, w.bary, w.witness, w.near_face, w.ball, -1, {0.0, 1.0}, false, w.level});
       lowest_.push_back(w.lower);
     }
     // The lowest cells first (popped last pushed): where the segment fails, they show it soonest.
@@ -1190,20 +1192,21 @@ class SegmentSearch {
     std::int32_t list;   // its parent's candidate list (lists_), or -1
     std::array<double, 2> seg;  // its part of the segment: the poses at[x], x in [seg[0], seg[1]]
     bool along = false;  // when evaluated: to be split along the segment rather than across
+    int first_level = 0;  // the level of the frontier cell it is a part of
   };
-  // A face cell this deep, or a part of the segment this short, is not split further (the
-  // segment is left undecided: such a cell is almost surely at a crossing).
-  static constexpr int kMaxLevel = 40;
+  // A face cell split this many times below its frontier cell, or a part of the segment this short,
+  // is not split further (the segment is left undecided: such a cell is almost surely at a
+  // crossing). Counted from the frontier cell: a needle's splits leave pinion's frontier cells at
+  // levels 25-39, which an absolute limit of 40 stopped after a few splits.
+  static constexpr int kMaxSplits = 24;
   static constexpr double kShortestPart = 0x1p-20;
   // run(): the share of the frontier's cells to be done by half the budget (0.25: no gain; 0.6:
   // rotor's instructions -0.4 %, with pinion moving -1.1 %, spool's unchanged).
   static constexpr double kAbandon = 0.6;
-  // Longer lists cost more to scan than the tree queries they replace (as kMaxParentCandidates).
-  static constexpr std::size_t kMaxList = 64;
 
   // Pushes c's parts; false when it cannot be split further.
   bool split(const Item& c) {
-    if (!c.is_node && c.level >= kMaxLevel) return false;
+    if (!c.is_node && c.level >= c.first_level + kMaxSplits) return false;
     if (!c.is_node && c.along) {
       if (!(c.seg[1] - c.seg[0] > kShortestPart)) return false;
       const double h = 0.5 * (c.seg[0] + c.seg[1]);
@@ -1218,16 +1221,17 @@ class SegmentSearch {
       const auto& node = o_.boxes.nodes[c.id];
       if (node.count == 0) {
         for (std::uint32_t k = node.first; k < node.first + 2; ++k)
-          stack_.push_back(Item{true, k, 0, {}, c.witness, c.near_face, c.ball, -1, c.seg});
+          stack_.push_back(Item{true, k, 0, {}, c.witness, c.near_face, c.ball, -1, c.seg, false, 0});
       } else {
         for (std::uint32_t i = 0; i < node.count; ++i)
           stack_.push_back(Item{false, o_.boxes.order[node.first + i], 0, {{{0, 0}, {1, 0}, {0, 1}}}, c.witness,
-                                c.near_face, c.ball, -1, c.seg});
+                                c.near_face, c.ball, -1, c.seg, false, 0});
       }
       return true;
     }
     for (const CellBary& k : quarter_cell(c.bary))
-      stack_.push_back(Item{false, c.id, c.level + 1, k, c.witness, c.near_face, c.ball, c.list, c.seg});
+      stack_.push_back(Item{false, c.id, c.level + 1, k, c.witness, c.near_face, c.ball, c.list, c.seg, false,
+                            c.first_level});
     return true;
   }
 
@@ -1291,7 +1295,7 @@ class SegmentSearch {
     // their nearest triangles within ud + 2.5 r, with margin).
     if (!c.is_node) {
       ParentCandidates l{m, ud.hi, up(ud.hi + up(2.5 * r)), {}};
-      if (fixed_.triangles_within(m, l.radius, kMaxList, l.ids)) {
+      if (fixed_.triangles_within(m, l.radius, ParentCandidates::kMaxCount, l.ids)) {
         c.list = static_cast<std::int32_t>(lists_.size());
         lists_.push_back(std::move(l));
       }

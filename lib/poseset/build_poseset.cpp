@@ -244,7 +244,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // outside centre split without a depth bound that cannot or seldom sets them aside, session 53,
   // 5; cells centred outside and across F bounded between the planes of the faces they cross,
   // session 54, 6; steps proved over a segment on slides, session 55, 7; the nearest triangle's own
-  // bound from near-point distances, a stale cell re-bounded by its corners only, session 56, 8):
+  // bound from near-point distances, a stale cell re-bounded by its corners only, a segment
+  // search's splits limited below each frontier cell, session 56, 8):
   // their intervals, and so the polished poses, may differ within the tolerance from earlier
   // binaries'. Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
