@@ -330,11 +330,37 @@ SignedDistance::SignedDistance(TriangleMesh mesh) : mesh_(std::move(mesh)), bbox
 namespace {
 
 // The fast query's result from the leaves it visited (tree or candidate list): the best triangle
-// enclosed rigorously, and the lower end from the leaves kept near it. False when the best does
+// enclosed rigorously, and the lower end from the leaves kept near it (enclosed too, or with
+// DistanceEnds::near_points their slab bounds and near-point upper ends). False when the best does
 // not lie at or below the final pruning threshold (the caller then runs the rigorous query).
 bool finish_fast(const SignedDistance& sd, const FastNearestPolicy& fast,
-                 const std::vector<std::pair<double, std::uint32_t>>& near, Interval* out, std::uint32_t* nearest) {
+                 const std::vector<std::pair<double, std::uint32_t>>& near, Interval* out, std::uint32_t* nearest,
+                 DistanceEnds ends) {
   if (!(fast.best.key < kInf)) return false;
+  if (ends == DistanceEnds::near_points) {
+    // The upper end from a point of each triangle near the closest one, the lower end from the
+    // leaves' rigorous slab bounds (kept in `near` below the threshold, the best among them): no
+    // interval enclosure. Every triangle outside `near` lies beyond the threshold, as below.
+    const auto upper_sq = [&](std::uint32_t f) {
+      const double h = point_triangle_distance_upper_near(fast.p, sd.mesh(), f);
+      return round_up(h * h);
+    };
+    const double best_hi = upper_sq(fast.best.index);
+    if (!(best_hi <= fast.threshold_sq)) return false;
+    double lo = kInf;
+    bool best_listed = false;
+    LeastKey upper{best_hi, fast.best.index};
+    for (const auto& [lb_sq, f] : near)
+      if (lb_sq < best_hi) {
+        lo = std::min(lo, lb_sq);
+        if (f == fast.best.index) best_listed = true;
+        else upper.offer(upper_sq(f), f);
+      }
+    if (!best_listed) lo = std::min(lo, sd.face_squared_distance(fast.p, fast.best.index).lo);
+    if (nearest) *nearest = upper.index;
+    *out = sqrt_interval({lo, upper.key});
+    return true;
+  }
   const Interval best = sd.face_squared_distance(fast.p, fast.best.index);
   if (!(best.hi <= fast.threshold_sq)) return false;
   double lo = best.lo;
@@ -353,7 +379,8 @@ bool finish_fast(const SignedDistance& sd, const FastNearestPolicy& fast,
 // The nearest-triangle query over the leaves `visit` hands to a policy (the tree's, or a list's):
 // the fast policy first, the rigorous one when the fast result cannot be confirmed.
 template <class Visit>
-Interval nearest_distance(const SignedDistance& sd, const Vec3& p, const Visit& visit, std::uint32_t* nearest) {
+Interval nearest_distance(const SignedDistance& sd, const Vec3& p, const Visit& visit, std::uint32_t* nearest,
+                          DistanceEnds ends) {
   // Margin of the estimate: far above its rounding near the surface (scale: the box and p).
   const double scale = sd.bbox().lo.cwiseAbs().maxCoeff() + sd.bbox().hi.cwiseAbs().maxCoeff() + p.cwiseAbs().maxCoeff();
   thread_local std::vector<std::pair<double, std::uint32_t>> near;
@@ -361,7 +388,7 @@ Interval nearest_distance(const SignedDistance& sd, const Vec3& p, const Visit& 
   FastNearestPolicy fast{sd.mesh(), sd.planes(), p, (1e-10 * scale) * (1e-10 * scale), near};
   visit(fast);
   Interval d;
-  if (finish_fast(sd, fast, near, &d, nearest)) return d;
+  if (finish_fast(sd, fast, near, &d, nearest, ends)) return d;
   NearestPolicy q{sd.mesh(), p};
   visit(q);
   if (nearest) *nearest = q.best_face();
@@ -370,7 +397,8 @@ Interval nearest_distance(const SignedDistance& sd, const Vec3& p, const Visit& 
 
 }  // namespace
 
-Interval SignedDistance::unsigned_distance(const Vec3& p, std::uint32_t* nearest, std::int64_t hint) const {
+Interval SignedDistance::unsigned_distance(const Vec3& p, std::uint32_t* nearest, std::int64_t hint,
+                                           DistanceEnds ends) const {
   const bool hinted = hint >= 0 && static_cast<std::size_t>(hint) < mesh_.faces.size();
   return nearest_distance(
       *this, p,
@@ -379,14 +407,15 @@ Interval SignedDistance::unsigned_distance(const Vec3& p, std::uint32_t* nearest
         if (hinted) policy.leaf(static_cast<std::uint32_t>(hint));
         traverse_nearest_first(tree_, policy);
       },
-      nearest);
+      nearest, ends);
 }
 
 Interval SignedDistance::unsigned_distance_among(const Vec3& p, const std::vector<std::uint32_t>& candidates,
-                                                 std::uint32_t* nearest) const {
+                                                 std::uint32_t* nearest, DistanceEnds ends) const {
   // The same leaves as the tree query, without the tree: every triangle left out is farther than
   // the nearest, as a pruned subtree is.
-  return nearest_distance(*this, p, [&](auto& policy) { for (std::uint32_t f : candidates) policy.leaf(f); }, nearest);
+  return nearest_distance(
+      *this, p, [&](auto& policy) { for (std::uint32_t f : candidates) policy.leaf(f); }, nearest, ends);
 }
 
 void SignedDistance::triangles_within_among(const Vec3& p, double radius, const std::vector<std::uint32_t>& candidates,

@@ -23,6 +23,14 @@ inline Interval with_side(const Interval& unsigned_dist, int side) {
   return side < 0 ? Interval{-unsigned_dist.hi, -unsigned_dist.lo} : unsigned_dist;
 }
 
+// How a nearest-triangle query encloses dist(p, F). `enclosed`: both ends from the interval
+// enclosures of the nearest triangles (as tight as rounding allows; exact values come out exact).
+// `near_points`: the upper end from a point of each nearest triangle near its closest point
+// (point_triangle_distance_upper_near) and the lower end from the leaves' rigorous slab bounds, with
+// no enclosure: up to about 1e-13 max|coordinate| wider, for the certificates' many queries, whose
+// tolerance is far wider (doc/distance.md, "Near-point upper bounds").
+enum class DistanceEnds { enclosed, near_points };
+
 class SignedDistance {
  public:
   // The mesh must be closed and free of self-intersections for the sign to be meaningful (it is
@@ -39,13 +47,15 @@ class SignedDistance {
   // nearby point's), visited first so that it prunes from the start. It changes the work, not the
   // rigour: the answer is the same but where a triangle pruned in one order and visited in the
   // other has an enclosure reaching below the nearest one's (a few ulps, rigorous either way).
-  Interval unsigned_distance(const Vec3& p, std::uint32_t* nearest = nullptr, std::int64_t hint = -1) const;
+  // ends: see DistanceEnds (the default encloses both ends).
+  Interval unsigned_distance(const Vec3& p, std::uint32_t* nearest = nullptr, std::int64_t hint = -1,
+                             DistanceEnds ends = DistanceEnds::enclosed) const;
 
   // The same, the triangles searched being `candidates` only: they must include every triangle
   // within dist(p, F) of p (e.g. all within a radius known to exceed it), and then the result is
   // that of unsigned_distance, without a tree traversal.
   Interval unsigned_distance_among(const Vec3& p, const std::vector<std::uint32_t>& candidates,
-                                   std::uint32_t* nearest = nullptr) const;
+                                   std::uint32_t* nearest = nullptr, DistanceEnds ends = DistanceEnds::enclosed) const;
 
   // Rigorous enclosure of the squared distance from p to one face (an upper bound of dist(p, F)^2).
   Interval face_squared_distance(const Vec3& p, std::uint32_t face) const;

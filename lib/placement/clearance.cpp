@@ -16,6 +16,9 @@ namespace cdbench {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// The searches' distance queries: near-point upper ends and slab lower ends, no interval enclosure
+// (signed_distance.h; about 1e-13 max|coordinate| wider, far inside any tolerance).
+constexpr DistanceEnds kEnds = DistanceEnds::near_points;
 
 inline double down(double x) { return round_down(x); }
 inline double up(double x) { return round_up(x); }
@@ -460,7 +463,7 @@ class BranchAndBound {
     int known_side = 0;
     if (set_aside_far(centre, r, 0.0, parent, hint, c, &known_side)) return c;
     std::uint32_t nearest = 0;
-    const Interval ud = fixed_.unsigned_distance(centre, &nearest, hint);
+    const Interval ud = fixed_.unsigned_distance(centre, &nearest, hint, kEnds);
     c.near_face = nearest;
     c.ud_hi = ud.hi;
     const Interval s = signed_at(centre, ud, parent, &c.ball, known_side);
@@ -621,8 +624,8 @@ class BranchAndBound {
   // dist(x, F) <= `ud_bound` of x.
   Interval distance_at(const Vec3& x, const ParentCandidates* parent, double ud_bound,
                        std::uint32_t* nearest = nullptr, std::int64_t hint = -1) const {
-    if (parent && parent->covers(x, ud_bound)) return fixed_.unsigned_distance_among(x, parent->ids, nearest);
-    return fixed_.unsigned_distance(x, nearest, hint);
+    if (parent && parent->covers(x, ud_bound)) return fixed_.unsigned_distance_among(x, parent->ids, nearest, kEnds);
+    return fixed_.unsigned_distance(x, nearest, hint, kEnds);
   }
 
   Cell evaluate_face(Cell c, const SideBall* parent = nullptr, const ParentCandidates* list = nullptr) {
@@ -762,7 +765,7 @@ class BranchAndBound {
     if (!(ud_lo > 0.0) || !(r > 4 * eta_m) || ids_.empty()) return -kInf;
     const auto& F = fixed_.mesh();
     std::uint32_t near = 0;
-    fixed_.unsigned_distance_among(m, ids_, &near);
+    fixed_.unsigned_distance_among(m, ids_, &near, kEnds);
     const Face& nf = F.faces[near];
     const Vec3 &a = F.vertices[nf[0]], &b = F.vertices[nf[1]], &cc = F.vertices[nf[2]];
     const Vec3 g = m - closest_point_on_triangle(m, a, b, cc);  // from F towards m
@@ -972,7 +975,7 @@ class BranchAndBound {
         const double t = 0.5 * (cross_t[k][0] + cross_t[k][1]);
         const Vec3 p = a + t * (b - a);
         ++queries_;
-        const Interval sp = signed_at(p, fixed_.unsigned_distance(p, nullptr, nearest), ball, nullptr);
+        const Interval sp = signed_at(p, fixed_.unsigned_distance(p, nullptr, nearest, kEnds), ball, nullptr);
         const double rounding = up(4e-15 * (a.cwiseAbs().maxCoeff() + b.cwiseAbs().maxCoeff()));
         const auto &ba = bary[k], &bb = bary[(k + 1) % 3];
         offer_upper(up(up(sp.hi + rounding) + eta), face, {ba[0] + t * (bb[0] - ba[0]), ba[1] + t * (bb[1] - ba[1])});
@@ -983,7 +986,8 @@ class BranchAndBound {
     if (corner_of[worst] >= 0 && lower < threshold()) {
       const int k = corner_of[worst];
       ++queries_;
-      const Interval s_corner = signed_at(v[k], fixed_.unsigned_distance(v[k], nullptr, nearest), ball, nullptr);
+      const Interval s_corner =
+          signed_at(v[k], fixed_.unsigned_distance(v[k], nullptr, nearest, kEnds), ball, nullptr);
       offer_upper(up(s_corner.hi + eta), face, bary[k]);
     }
     if (lower < threshold()) {
@@ -1256,8 +1260,8 @@ class SegmentSearch {
     std::uint32_t nearest = 0;
     // dist(m, F) <= dist(list's centre, F) + |m - that centre|.
     const Interval ud = list && list->covers(m, up(list->ud_hi + up((m - list->m).norm() * (1.0 + 1e-12))))
-                            ? fixed_.unsigned_distance_among(m, list->ids, &nearest)
-                            : fixed_.unsigned_distance(m, &nearest, c.near_face);
+                            ? fixed_.unsigned_distance_among(m, list->ids, &nearest, kEnds)
+                            : fixed_.unsigned_distance(m, &nearest, c.near_face, kEnds);
     c.near_face = nearest;
     if (ok(up(ud.hi + r))) return Verdict::clear;  // s >= -dist(m) - r on the hull
     const bool may_clear_outside = down(down(ud.lo - r) - up(eta + pad_)) > floor_;

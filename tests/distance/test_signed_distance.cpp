@@ -228,6 +228,48 @@ TEST(SignedDistance, DistanceAmongCandidatesEnclosesTheExactDistance) {
   }
 }
 
+// Near-point ends (DistanceEnds::near_points, the certificates' queries): the interval contains
+// the exact distance, from the tree and from a candidate list, lies within 2e-13 of the coordinates'
+// magnitude of the enclosed one, and names a nearest triangle at the exact distance up to that; a
+// box centre whose enclosed depth is exactly 0.5 gets a wider interval (the ends do differ).
+TEST(SignedDistance, NearPointEndsEncloseTheExactDistance) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (const TriangleMesh& mesh :
+       {make_torus(2.0, 0.6, 24, 12), make_icosphere(1.0, 3), make_box(Vec3(0, 0, 0), Vec3(1, 2, 4))}) {
+    const SignedDistance sdf(mesh);
+    std::vector<std::uint32_t> ids;
+    double mag = 0.0;
+    for (const Vec3& v : mesh.vertices) mag = std::max(mag, v.cwiseAbs().maxCoeff());
+    int checked = 0;
+    for (const Vec3& p : sample_points(mesh, 23)) {
+      const double m = std::max(mag, p.cwiseAbs().maxCoeff());
+      std::uint32_t n_enc = 0, n_near = 0;
+      const Interval enc = sdf.unsigned_distance(p, &n_enc);
+      const Interval near = sdf.unsigned_distance(p, &n_near, -1, DistanceEnds::near_points);
+      const Epeck::FT exact = testing::exact_squared_distance(p, mesh);
+      ASSERT_TRUE(contains_sqrt(near, exact)) << std::setprecision(17) << "p = (" << p.transpose() << ") ["
+                                              << near.lo << ", " << near.hi << "] exact^2 " << CGAL::to_double(exact);
+      EXPECT_GE(enc.lo, near.lo - 2e-13 * m);
+      EXPECT_LE(near.hi, enc.hi + 2e-13 * m);
+      const Face& t = mesh.faces[n_near];
+      EXPECT_LE(std::sqrt(CGAL::to_double(testing::exact_squared_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]],
+                                                                          mesh.vertices[t[2]]))),
+                std::sqrt(CGAL::to_double(exact)) + 2e-13 * m);
+      const double radius = enc.hi * (1.0 + u(rng)) + 1e-300;
+      ASSERT_TRUE(sdf.triangles_within(p, radius, mesh.faces.size(), ids));
+      const Interval among = sdf.unsigned_distance_among(p, ids, nullptr, DistanceEnds::near_points);
+      ASSERT_TRUE(contains_sqrt(among, exact)) << std::setprecision(17) << "p = (" << p.transpose() << ")";
+      EXPECT_LE(among.width(), enc.width() + 4e-13 * m);
+      ++checked;
+    }
+    EXPECT_GT(checked, 300);
+  }
+  const SignedDistance box(make_box(Vec3(0, 0, 0), Vec3(1, 2, 4)));
+  EXPECT_EQ(box.unsigned_distance(Vec3(0.5, 1, 2)).width(), 0.0);
+  EXPECT_GT(box.unsigned_distance(Vec3(0.5, 1, 2), nullptr, -1, DistanceEnds::near_points).width(), 0.0);
+}
+
 // A hint only orders the search: with any hint (the nearest triangle, a far one, an invalid index)
 // the enclosure and the nearest triangle reported are those of the query without one.
 TEST(SignedDistance, HintedQueriesAnswerAsUnhintedOnes) {
