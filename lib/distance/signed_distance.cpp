@@ -80,6 +80,7 @@ struct FastNearestPolicy {
   double margin_sq;
   std::vector<std::pair<double, std::uint32_t>>& near;  // (slab bound squared, face) below the threshold
   LeastKey best{};  // (estimate squared, face)
+  double best_lb_sq = 0.0;  // the best triangle's slab bound squared
   double threshold_sq = kInf;
 
   double bound(const Aabb& box) const { return squared_distance_lower_bound(box, p); }
@@ -93,7 +94,10 @@ struct FastNearestPolicy {
     const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
     double e2 = 0.0;
     const double lb_sq = slab_lower_bound_sq(p, a, b, c, &e2);
-    if (best.offer(e2, f)) threshold_sq = e2 * (1.0 + 1e-6) + margin_sq;
+    if (best.offer(e2, f)) {
+      threshold_sq = e2 * (1.0 + 1e-6) + margin_sq;
+      best_lb_sq = lb_sq;
+    }
     if (lb_sq < threshold_sq) near.emplace_back(lb_sq, f);
   }
 };
@@ -337,37 +341,20 @@ bool finish_fast(const SignedDistance& sd, const FastNearestPolicy& fast,
                  const std::vector<std::pair<double, std::uint32_t>>& near, Interval* out, std::uint32_t* nearest,
                  DistanceEnds ends) {
   if (!(fast.best.key < kInf)) return false;
-  if (ends == DistanceEnds::near_points) {
-    // The upper end from a point of each triangle near the closest one, the lower end from the
-    // leaves' rigorous slab bounds (kept in `near` below the threshold, the best among them): no
-    // interval enclosure. Every triangle outside `near` lies beyond the threshold, as below.
-    const auto upper_sq = [&](std::uint32_t f) {
-      const double h = point_triangle_distance_upper_near(fast.p, sd.mesh(), f);
-      return round_up(h * h);
-    };
-    const double best_hi = upper_sq(fast.best.index);
-    if (!(best_hi <= fast.threshold_sq)) return false;
-    double lo = kInf;
-    bool best_listed = false;
-    LeastKey upper{best_hi, fast.best.index};
-    for (const auto& [lb_sq, f] : near)
-      if (lb_sq < best_hi) {
-        lo = std::min(lo, lb_sq);
-        if (f == fast.best.index) best_listed = true;
-        else upper.offer(upper_sq(f), f);
-      }
-    if (!best_listed) lo = std::min(lo, sd.face_squared_distance(fast.p, fast.best.index).lo);
-    if (nearest) *nearest = upper.index;
-    *out = sqrt_interval({lo, upper.key});
-    return true;
-  }
-  const Interval best = sd.face_squared_distance(fast.p, fast.best.index);
+  // A triangle's squared distance enclosed (`enclosed`), or between its slab bound and the square of
+  // its near-point upper bound (`near_points`: no enclosure).
+  const auto enclose = [&](std::uint32_t f, double lb_sq) {
+    if (ends == DistanceEnds::enclosed) return sd.face_squared_distance(fast.p, f);
+    const double h = point_triangle_distance_upper_near(fast.p, sd.mesh(), f);
+    return Interval{lb_sq, round_up(h * h)};
+  };
+  const Interval best = enclose(fast.best.index, fast.best_lb_sq);
   if (!(best.hi <= fast.threshold_sq)) return false;
   double lo = best.lo;
   LeastKey upper{best.hi, fast.best.index};  // ties: the least index, whatever the order of `near`
   for (const auto& [lb_sq, f] : near)
     if (lb_sq < best.hi && f != fast.best.index) {
-      const Interval x = sd.face_squared_distance(fast.p, f);
+      const Interval x = enclose(f, lb_sq);
       lo = std::min(lo, x.lo);
       upper.offer(x.hi, f);
     }

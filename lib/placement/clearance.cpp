@@ -198,7 +198,17 @@ struct ParentCandidates {
   std::vector<std::uint32_t> ids;
   // Every triangle within `reach` of x (x's distance to m added, rounded up) is listed.
   bool covers(const Vec3& x, double reach) const { return up(reach + up((x - m).norm() * (1.0 + 1e-12))) <= radius; }
+  // An upper bound of dist(x, F): dist(m, F) + |x - m|.
+  double distance_bound(const Vec3& x) const { return up(ud_hi + up((x - m).norm() * (1.0 + 1e-12))); }
 };
+
+// dist(x, F) from a candidate list when it provably holds x's nearest triangles (they lie within
+// dist(x, F) <= `ud_bound` of x), else from F's tree (`hint`: a triangle likely nearest).
+Interval distance_at(const SignedDistance& fixed, const Vec3& x, const ParentCandidates* list, double ud_bound,
+                     std::uint32_t* nearest = nullptr, std::int64_t hint = -1) {
+  if (list && list->covers(x, ud_bound)) return fixed.unsigned_distance_among(x, list->ids, nearest, kEnds);
+  return fixed.unsigned_distance(x, nearest, hint, kEnds);
+}
 
 // A lower bound of s on a cell's points placed in doubles at the pose t (rounding `rounding_t`), from
 // its translated depth bound: they lie within d.rounding + rounding_t of the evaluated cell moved by
@@ -620,14 +630,6 @@ class BranchAndBound {
   // A crowded cell's list would overflow: its ball (radius ud + 2.5 r) holds the gather's (ud + 2 r).
   static_assert(kMaxSeparatingCandidates >= ParentCandidates::kMaxCount, "Cell::crowded implies a long list");
 
-  // dist(x, F) from the parent's list when it provably holds x's nearest triangles: they lie within
-  // dist(x, F) <= `ud_bound` of x.
-  Interval distance_at(const Vec3& x, const ParentCandidates* parent, double ud_bound,
-                       std::uint32_t* nearest = nullptr, std::int64_t hint = -1) const {
-    if (parent && parent->covers(x, ud_bound)) return fixed_.unsigned_distance_among(x, parent->ids, nearest, kEnds);
-    return fixed_.unsigned_distance(x, nearest, hint, kEnds);
-  }
-
   Cell evaluate_face(Cell c, const SideBall* parent = nullptr, const ParentCandidates* list = nullptr) {
     const FaceGeometry geo = geometry(c);
     const auto& v = geo.v;
@@ -639,9 +641,7 @@ class BranchAndBound {
     if (!list && set_aside_far(m, up(r + eta_m), upper_, parent, c.near_face, c, &known_side)) return c;
     // dist(m, F) <= dist(parent centre, F) + |m - parent centre|.
     std::uint32_t nearest = 0;
-    const Interval ud =
-        distance_at(m, list, list ? up(list->ud_hi + up((m - list->m).norm() * (1.0 + 1e-12))) : kInf, &nearest,
-                    c.near_face);
+    const Interval ud = distance_at(fixed_, m, list, list ? list->distance_bound(m) : kInf, &nearest, c.near_face);
     c.ud_hi = ud.hi;
     c.near_face = nearest;
     const Interval s = signed_at(m, ud, parent, &c.ball, known_side);
@@ -685,8 +685,8 @@ class BranchAndBound {
           // The corner nearest the plane is where the contact is: certify it for the upper end.
           if (lower < upper_) {
             ++queries_;
-            const Interval s_corner =
-                signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r), nullptr, nearest), &c.ball, nullptr);
+            const Interval d_corner = distance_at(fixed_, v[corner], list, up(ud.hi + r), nullptr, nearest);
+            const Interval s_corner = signed_at(v[corner], d_corner, &c.ball, nullptr);
             offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
           }
         }
@@ -721,8 +721,8 @@ class BranchAndBound {
         if (depth < kInf && down(-depth - eta) < upper_) {
           ++queries_;
           // dist(corner, F) <= dist(m, F) + |corner - m| <= ud.hi + r.
-          const Interval s_corner =
-              signed_at(v[corner], distance_at(v[corner], list, up(ud.hi + r), nullptr, nearest), &c.ball, nullptr);
+          const Interval d_corner = distance_at(fixed_, v[corner], list, up(ud.hi + r), nullptr, nearest);
+          const Interval s_corner = signed_at(v[corner], d_corner, &c.ball, nullptr);
           offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
         }
         lower = std::max(lower, down(-depth - eta));
@@ -1258,10 +1258,7 @@ class SegmentSearch {
     r = up(up(r * (1.0 + 1e-12)) + 1e-15 * m.cwiseAbs().maxCoeff());
     const ParentCandidates* list = c.list >= 0 ? &lists_[static_cast<std::size_t>(c.list)] : nullptr;
     std::uint32_t nearest = 0;
-    // dist(m, F) <= dist(list's centre, F) + |m - that centre|.
-    const Interval ud = list && list->covers(m, up(list->ud_hi + up((m - list->m).norm() * (1.0 + 1e-12))))
-                            ? fixed_.unsigned_distance_among(m, list->ids, &nearest, kEnds)
-                            : fixed_.unsigned_distance(m, &nearest, c.near_face, kEnds);
+    const Interval ud = distance_at(fixed_, m, list, list ? list->distance_bound(m) : kInf, &nearest, c.near_face);
     c.near_face = nearest;
     if (ok(up(ud.hi + r))) return Verdict::clear;  // s >= -dist(m) - r on the hull
     const bool may_clear_outside = down(down(ud.lo - r) - up(eta + pad_)) > floor_;
