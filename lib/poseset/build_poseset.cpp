@@ -229,13 +229,14 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // session 48 after 32 flat steps (1), since session 49 after 8 (2); absent otherwise.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo && !z.cover; }))
     run_key["shallow_zone_jumps"] = 2;
-  // Plateaus within a tenth of |target| above it ask the zone too once 64 steps long (session 48),
-  // and the octree walks the mover's oriented boxes (session 49: 1; since session 50 a split cube's
+  // Plateaus within a tenth of |target| above it ask the zone too once 64 steps long (session 48:
+  // 1; since session 57 steps whose gap has not halved, and a jump of at most 2 |target| keeps the
+  // certificate's frontier: 2), and the octree walks the mover's oriented boxes (session 49: 1; since session 50 a split cube's
   // children classified at once, counted against the budget together: 2; since session 52 the
   // test before a split without the clipped extents, so other cubes split: 3): every polished
   // penetrating level; absent otherwise.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo != nullptr; })) {
-    run_key["near_target_jumps"] = 1;
+    run_key["near_target_jumps"] = 2;
     run_key["oriented_zone_octree"] = 3;
   }
   // Penetrating levels' certificates since 2026-11-28 (session 34: no pair-distance path, leaves
