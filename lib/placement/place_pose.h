@@ -138,7 +138,7 @@ struct PoseOptions {
   // A query gets at least this many cubes or none: on thin machined parts' plateaus smaller
   // budgets ran out and were paid again, while every query completed within 11,000 (rotor -20 %;
   // doc/performance.md, "Clipped cubes"). A pose reaches it by its own work
-  // (deep_zone_cubes_per_cell) or by a plateau: c flat for 8 steps.
+  // (deep_zone_cubes_per_cell) or by a plateau: c flat for 4 steps.
   std::uint64_t deep_zone_min_cubes = 20000;
   // The level's cube verdicts shared by its poses' octree queries (optional; the same poses either
   // way, less work).
@@ -157,7 +157,7 @@ DeepCoverOptions deep_cover_options(double target,
 // penetration deep. Shallower zones lie just under most of F's surface, so a jump to them is short
 // while their covers are large (about F's area over target^2; armadillo -10 %: 91,000 cubes for
 // no gain; rotor and spool -10 %: over the budget). Such levels still get the octree about the
-// mover's path (a memo, no cover), asked only once c has been flat for 8 steps.
+// mover's path (a memo, no cover), asked only once c has been flat for 4 steps.
 bool deep_cover_wanted(double target, double max_penetration);
 
 // The cube budget of a pose's next octree query (PoseOptions::deep_zone_cubes): cells is the

@@ -220,18 +220,20 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // clipped cubes, plateaus from a tenth of |target| and queries of at least 20,000 cubes since
   // session 33: 4; with the octree's triangle tests without the clip-edge axes and covers of at
   // most 1,000 cubes per approach of the request since session 35: 5; with queries that ran out
-  // continued by the next try since session 36: 6): their poses may differ within the tolerance from earlier binaries', whose
+  // continued by the next try since session 36: 6; with a query's floor of 20,000 cubes from 4
+  // flat steps instead of 8 since session 57: 7): their poses may differ within the tolerance from earlier binaries', whose
   // journals must therefore not be resumed or merged with them. Absent otherwise, so that other
   // runs still resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
-    run_key["deep_zone_jumps"] = 6;
+    run_key["deep_zone_jumps"] = 7;
   // Penetrating levels shallower than a fifth of M (no cover) jump to the octree's contact too since
-  // session 48 after 32 flat steps (1), since session 49 after 8 (2); absent otherwise.
+  // session 48 after 32 flat steps (1), since session 49 after 8 (2), since session 57 after 4 (3);
+  // absent otherwise.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo && !z.cover; }))
-    run_key["shallow_zone_jumps"] = 2;
+    run_key["shallow_zone_jumps"] = 3;
   // Plateaus within a tenth of |target| above it ask the zone too once 64 steps long (session 48:
-  // 1; since session 57 steps whose gap has not halved, and a jump of at most 2 |target| keeps the
-  // certificate's frontier: 2), and the octree walks the mover's oriented boxes (session 49: 1; since session 50 a split cube's
+  // 1; since session 57 steps over which the gap has not fallen to an eighth, and a jump of at
+  // most 2 |target| keeps the certificate's frontier: 2), and the octree walks the mover's oriented boxes (session 49: 1; since session 50 a split cube's
   // children classified at once, counted against the budget together: 2; since session 52 the
   // test before a split without the clipped extents, so other cubes split: 3): every polished
   // penetrating level; absent otherwise.
