@@ -533,7 +533,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       const ClearanceFrontier f0 = frontier;
       // After a short jump (at most kWarmJumpTargets |target|) the frontier's cells, sized by the
       // depths about the mover, mostly still decide: a warm start re-evaluates them where they
-      // matter (rotor with pinion: 2-8 ms a certificate instead of 4-11 ms cold). After a long
+      // matter (rotor with pinion, jumps of 0.4-1.8 |target|: 2-3 ms a certificate instead of 4-8 ms
+      // cold; doc/performance.md, "Where a jumped pose's time goes"). After a long
       // one nearly every cell is stale and its splits sit where the mover was: a cold start is
       // as cheap or cheaper. A heuristic; either certificate is rigorous.
       if (lambda0 - lk > kWarmJumpTargets * std::abs(target)) frontier.valid = false;
