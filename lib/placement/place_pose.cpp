@@ -410,6 +410,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   constexpr double kSegmentSlopeMin = 1.0 / 64, kSegmentSlopeMax = 1.0 / 8, kSegmentAim = 0.8;
   constexpr double kMaxSegmentGaps = 64.0;
   constexpr std::uint64_t kMinSegmentBudget = 256;
+  constexpr double kSegmentRetryGap = 0.5;
   bool last_loose = false;
   // The state a certificate leaves for the next one of the advance.
   const auto adopt = [&](const ClearanceResult& r) {
@@ -558,6 +559,9 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     double near_flat_gap = 0.0;  // the gap when the present run of near-flat steps began
     DeepZoneJumps jumps(options, target);
     bool segments_pay = true;  // until a segment's search runs out of its budget
+    // The gap when they stopped paying, and whether they were tried again (below).
+    double segments_stopped_gap = 0.0;
+    bool segments_retried = false;
     double last_slope = 1.0;   // the previous step's two-step secant slope
     while (!within(c.clearance) && out.steps < options.max_steps) {
       // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
@@ -676,6 +680,15 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       const bool in_band = slope2 >= kSegmentSlopeMin && slope2 <= kSegmentSlopeMax;
       const bool steady = in_band && slope2 <= 2.0 * last_slope && last_slope <= 2.0 * slope2;
       last_slope = slope2;
+      // A segment that ran out of its budget was mostly aimed across the crossing (a slope
+      // underestimated by loose certificates); once the gap has fallen to kSegmentRetryGap of what
+      // it was then, the crossing is nearer and the slope better known: segments are tried again,
+      // once per pose (spool -20 %: 35 -> 24 steps a pose; doc/performance.md, "Segments tried
+      // again").
+      if (!segments_pay && !segments_retried && gap < kSegmentRetryGap * segments_stopped_gap) {
+        segments_pay = true;
+        segments_retried = true;
+      }
       if (options.segment_steps && segments_pay && target < 0.0 && steady && frontier.valid) {
         // A steady slide: a step of many gaps, proved over the whole segment from this
         // certificate's frontier (check_segment_above), then certified at its end as any step.
@@ -701,7 +714,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
             break;
           }
           if (check.verdict == SegmentVerdict::undecided) {
-            segments_pay = false;  // for the rest of this pose
+            segments_pay = false;  // until the gap has fallen to kSegmentRetryGap of this one
+            segments_stopped_gap = gap;
             break;
           }
           k *= 0.25;  // below the target about the middle: try a quarter of the way

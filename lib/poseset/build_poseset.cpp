@@ -249,10 +249,11 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // session 54, 6; steps proved over a segment on slides, session 55, 7; the nearest triangle's own
   // bound from near-point distances, a stale cell re-bounded by its corners only, a segment
   // search's splits limited below each frontier cell, session 56, 8; their distance queries with
-  // near-point ends, session 56, 9): their intervals, and so the polished poses, may differ within
+  // near-point ends, session 56, 9; segments tried again once the gap has halved after one ran out
+  // of its budget, session 58, 10): their intervals, and so the polished poses, may differ within
   // the tolerance from earlier binaries'. Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
-    run_key["penetrating_certificates"] = 9;
+    run_key["penetrating_certificates"] = 10;
   // Every certificate since 2026-11-29 (session 37) sets cells far outside F aside by a lower bound
   // of their centre's distance alone (1): intervals and polishing steps, rarely poses, may differ
   // within the tolerance from earlier binaries', whose journals have no such key.
