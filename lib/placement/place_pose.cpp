@@ -397,8 +397,10 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // A frontier taken over from a higher level (below) is worth it up to this many times the cells
   // of a cold start (about 25 us per cold cell, 4 us per re-evaluated warm one; doc/performance.md).
   constexpr std::uint64_t kColdCellsPerWarm = 6;
-  // A deep-zone jump this many |target| long or shorter keeps the frontier (jump_to below).
-  constexpr double kWarmJumpTargets = 2.0;
+  // A deep-zone jump this many |target| long or shorter keeps the frontier (jump_to below). 4 since
+  // session 58 (2 before; spool and spool with pinion -1 % instructions, rotor with pinion -0.3 %,
+  // the rest within 0.1 %; 3, 6 and 8 measured too: doc/performance.md, "Segments tried again").
+  constexpr double kWarmJumpTargets = 4.0;
   // Steps proved over a segment (below; doc/poses.md, "Steps proved over a segment"): tried on a
   // steady slide, where the secant slope of c over the last two steps stays within [1/64, 1/8] and
   // within a factor of 2 of the previous step's (rotor's plateaus, flat or falling in bursts,
@@ -537,7 +539,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // matter (rotor with pinion, jumps of 0.4-1.8 |target|: 2-3 ms a certificate instead of 4-8 ms
       // cold; doc/performance.md, "Where a jumped pose's time goes"). After a long
       // one nearly every cell is stale and its splits sit where the mover was: a cold start is
-      // as cheap or cheaper. A heuristic; either certificate is rigorous.
+      // as cheap or cheaper (jumps of 3-20 |target|: about equal, or warm up to 40 % slower). A
+      // heuristic; either certificate is rigorous.
       if (lambda0 - lk > kWarmJumpTargets * std::abs(target)) frontier.valid = false;
       out.lambda = lk;
       c = certify(out.lambda, false);
