@@ -129,7 +129,7 @@ double median_edge_length(const TriangleMesh& m) {
 
 // Where a pose may jump across a plateau (PoseOptions::deep_cover): the level's cover, asked once
 // per pose; where that ran out of its budget, the zone's octree about the mover's path, as often as
-// its budget allows.
+// its budget allows, and where its contact was not worth a jump, that octree on long plateaus.
 class DeepZoneJumps {
  public:
   DeepZoneJumps(const PoseOptions& o, double target)
@@ -154,9 +154,16 @@ class DeepZoneJumps {
     const double pose_slack = pose_rounding_slack(frame, lambda_far);
     if (use_cover_) {
       if (const DeepCover* cover = options_.deep_cover->get()) {
-        use_cover_ = use_octree_ = false;
-        return deep_cover_contact(*cover, frame.orientation, frame.t0, dir, pose_slack, lambda_far, worth,
-                                  &frame.swept);
+        use_cover_ = false;
+        const double lk = deep_cover_contact(*cover, frame.orientation, frame.t0, dir, pose_slack, lambda_far, worth,
+                                             &frame.swept);
+        // A contact not worth a jump: the cover's cubes (up to about half |target| across) already
+        // hold the mover, beside a zone thinner than they are (anchor with spool moving, -35 %: a
+        // plateau 1e-3 |target| above a thin rod of zone, 3,507 steps). The octree about the path,
+        // whose leaves follow the gap, may still cross it; asked on a long plateau only.
+        if (lk < worth) use_octree_ = false;
+        else cover_unhelpful_ = true;
+        return lk;
       }
       use_cover_ = false;
     }
@@ -178,6 +185,9 @@ class DeepZoneJumps {
     // a thin wall, a query costs more than it saves (doc/performance.md, "Shallow levels" and
     // "Oriented boxes in the zone's octree").
     if (!has_cover_ && flat < kPlateauSteps) return kNaN;
+    // After a cover that did not help, only from kUnhelpfulCoverSteps flat steps: on armadillo's
+    // -25 % poses queries after 4 jumped a few gaps on short flat stretches at 16 % more time.
+    if (cover_unhelpful_ && flat < kUnhelpfulCoverSteps) return kNaN;
     const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_, flat >= kPlateauSteps);
     if (budget == 0) return kNaN;
     // A query that ran out is held and continued by the next try (with twice the budget) rather
@@ -211,7 +221,7 @@ class DeepZoneJumps {
   // A plateau within a tenth of |target| above it asks after kNearPlateauSteps (place_pose;
   // doc/performance.md, "Shallow levels"). 4 since session 57 (8 before; doc/performance.md,
   // "Where a jumped pose's time goes": thin parts 4-8 % fewer instructions, armadillo 1.4 % more).
-  static constexpr int kPlateauSteps = 4, kNearPlateauSteps = 64;
+  static constexpr int kPlateauSteps = 4, kNearPlateauSteps = 64, kUnhelpfulCoverSteps = 16;
 
  private:
   const PoseOptions& options_;
@@ -220,6 +230,7 @@ class DeepZoneJumps {
   bool use_cover_;        // not asked yet in this pose
   DeepCubeMemo* memo_;
   bool use_octree_;
+  bool cover_unhelpful_ = false;  // its contact was not worth a jump
   std::uint64_t tried_ = 0;  // the budget of the octree's last query that ran out (0: none yet)
   HeldZoneQuery clipped_query_, fine_query_;  // queries that ran out, to be continued
 };

@@ -221,11 +221,13 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // session 33: 4; with the octree's triangle tests without the clip-edge axes and covers of at
   // most 1,000 cubes per approach of the request since session 35: 5; with queries that ran out
   // continued by the next try since session 36: 6; with a query's floor of 20,000 cubes from 4
-  // flat steps instead of 8 since session 57: 7): their poses may differ within the tolerance from earlier binaries', whose
+  // flat steps instead of 8 since session 57: 7; with the octree asked on a long plateau after a
+  // cover contact not worth a jump since session 59: 8): their poses may differ within the
+  // tolerance from earlier binaries', whose
   // journals must therefore not be resumed or merged with them. Absent otherwise, so that other
   // runs still resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
-    run_key["deep_zone_jumps"] = 7;
+    run_key["deep_zone_jumps"] = 8;
   // Penetrating levels shallower than a fifth of M (no cover) jump to the octree's contact too since
   // session 48 after 32 flat steps (1), since session 49 after 8 (2), since session 57 after 4 (3);
   // absent otherwise.

@@ -24,8 +24,9 @@ namespace {
 
 // A thin plate (0.04 thick, deepest point 0.02) then, past a gap, a thick block: at -0.05 the
 // mover slides through the plate on a plateau (c about -0.02) before it reaches the block.
-TriangleMesh plate_and_block() {
-  return merge_meshes(make_box(Vec3(0, -0.5, -0.02), Vec3(1, 0.5, 0.02)), make_box(Vec3(1.2, -0.5, -0.5), Vec3(2, 0.5, 0.5)));
+TriangleMesh plate_and_block(double half_thickness = 0.02, double half_width = 0.5) {
+  return merge_meshes(make_box(Vec3(0, -half_width, -half_thickness), Vec3(1, half_width, half_thickness)),
+                      make_box(Vec3(1.2, -0.5, -0.5), Vec3(2, 0.5, 0.5)));
 }
 
 using testing::random_direction;
@@ -415,15 +416,22 @@ TEST(DeepJumps, HeldQueryContinuesToTheFreshAnswer) {
 }
 
 // The sphere through the plate's mid-plane (c = -0.02 on the plate) towards the block, at a level
-// of the plate-and-block (M = 0.4) without a cover: polished without jumps (first) and with the
-// level's octree (second).
-std::pair<PoseOutcome, PoseOutcome> across_the_plate(double target) {
-  const Scene w(plate_and_block(), make_icosphere(0.1, 1));
+// of the plate-and-block (M = 0.4): polished without jumps (first) and with the level's cover, if
+// it has one, and octree (second). Another plate or bar, or the sphere's lowest point at z = lowest.
+std::pair<PoseOutcome, PoseOutcome> across_the_plate(double target, const TriangleMesh& fixed = plate_and_block(),
+                                                     double lowest = -1.0) {
+  constexpr double max_penetration = 0.4;  // the block's
+  const Scene w(fixed, make_icosphere(0.1, 1));
   ApproachSetup setup = w.attached();
   setup.fixed_ref = Vec3(0, 0, 0);
+  if (lowest > -1.0) {  // the mover's lowest point at z = lowest, not its centre at 0
+    double low = 0.0;
+    for (const Vec3& v : w.mover.vertices) low = std::min(low, v[2] - setup.mover_ref[2]);
+    setup.fixed_ref[2] = lowest - low;
+  }
   const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
-  const LevelDeepZone zone = make_level_deep_zone(w.fixed, target, 0.4, true, 40);
-  EXPECT_EQ(zone.cover, nullptr);
+  const LevelDeepZone zone = make_level_deep_zone(w.fixed, target, max_penetration, true, 40);
+  EXPECT_EQ(zone.cover != nullptr, deep_cover_wanted(target, max_penetration));
   EXPECT_NE(zone.memo, nullptr);
   PoseOptions base;
   base.tolerance = 1e-7;
@@ -461,6 +469,19 @@ TEST(DeepJumps, ShallowLevelJumpsWithTheOctreeAlone) {
 // after 64 flat steps the octree is asked and the pose jumps to the block.
 TEST(DeepJumps, LongPlateauNearTheTargetJumps) {
   const auto [plain, jumped] = across_the_plate(-0.0205);
+  EXPECT_GT(plain.steps, 500) << "the plateau this test is about";
+  EXPECT_LT(jumped.steps + 300, plain.steps) << "plain " << plain.steps << " jumped " << jumped.steps;
+}
+
+// A plateau beside a thin deep zone, at a level with a cover: in a bar 0.2 thick and wide the zone
+// at -0.095 is the rod |y|, |z| <= 0.005, and the sphere's lowest point slides 0.0005 above it (c =
+// -0.0945) until the block. The cover's cubes (up to about half |target| across) that hold the rod
+// hold the sphere's lowest point too, so its contact lies behind the pose; the octree about the
+// path, with leaves sized by the gap, still crosses the plateau (anchor with spool as the mover at
+// -35 %: 3,507 steps on one approach before the octree was asked there too).
+TEST(DeepJumps, PlateauBesideAThinZoneJumpsWithTheOctree) {
+  ASSERT_TRUE(deep_cover_wanted(-0.095, 0.4));
+  const auto [plain, jumped] = across_the_plate(-0.095, plate_and_block(0.1, 0.1), 0.0055);
   EXPECT_GT(plain.steps, 500) << "the plateau this test is about";
   EXPECT_LT(jumped.steps + 300, plain.steps) << "plain " << plain.steps << " jumped " << jumped.steps;
 }
