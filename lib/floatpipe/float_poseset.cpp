@@ -110,6 +110,7 @@ FloatPoseSetResult build_float_poseset(const FloatPoseSetRequest& opt) {
     reach_out = std::max(reach_out, targets[l]);
     reach_in = std::max(reach_in, -targets[l]);
   }
+  check_distinct_distances(specs, targets);
   if (reach_out / res.voxel > 4096.0)
     throw InputError("--levels: the outermost level lies " + number_text(reach_out / res.voxel, 4) +
                      " voxels outside; the float pipeline samples at most 4096 voxels out (use a larger --voxel)");

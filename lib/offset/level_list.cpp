@@ -85,7 +85,24 @@ double max_penetration_tolerance_for(const std::vector<LevelSpec>& levels, doubl
   double p = 0.0;
   for (const LevelSpec& l : levels)
     if (l.percent) p = std::max(p, std::abs(l.value) / 100.0);
-  return std::max(floor, p > 0.0 ? tolerance / p : kReportedMaxPenetrationWidth);
+  return std::max(floor, p > 0.0 ? std::min(tolerance / p, kReportedMaxPenetrationWidth) : kReportedMaxPenetrationWidth);
+}
+
+void check_distinct_distances(const std::vector<LevelSpec>& levels, const std::vector<double>& distances) {
+  std::vector<std::size_t> order(levels.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return distances[a] < distances[b]; });
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    const std::size_t a = std::min(order[k - 1], order[k]), b = std::max(order[k - 1], order[k]);
+    if (distances[a] != distances[b]) continue;
+    const bool unscaled = (levels[a].percent && levels[a].value != 0.0) || (levels[b].percent && levels[b].value != 0.0);
+    throw InputError("--levels: levels '" + levels[a].text + "' and '" + levels[b].text + "' both lie at d = " +
+                     number_text(distances[a]) +
+                     (unscaled && distances[a] == 0.0
+                          ? " (percentages of the maximum penetration, whose certified lower end is 0 here)"
+                          : "") +
+                     "; levels must lie at distinct distances");
+  }
 }
 
 std::string max_penetration_scale_note(const std::vector<LevelSpec>& levels, double lo, double hi,

@@ -21,10 +21,17 @@ void check_distinct_levels(const std::vector<LevelSpec>& levels);
 // Absolute signed distance of a level given the maximum penetration.
 double level_distance(const LevelSpec& level, double max_penetration);
 
+// InputError naming the first two levels at the same signed distance (distances[i] for levels[i]):
+// "0" and "0%", or percentages of a maximum penetration whose certified lower end is 0. Their poses
+// would be one, and a pose set's levels are placed in strictly descending order.
+void check_distinct_distances(const std::vector<LevelSpec>& levels, const std::vector<double>& distances);
+
 // How tightly the maximum penetration M must be certified (width relative to the diagonal) for a
 // pose set whose percentage levels p are placed to `tolerance` (relative to the diagonal): a level
 // at p·M is then known to |p|·width <= tolerance of p times the true M. Never below `floor` (the
-// default width). When no level is a percentage no target depends on M, which is then only
+// default width), nor above kReportedMaxPenetrationWidth unless `floor` is: a coarse --tolerance
+// (0.1 at -20 %: a width of half the diagonal) would otherwise leave M's lower end at 0, and every
+// percentage level at d = 0. When no level is a percentage no target depends on M, which is then only
 // reported (the solid's scale, and absolute levels as fractions of it): kReportedMaxPenetrationWidth,
 // or `floor` if wider. M is only the levels' scale: a thin tube's M has a 2-D plateau of deepest
 // points that costs ~1/width^0.7 cells to certify (pipe: 1e-6 not reached in 67 s; 1e-4 in 1.3 s).

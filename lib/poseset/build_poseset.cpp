@@ -181,6 +181,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     }
   }
 
+  check_distinct_distances(specs, targets);
+
   // Run identity: a resumed run must be the same run.
   nlohmann::json run_key = {{"fixed_sha256", fixed_sha},
                             {"mover_sha256", mover_sha},

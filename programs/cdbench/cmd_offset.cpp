@@ -65,6 +65,7 @@ int run_offset(const OffsetCliOptions& opt) {
     req.names.push_back(l.text);
     req.distances.push_back(level_distance(l, mp.depth.lo));
   }
+  check_distinct_distances(specs, req.distances);
   req.options = opt.offset;
   req.options.tolerance_relative = opt.tolerance;
   req.verbose = opt.verbose;

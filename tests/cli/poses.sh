@@ -63,6 +63,11 @@ cmp -s "$dir/a/poses.csv" "$dir/r/poses.csv" || fail "resumed run differs"
 [ $? -eq 2 ] && grep -q "0 <= I < N" "$dir/x.log" || fail "--shard 2/2"
 "$bin" poses "$mesh" --levels=1,1 --directions 2 --orientations 1 -o "$dir/x" > "$dir/x.log" 2>&1
 [ $? -eq 2 ] && grep -q "listed twice" "$dir/x.log" || fail "duplicate level"
+"$bin" poses "$mesh" --levels=0,0% --directions 2 --orientations 1 -o "$dir/x" > "$dir/x.log" 2>&1
+[ $? -eq 2 ] && grep -q "levels '0' and '0%' both lie at d = 0" "$dir/x.log" || fail "two levels at one distance"
+# A coarse tolerance still certifies M to the reported width: percentage levels stay apart.
+"$bin" poses "$mesh" --levels=-20%,0,5% --directions 2 --orientations 1 --tolerance 0.1 -o "$dir/coarse" \
+  > "$dir/coarse.log" 2>&1 || { cat "$dir/coarse.log"; fail "--tolerance 0.1"; }
 # The collision benchmark on this pose set: every implementation, answers checked against the
 # certificates (a wrong answer of our trees exits 3), then the plots.
 "$bin" bench "$dir/a" --repeat 1 -o "$dir/bench" > "$dir/bench.log" 2>&1 || { cat "$dir/bench.log"; fail "bench"; }

@@ -46,6 +46,34 @@ TEST(LevelList, MaxPenetrationToleranceFollowsTheDeepestPercentage) {
   EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("0"), 1e-5, 1e-6), kReportedMaxPenetrationWidth);
   EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("0"), 1e-5, 1e-3), 1e-3);
   EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-50%,0.3"), 1e-5, 1e-6), 2e-5);
+  // A coarse tolerance: never wider than the reported width (0.1 at -20 % would be half the
+  // diagonal, M's lower end 0 and every percentage level at d = 0), unless the floor is.
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-20%,0,5%"), 0.1, 1e-6), kReportedMaxPenetrationWidth);
+  EXPECT_DOUBLE_EQ(max_penetration_tolerance_for(parse_level_list("-20%,0,5%"), 0.1, 1e-3), 1e-3);
+}
+
+TEST(LevelList, LevelsAtOneDistanceAreRefusedByName) {
+  const auto message = [](const std::string& list, double max_penetration) -> std::string {
+    const std::vector<LevelSpec> l = parse_level_list(list);
+    std::vector<double> d;
+    for (const LevelSpec& x : l) d.push_back(level_distance(x, max_penetration));
+    try {
+      check_distinct_distances(l, d);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(message("-20%,0,5%", 0.4), "");
+  EXPECT_EQ(message("0.1,25%", 0.5), "");
+  const std::string same = message("-0.1,0,0%", 0.4);
+  EXPECT_NE(same.find("levels '0' and '0%' both lie at d = 0"), std::string::npos) << same;
+  EXPECT_EQ(same.find("lower end"), std::string::npos) << same;
+  const std::string scaled = message("5%,0.1,20%", 0.5);  // 20 % of 0.5 is 0.1
+  EXPECT_NE(scaled.find("levels '0.1' and '20%' both lie at d = 0.1"), std::string::npos) << scaled;
+  const std::string unscaled = message("5%,-20%,0", 0.0);
+  EXPECT_NE(unscaled.find("levels '5%' and '-20%' both lie at d = 0"), std::string::npos) << unscaled;
+  EXPECT_NE(unscaled.find("certified lower end is 0"), std::string::npos) << unscaled;
 }
 
 TEST(LevelList, MaxPenetrationScaleNoteOnlyWhenAPercentageDependsOnAWideM) {
