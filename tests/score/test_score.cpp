@@ -67,7 +67,7 @@ TEST(Summary, ReadsWhatItWritesAndNamesAWrongKey) {
 }
 
 // A line break in an implementation's name (a plugin names itself) must not start a line of plot.dat
-// that gnuplot would read as data: every line is a comment, numbers or empty.
+// that gnuplot would read as data: every line is a comment, numbers and a quoted level name, or empty.
 TEST(Summary, PlotDataKeepsAnyNameOnItsCommentLine) {
   const ImplScore s = score_answers("evil\n1 2 3 4 5 6\r", manifest(), {row(0, 0, -1.0, -0.99)}, {Answer{true}}, true);
   const std::string dir = testing::TempDir() + "/plot_names";
@@ -84,10 +84,15 @@ TEST(Summary, PlotDataKeepsAnyNameOnItsCommentLine) {
       EXPECT_EQ(line, "# evil 1 2 3 4 5 6 ");
       continue;
     }
-    std::istringstream fields(line);
+    // Six numbers (nan for an untimed level), then the level's name in double quotes.
+    const std::size_t quote = line.find('"');
+    ASSERT_NE(quote, std::string::npos) << line;
+    EXPECT_EQ(line.back(), '"') << line;
+    EXPECT_EQ(line.find('"', quote + 1), line.size() - 1) << line;
+    std::istringstream fields(line.substr(0, quote));
     std::string field;
     int n = 0;
-    while (fields >> field) {  // numbers, nan for an untimed level
+    while (fields >> field) {
       char* end = nullptr;
       std::strtod(field.c_str(), &end);
       EXPECT_EQ(*end, '\0') << "not a data line: " << line;
