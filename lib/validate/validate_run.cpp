@@ -377,8 +377,10 @@ void write_validation_plots(const std::string& dir, const std::vector<ValidateRe
     const double mp = v.max_penetration.lo;
     const std::string data = "errors_" + std::to_string(k) + ".csv";
     std::vector<std::vector<double>> per_level(v.levels.size());
-    for (const PoseValidation& p : v.poses)
-      if (p.placed && std::isfinite(p.error)) per_level[static_cast<std::size_t>(p.level)].push_back(100.0 * std::abs(p.error) / mp);
+    for (const PoseValidation& p : v.poses) {
+      const double pct = 100.0 * std::abs(p.error) / mp;  // inf for a target beyond a double's range of M
+      if (p.placed && std::isfinite(pct)) per_level[static_cast<std::size_t>(p.level)].push_back(pct);
+    }
     write_file_atomically(dir + "/" + data, [&](std::ostream& out) {
       out << "level,fraction,abs_error_pct_max_penetration\n";
       for (std::size_t l = 0; l < per_level.size(); ++l) {
@@ -393,12 +395,19 @@ void write_validation_plots(const std::string& dir, const std::vector<ValidateRe
       const std::string ext = std::string(term).substr(0, 3) == "png" ? "png" : "svg";
       gp << "set terminal " << term << "\nset output 'error_distribution_" << k << "." << ext << "'\n"
          << "set title " << gnuplot_string("|c - target| per level: " + names[k]) << " noenhanced\n"
-         << "set xlabel '|c - target| (% of the certified max penetration)'\nset ylabel 'fraction of poses'\n"
-         << "set logscale x\nplot ";
+         << "set xlabel '|c - target| (% of the certified max penetration)'\nset ylabel 'fraction of poses'\n";
+      // Only levels with a positive error (log x): a level without a target (a user's poses
+      // certified without a target column) has none, and gnuplot refuses a plot with no point.
+      std::string series;
       for (std::size_t l = 0; l < v.levels.size(); ++l)
-        gp << (l ? ", " : "") << "'" << data << "' index " << l << " using 3:2 with lines lw 2 title "
-           << gnuplot_string(v.levels[l].spec) << " noenhanced";
-      gp << "\nunset logscale x\n";
+        if (!per_level[l].empty() && per_level[l].back() > 0.0)
+          series += (series.empty() ? "" : ", ") + ("'" + data + "' index " + std::to_string(l)) +
+                    " using 3:2 with lines lw 2 title " + gnuplot_string(v.levels[l].spec) + " noenhanced";
+      if (series.empty())
+        gp << "set label 1 'no level has a target with a finite error: nothing to plot' at graph 0.5, 0.5 center\n"
+           << "plot [0:1] [0:1] NaN notitle\nunset label 1\n";
+      else
+        gp << "set logscale x\nplot " << series << "\nunset logscale x\n";
     }
   }
   // Error against the voxel size, when several gridded runs are given.
