@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -96,6 +97,9 @@ FloatPoseSetResult build_float_poseset(const FloatPoseSetRequest& opt) {
   Timer t_grid;
   const SignedDistance sdf(fixed);
   const double cells = (fixed.bbox().hi - fixed.bbox().lo).maxCoeff() / res.voxel;
+  if (!(cells <= 4096.0))  // as --grid; OpenVDB refused far finer grids with an exception of its own
+    throw InputError("--voxel: " + number_text(res.voxel, 6) + " gives " + number_text(cells, 4) +
+                     " cells along the bounding box's longest side; the float pipeline takes at most 4096");
   {
     const GridSdf coarse(fixed, {(cells >= 64.0 ? 4.0 : 1.0) * res.voxel, 0.0});
     const LatticeDepth deep = deepest_lattice_point(
@@ -103,6 +107,12 @@ FloatPoseSetResult build_float_poseset(const FloatPoseSetRequest& opt) {
         [&](const Vec3& p) { return sdf.side(p) < 0; });
     res.max_depth = deep.depth;
   }
+  if (!(res.max_depth > 0.0) &&
+      std::any_of(specs.begin(), specs.end(), [](const LevelSpec& l) { return l.percent && l.value != 0.0; }))
+    throw InputError("--levels: percentage levels need the grid's maximum depth, and no lattice point at voxel " +
+                     number_text(res.voxel, 6) +
+                     " lies inside the solid (its walls are thinner than the grid resolves): use a finer --grid or "
+                     "--voxel, or absolute levels");
   std::vector<double> targets(specs.size());
   double reach_out = 0.0, reach_in = 0.0;
   for (std::size_t l = 0; l < specs.size(); ++l) {

@@ -97,7 +97,7 @@ void check_distinct_distances(const std::vector<LevelSpec>& levels, const std::v
     if (distances[a] != distances[b]) continue;
     const bool unscaled = (levels[a].percent && levels[a].value != 0.0) || (levels[b].percent && levels[b].value != 0.0);
     throw InputError("--levels: levels '" + levels[a].text + "' and '" + levels[b].text + "' both lie at d = " +
-                     number_text(distances[a]) +
+                     number_text(distances[a] + 0.0) +  // + 0.0: -0 reads as 0
                      (unscaled && distances[a] == 0.0
                           ? " (percentages of the maximum penetration, whose certified lower end is 0 here)"
                           : "") +

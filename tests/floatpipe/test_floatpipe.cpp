@@ -13,6 +13,7 @@
 #include "mesh/shapes.h"
 #include "mesh/write_mesh.h"
 #include "poseset/pose_csv.h"
+#include "util/error.h"
 #include "test_scale.h"
 
 namespace cdbench {
@@ -173,6 +174,31 @@ TEST(FloatPoseSet, BundleOfASphere) {
   // Option errors name the option.
   rq.grid = 2;
   EXPECT_THROW(check_float_poseset_request(rq), std::exception);
+  const auto message = [&](FloatPoseSetRequest r) -> std::string {
+    try {
+      build_float_poseset(r);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  // A voxel finer than the grid's limit of 4096 cells (OpenVDB threw its own exception at 1e-9).
+  FloatPoseSetRequest fine = rq;
+  fine.voxel = 1e-9;
+  fine.out = dir + "/fine";
+  EXPECT_NE(message(fine).find("--voxel: 1e-09 gives"), std::string::npos) << message(fine);
+  // A plate between the lattice's planes z = 0.25 and 0.5: no lattice point inside, so no scale for
+  // percentage levels (every one lay at d = 0); absolute levels still work.
+  const TriangleMesh plate = make_box(Vec3(-1, -1, 0.3), Vec3(1, 1, 0.31));
+  write_off(plate, dir + "/plate.off");
+  FloatPoseSetRequest coarse = rq;
+  coarse.fixed = {dir + "/plate.off", &plate};
+  coarse.voxel = 0.25;
+  coarse.out = dir + "/coarse";
+  EXPECT_NE(message(coarse).find("percentage levels need the grid's maximum depth"), std::string::npos)
+      << message(coarse);
+  coarse.levels = "-0.002,0,0.1";
+  EXPECT_EQ(message(coarse), "");
 }
 
 }  // namespace
