@@ -400,7 +400,7 @@ void write_validation_plots(const std::string& dir, const std::vector<ValidateRe
       // certified without a target column) has none, and gnuplot refuses a plot with no point.
       std::string series;
       for (std::size_t l = 0; l < v.levels.size(); ++l)
-        if (!per_level[l].empty() && per_level[l].back() > 0.0)
+        if (std::any_of(per_level[l].begin(), per_level[l].end(), [](double e) { return e > 0.0; }))
           series += (series.empty() ? "" : ", ") + ("'" + data + "' index " + std::to_string(l)) +
                     " using 3:2 with lines lw 2 title " + gnuplot_string(v.levels[l].spec) + " noenhanced";
       if (series.empty())
