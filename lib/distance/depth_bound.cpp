@@ -56,7 +56,8 @@ inline std::size_t max_triangles(DepthWeights w) {
 // patch of two or more triangles covers the cell. ids and nearest: the candidates nearest first.
 double patched_depth_bound(const SignedDistance& sdf, const Vec3& c, const std::vector<std::uint32_t>& ids,
                            const std::vector<Vec3>& nearest, const Vec3* corners, int n_corners,
-                           const Vec3* plane_normal, double slack, int* worst_corner, DepthWeights weights) {
+                           const Vec3* plane_normal, double slack, int* worst_corner, DepthWeights weights,
+                           const Vec3* cover_box) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const TriangleMesh& m = sdf.mesh();
   const std::size_t n = ids.size();
@@ -94,7 +95,9 @@ double patched_depth_bound(const SignedDistance& sdf, const Vec3& c, const std::
     if (at.size() < 2) continue;
     members.clear();
     for (std::size_t k : at) members.push_back(ids[k]);
-    if (!patch_covers_cell(m, members, pl.n, pl.d, corners, n_corners)) continue;
+    if (!(cover_box ? patch_covers_cell(m, members, pl.n, pl.d, cover_box, 8)
+                    : patch_covers_cell(m, members, pl.n, pl.d, corners, n_corners)))
+      continue;
     for (std::size_t k : at) group_of[k] = static_cast<int>(patches.size());
     patches.push_back({&pl, round_up(eta * (1.0 + 2e-15))});
   }
@@ -323,7 +326,8 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
 double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids,
                                const Vec3* corners, int n_corners, Vec3* candidate, const Vec3* plane_normal,
                                int* worst_corner, TranslatedDepthBound* moments, double coplanar_slack,
-                               DepthWeights weights, DepthWitness* witness, CornerDistances* computed) {
+                               DepthWeights weights, DepthWitness* witness, CornerDistances* computed,
+                               const Vec3* cover_box) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   if (moments) moments->n = 0;
   if (computed)
@@ -407,10 +411,10 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
     }
   }
   if (moments && moments->n != n_corners) moments->n = 0;  // every corner or none
-  if (coplanar_slack > 0.0 && (n_corners <= 3 || n_corners == 8) && n >= 2) {
+  if (coplanar_slack > 0.0 && (cover_box || n_corners <= 3 || n_corners == 8) && n >= 2) {
     int corner = 0;
     const double patched = patched_depth_bound(sdf, c, ids, nearest, corners, n_corners, plane_normal, coplanar_slack,
-                                               &corner, weights);
+                                               &corner, weights, cover_box);
     if (patched < worst) {
       if (worst_corner) *worst_corner = corner;
       return patched;

@@ -88,7 +88,7 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
                                const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
                                TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0,
                                DepthWeights weights = DepthWeights::converged, DepthWitness* witness = nullptr,
-                               CornerDistances* computed = nullptr);
+                               CornerDistances* computed = nullptr, const Vec3* cover_box = nullptr);
 // The same bound with the weights that minimise its largest corner value (a linear program over
 // the first max_members triangles of `ids`, e.g. the nearest ones as depth_upper_bound_among leaves
 // them): tighter than the min-norm weights where the nearest feature changes across the cell, as
@@ -99,8 +99,9 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
 double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uint32_t>& ids, const Vec3* corners,
                            int n_corners, std::size_t max_members = 12, DepthWitness* witness = nullptr,
                            const CornerDistances* known = nullptr);
-// coplanar_slack > 0 (flat cells of at most 3 corners, or the 8 corners of an axis-aligned box):
-// triangles within that distance of a
+// coplanar_slack > 0 (flat cells of at most 3 corners, the 8 corners of an axis-aligned box, or any
+// corners with cover_box, the 8 corners of an axis-aligned box holding them): triangles within that
+// distance of a
 // common plane that provably cover the cell's projection form one member, a planar patch
 // (distance/planar_patch.h), whose bound is exact on its plane across the triangles' shared edges.
 // The result is the smaller of the bounds with and without patches; moments and candidate come

@@ -12,6 +12,7 @@
 
 #include "distance/depth_bound.h"
 #include "distance/point_triangle_distance.h"
+#include "distance/slab_cut.h"
 #include "util/progress.h"
 #include "util/timer.h"
 
@@ -52,6 +53,121 @@ double convexity_bound(const SignedDistance& sdf, const Vec3& c, double h, doubl
                                    coplanar_slack);
   if (bound > enough) bound = std::min(bound, minimax_depth_bound(sdf, ids, corners.data(), 8));
   return bound;
+}
+
+// Triangles near a cube for slab_depth_bound: beyond this many its slab is seldom thin.
+constexpr std::size_t kMaxSlabTriangles = 32;
+
+// A cube across F (a thin wall, or a face it dips through) bounded by its part between the planes of
+// the faces it crosses (doc/distance.md, "Cubes across a thin wall"):
+// - T: every triangle within reach of c, reach >= |x - c| for every x of the cube K spanned by the
+//   computed corners (a certified superset of the triangles meeting K); an axis n (of the normals
+//   of T's first four, the one across which T's vertices span the thinnest slab) and h >= n.w >= l
+//   over T's vertices w (rigorous).
+// - R+ = {y in K : n.y > h} is convex and meets no triangle of F (one meeting it meets K, so lies
+//   in T, whose points all have n.y <= h): it lies on one side of F. It is outside when it holds
+//   the centre, off F and outside, or a corner whose side the segment from the centre finds outside
+//   (that segment lies in K, so its crossings are among T), or the ray test when the centre is on F.
+//   Likewise R- below l.
+// - An interior point x of K lies in neither region that is outside, so n.x <= h where R+ is (and
+//   >= l where R- is): x lies in K cut by those planes, the hull of cut_by_slab's points within its
+//   err. The convexity bound over T at those points (planar patches decided on K's corners,
+//   min-norm then minimax weights) plus err bounds dist(x, F).
+// A region not proven outside is not cut. For a wall whose two faces are planes the bound is half
+// its thickness whatever the cube's size. Returns +inf when it cannot help (heuristics: only the
+// bound decides whether a cube is set aside): more than kMaxSlabTriangles near, a slab more than
+// twice `enough` thick (halved when K crosses both planes), a kept part deeper than 2 `enough`.
+// centre_side: the centre's certified side (+-1) when it is off F, else 0. deep / deep_lower: a point
+// midway through a wall proven outside on both sides, on an edge of K crossing both planes, and its
+// certified depth (-1 if none; tried only where it could exceed `enough`).
+double slab_depth_bound(const SignedDistance& sdf, const Vec3& c, double half, double reach, int centre_side,
+                        double coplanar_slack, double enough, std::vector<std::uint32_t>& ids, Vec3* deep,
+                        double* deep_lower) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  *deep_lower = -1.0;
+  if (!sdf.triangles_within(c, reach, kMaxSlabTriangles, ids) || ids.empty()) return kInf;
+  const TriangleMesh& F = sdf.mesh();
+  const auto span = [&](const Vec3& n, double* h, double* l) {
+    *h = -kInf, *l = kInf;
+    for (std::uint32_t j : ids)
+      for (std::uint32_t w : F.faces[j]) {
+        const PlaneOffset o = plane_offset(n, 0.0, F.vertices[w]);
+        *h = std::max(*h, round_up(o.value + o.error));
+        *l = std::min(*l, round_down(o.value - o.error));
+      }
+  };
+  Vec3 n = Vec3::Zero();
+  double h = kInf, l = -kInf, thick = kInf;
+  for (std::size_t i = 0; i < std::min<std::size_t>(ids.size(), 4); ++i) {
+    const Vec3 ni = sdf.planes()[ids[i]].n;
+    const double len = ni.norm();
+    if (!(len > 0.0)) continue;
+    double hi, li;
+    span(ni, &hi, &li);
+    if ((hi - li) / len < thick) n = ni, h = hi, l = li, thick = (hi - li) / len;
+  }
+  if (!(thick < kInf)) return kInf;
+  const double n_up = round_up(n.norm() * (1.0 + 1e-12));  // >= |n|
+  std::array<Vec3, 8> v;
+  std::array<PlaneOffset, 8> ov;
+  int top = 0, bottom = 0;
+  double reach_hi = -kInf, reach_lo = kInf;  // n.x over K lies within
+  for (int k = 0; k < 8; ++k) {
+    v[k] = c + Vec3((k & 1) ? half : -half, (k & 2) ? half : -half, (k & 4) ? half : -half);
+    ov[k] = plane_offset(n, 0.0, v[k]);
+    if (ov[k].value > ov[top].value) top = k;
+    if (ov[k].value < ov[bottom].value) bottom = k;
+    reach_hi = std::max(reach_hi, round_up(ov[k].value + ov[k].error));
+    reach_lo = std::min(reach_lo, round_down(ov[k].value - ov[k].error));
+  }
+  const bool across = reach_hi > h && reach_lo < l;  // K may cross both planes: a wall
+  const bool want_bound = (across ? 0.5 : 1.0) * (h - l) < 2.0 * n_up * enough;
+  // A point midway through a wall (below) could raise the depth found: the wall is thinner than
+  // the cube, so the cube's other candidates are far from its mid-plane.
+  const bool want_deep = across && (h - l) > 2.0 * n_up * enough && (h - l) < 2.0 * n_up * half;
+  if (!want_bound && !want_deep) return kInf;
+  const PlaneOffset oc = plane_offset(n, 0.0, c);
+  const auto outside = [&](int k, bool above) {
+    if (centre_side != 0 && (above ? round_down(oc.value - oc.error) > h : round_up(oc.value + oc.error) < l))
+      return centre_side > 0;  // the centre is in it
+    if (!(above ? round_down(ov[k].value - ov[k].error) > h : round_up(ov[k].value + ov[k].error) < l)) return false;
+    // v_k lies in the region, hence off F.
+    return (centre_side != 0 ? sdf.side_among(v[k], Interval{std::numeric_limits<double>::min(), kInf}, c,
+                                              centre_side, ids)
+                             : sdf.side(v[k])) > 0;
+  };
+  const bool cut_hi = reach_hi > h && outside(top, true), cut_lo = reach_lo < l && outside(bottom, false);
+  if (want_deep && cut_hi && cut_lo) {
+    // A wall, outside on both sides: a point midway through it on an edge crossing both planes (on a
+    // flat wall's mid-plane), certified: a deep point found long before cubes fit inside a thin
+    // wall (the crossings in plain doubles; the point is certified as it is).
+    for (const auto& e : kBoxEdges) {
+      const double a = ov[e[0]].value, b = ov[e[1]].value;
+      if (!(a != b)) continue;
+      const double th = (h - a) / (b - a), tl = (l - a) / (b - a);
+      if (!(th >= 0.0 && th <= 1.0 && tl >= 0.0 && tl <= 1.0)) continue;
+      *deep = v[e[0]] + 0.5 * (th + tl) * (v[e[1]] - v[e[0]]);
+      *deep_lower = -sdf.signed_distance(*deep).hi;
+      break;
+    }
+  }
+  if (!want_bound || (!cut_hi && !cut_lo)) return kInf;
+  if ((!cut_hi && reach_hi > h && !(reach_hi - h < 2.0 * n_up * enough)) ||
+      (!cut_lo && reach_lo < l && !(l - reach_lo < 2.0 * n_up * enough)))
+    return kInf;
+  SlabCut cut;
+  if (!cut_by_slab(v.data(), ov.data(), 8, kBoxEdges.data(), 12, cut_hi ? h : kInf, cut_lo ? l : -kInf, cut))
+    return kInf;
+  if (cut.n == 0) return 0.0;  // no point of K inside F
+  Vec3 centroid = Vec3::Zero();
+  for (int k = 0; k < cut.n; ++k) centroid += cut.q[k];
+  centroid /= cut.n;
+  CornerDistances known;
+  double depth = depth_upper_bound_among(sdf, centroid, ids, cut.q.data(), cut.n, nullptr, nullptr, nullptr, nullptr,
+                                         coplanar_slack, DepthWeights::converged, nullptr, &known, v.data());
+  if (depth > enough) depth = std::min(depth, minimax_depth_bound(sdf, ids, cut.q.data(), cut.n, 12, nullptr, &known));
+  if (!(depth < kInf)) return kInf;
+  return round_up(depth + cut.err);
 }
 
 // Candidates of a deep point refined from the previous candidate, per kept cell (see the loop).
@@ -155,6 +271,20 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
           }
         } else {
           o.upper = round_up(r - d.lo);  // a point inside at distance <= r crosses the surface first
+        }
+        // A cube that may cross F (a thin wall): its part between the planes of the faces it crosses.
+        // Not where the centre is deeper than the bound would need to be (no bound can set it aside).
+        if (o.upper > snapshot + eps && !(r <= d.lo) && !(o.sign < 0 && d.lo > snapshot + eps)) {
+          thread_local std::vector<std::uint32_t> ids;
+          const double reach = round_up(r + 1e-15 * (cell.center.cwiseAbs().maxCoeff() + half));
+          Vec3 deep;
+          double deep_lower;
+          o.upper = std::min(o.upper, slab_depth_bound(sdf, cell.center, half, reach, d.lo > 0.0 ? o.sign : 0,
+                                                       0.25 * eps, snapshot + eps, ids, &deep, &deep_lower));
+          if (deep_lower > o.lower) {
+            o.lower = deep_lower;
+            o.point = deep;
+          }
         }
         o.keep = o.upper > snapshot + eps;
         if (options.progress) progress.advance();

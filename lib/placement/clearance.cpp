@@ -7,6 +7,7 @@
 
 #include "distance/depth_bound.h"
 #include "distance/point_triangle_distance.h"
+#include "distance/slab_cut.h"
 #include "distance/triangle_distance.h"
 #include "mesh/components.h"
 #include "placement/advance.h"
@@ -22,6 +23,8 @@ constexpr DistanceEnds kEnds = DistanceEnds::near_points;
 
 inline double down(double x) { return round_down(x); }
 inline double up(double x) { return round_up(x); }
+// A triangle's edges for cut_by_slab: edge k runs from corner k to corner k + 1.
+constexpr std::array<std::array<int, 2>, 3> kTriangleEdges{{{0, 1}, {1, 2}, {2, 0}}};
 
 // The box of a tree node after translation by t: rounding to nearest is monotone, so it contains
 // fl(p + t) for every p in the box.
@@ -905,50 +908,13 @@ class BranchAndBound {
         (!cut_lo && reach_lo < l && !(l - reach_lo < 2.0 * n_up * -threshold()))) return -kInf;
     // The computed triangle cut to the widened slab [ls, hs]: its corners there and the crossings.
     const double hs = cut_hi ? up(h + eta_n) : kInf, ls = cut_lo ? down(l - eta_n) : -kInf;
-    std::array<Vec3, 8> q;
-    std::array<int, 8> corner_of;  // the corner of K a point is, or -1
-    int nq = 0;
-    double err = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      if (!(down(ov[k].value - ov[k].error) > hs) && !(up(ov[k].value + ov[k].error) < ls)) {
-        corner_of[nq] = k;
-        q[nq++] = v[k];
-      }
-    }
-    std::array<std::array<double, 2>, 3> cross_t{{{-1.0, -1.0}, {-1.0, -1.0}, {-1.0, -1.0}}};  // per edge and plane
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 &a = v[k], &b = v[(k + 1) % 3];
-      const PlaneOffset &oa = ov[k], &ob = ov[(k + 1) % 3];
-      for (int side = 0; side < 2; ++side) {
-        const double H = side == 0 ? hs : ls;
-        if (!std::isfinite(H)) continue;
-        // n.a - H and n.b - H enclosed; the crossing's parameter t = A / (A - B) from a.
-        Interval A{down(down(oa.value - oa.error) - H), up(up(oa.value + oa.error) - H)};
-        Interval B{down(down(ob.value - ob.error) - H), up(up(ob.value + ob.error) - H)};
-        if ((A.lo > 0.0 && B.lo > 0.0) || (A.hi < 0.0 && B.hi < 0.0)) continue;  // no crossing
-        if (nq + 2 > static_cast<int>(q.size())) return -kInf;
-        if (!(A.lo > 0.0 || A.hi < 0.0) || !(B.lo > 0.0 || B.hi < 0.0)) {
-          // An end on the plane within its error: the crossing may lie anywhere on the edge.
-          corner_of[nq] = k;
-          q[nq++] = a;
-          corner_of[nq] = (k + 1) % 3;
-          q[nq++] = b;
-          continue;
-        }
-        if (A.hi < 0.0) A = {-A.hi, -A.lo}, B = {-B.hi, -B.lo};  // now A > 0 > B: t rises with both
-        const double t_lo = std::max(0.0, down(A.lo / up(A.lo - B.lo)));
-        const double t_hi = std::min(1.0, up(A.hi / down(A.hi - B.hi)));
-        const double t = 0.5 * (t_lo + t_hi);
-        cross_t[k][side] = t;
-        const Vec3 e = b - a;
-        corner_of[nq] = -1;
-        q[nq++] = a + t * e;
-        // |exact crossing - (a + t e) exact| <= (t_hi - t_lo) |b - a|; the computed point's rounding
-        // is within 4e-15 (|a| + |b|) (max norms) of the exact one, in any rounding mode.
-        const double mag = a.cwiseAbs().maxCoeff() + b.cwiseAbs().maxCoeff();
-        err = std::max(err, up(up(up(t_hi - t_lo) * up(e.norm() * (1.0 + 1e-12))) + up(4e-15 * mag)));
-      }
-    }
+    SlabCut cut;
+    if (!cut_by_slab(v.data(), ov.data(), 3, kTriangleEdges.data(), 3, hs, ls, cut, 8)) return -kInf;
+    const int nq = cut.n;
+    const auto& q = cut.q;
+    const auto& corner_of = cut.corner_of;
+    const auto& cross_t = cut.cross_t;
+    const double err = cut.err;
     if (nq == 0) return 0.0;  // no point of K inside F
     Vec3 c = Vec3::Zero();
     for (int k = 0; k < nq; ++k) c += q[k];

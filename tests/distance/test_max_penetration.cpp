@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include "distance/max_penetration.h"
 #include "mesh/shapes.h"
@@ -168,6 +169,37 @@ TEST(MaxPenetration, SafetyStopsKeepTheIntervalCertified) {
     EXPECT_GE(r.depth.hi, full.depth.lo);
     EXPECT_GT(r.depth.width(), full.depth.width());
     EXPECT_LT(r.depth.hi, 2.0 * full.depth.hi);  // bounded by evaluated cells (the first level has none)
+  }
+}
+
+// A housing: a box with walls w thick (a box and a reversed smaller one inside). Its deepest points
+// are at the inner box's corners, w sqrt(3) / (1 + sqrt(3)) from each outer face along the diagonal.
+// Cubes across a wall are bounded by their part between the wall's planes (half its thickness),
+// so only the corners' neighbourhoods are split: 0.3 M cubes. Before, cubes had to fit inside the
+// wall everywhere (9.5 M cubes; at w = 0.5 the search stopped at its memory bound).
+TEST(MaxPenetration, ThinWallsSetAsideByTheirSlab) {
+  const double w = 1.0;
+  TriangleMesh inner = make_box(Vec3(w, w, w), Vec3(200 - w, 100 - w, 50 - w));
+  for (auto& f : inner.faces) std::swap(f[1], f[2]);
+  const TriangleMesh m = merge_meshes(make_box(Vec3(0, 0, 0), Vec3(200, 100, 50)), inner);
+  MaxPenetrationOptions o;
+  o.progress = false;
+  o.max_cells = 1500000;
+  const SignedDistance sdf(m);
+  const auto r = certified_max_penetration(sdf, o);
+  EXPECT_TRUE(r.tolerance_reached) << r.cells << " cells";
+  EXPECT_LE(r.depth.width(), 1e-6 * m.bbox().diagonal());
+  const double corner = w * std::sqrt(3.0) / (1.0 + std::sqrt(3.0));
+  EXPECT_LE(r.depth.lo, corner * (1 + 1e-15)) << r.depth.lo;
+  EXPECT_GE(r.depth.hi, corner * (1 - 1e-15)) << r.depth.hi;
+  expect_no_sample_deeper(m, r);
+  // Points of the walls and of their corners: none certified deeper than the upper end.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int k = 0; k < 2000; ++k) {
+    const double a = w * u(rng);
+    const Vec3 p = k % 2 ? Vec3(a, 100 * u(rng), 50 * u(rng)) : Vec3(a, a, a) + 1e-3 * Vec3(u(rng), u(rng), u(rng));
+    EXPECT_LE(-sdf.signed_distance(p).hi, r.depth.hi);
   }
 }
 

@@ -368,7 +368,9 @@ TEST(PointTriangleDistance, LargestNearPointBoundHoldsOverTheHull) {
     const Epeck::Point_3 q(x[0], x[1], x[2]);
     const Epeck::Triangle_3 t(Epeck::Point_3(a[0], a[1], a[2]), Epeck::Point_3(b[0], b[1], b[2]),
                               Epeck::Point_3(c[0], c[1], c[2]));
-    if (!t.is_degenerate()) ASSERT_LE(CGAL::squared_distance(q, t), b2) << std::setprecision(17) << "bound " << bound;
+    if (!t.is_degenerate()) {
+      ASSERT_LE(CGAL::squared_distance(q, t), b2) << std::setprecision(17) << "bound " << bound;
+    }
     const double mag = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff(),
                                  o.cwiseAbs().maxCoeff() + scale});
     ++cases;

@@ -1,0 +1,62 @@
+#include "distance/slab_cut.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/interval.h"
+
+namespace cdbench {
+
+const std::array<std::array<int, 2>, 12> kBoxEdges{{{0, 1}, {2, 3}, {4, 5}, {6, 7},     // along x
+                                                    {0, 2}, {1, 3}, {4, 6}, {5, 7},     // along y
+                                                    {0, 4}, {1, 5}, {2, 6}, {3, 7}}};  // along z
+
+bool cut_by_slab(const Vec3* v, const PlaneOffset* ov, int n_corners, const std::array<int, 2>* edges, int n_edges,
+                 double hs, double ls, SlabCut& out, int capacity) {
+  capacity = std::min(capacity, SlabCut::kCapacity);
+  out.n = 0;
+  out.err = 0.0;
+  for (auto& t : out.cross_t) t = {-1.0, -1.0};
+  const auto add = [&](const Vec3& p, int corner) {
+    if (out.n >= capacity) return false;
+    out.corner_of[static_cast<std::size_t>(out.n)] = corner;
+    out.q[static_cast<std::size_t>(out.n++)] = p;
+    return true;
+  };
+  for (int k = 0; k < n_corners; ++k)
+    if (!(round_down(ov[k].value - ov[k].error) > hs) && !(round_up(ov[k].value + ov[k].error) < ls))
+      if (!add(v[k], k)) return false;
+  for (int e = 0; e < n_edges; ++e) {
+    const int ka = edges[e][0], kb = edges[e][1];
+    const Vec3 &a = v[ka], &b = v[kb];
+    const PlaneOffset &oa = ov[ka], &ob = ov[kb];
+    for (int side = 0; side < 2; ++side) {
+      const double H = side == 0 ? hs : ls;
+      if (!std::isfinite(H)) continue;
+      // n.a - H and n.b - H enclosed; the crossing's parameter t = A / (A - B) from a.
+      Interval A{round_down(round_down(oa.value - oa.error) - H), round_up(round_up(oa.value + oa.error) - H)};
+      Interval B{round_down(round_down(ob.value - ob.error) - H), round_up(round_up(ob.value + ob.error) - H)};
+      if ((A.lo > 0.0 && B.lo > 0.0) || (A.hi < 0.0 && B.hi < 0.0)) continue;  // no crossing
+      if (out.n + 2 > capacity) return false;
+      if (!(A.lo > 0.0 || A.hi < 0.0) || !(B.lo > 0.0 || B.hi < 0.0)) {
+        // An end on the plane within its error: the crossing may lie anywhere on the edge.
+        add(a, ka);
+        add(b, kb);
+        continue;
+      }
+      if (A.hi < 0.0) A = {-A.hi, -A.lo}, B = {-B.hi, -B.lo};  // now A > 0 > B: t rises with both
+      const double t_lo = std::max(0.0, round_down(A.lo / round_up(A.lo - B.lo)));
+      const double t_hi = std::min(1.0, round_up(A.hi / round_down(A.hi - B.hi)));
+      const double t = 0.5 * (t_lo + t_hi);
+      out.cross_t[static_cast<std::size_t>(e)][static_cast<std::size_t>(side)] = t;
+      const Vec3 d = b - a;
+      add(a + t * d, -1);
+      const double mag = a.cwiseAbs().maxCoeff() + b.cwiseAbs().maxCoeff();
+      out.err = std::max(out.err, round_up(round_up(round_up(t_hi - t_lo) * round_up(d.norm() * (1.0 + 1e-12))) +
+                                           round_up(4e-15 * mag)));
+    }
+  }
+  return true;
+}
+
+}  // namespace cdbench

@@ -1,0 +1,47 @@
+// Hollow solids for measuring the maximum penetration's search on thin walls (doc/distance.md,
+// "Cubes across a thin wall"; doc/performance.md, "What is still slow"): a solid and a smaller copy
+// with its faces reversed, as the cavity.
+//   make_hollow_shell OUT.off sphere K RATIO    make_icosphere(1, K) and the same scaled by RATIO:
+//       one curved wall 1 - RATIO thick (K in [0, 7], RATIO in (0, 1); e.g. shell.off sphere 3 0.97)
+//   make_hollow_shell OUT.off box X Y Z WALL    the box [0, X] x [0, Y] x [0, Z] and the box WALL
+//       inside it: a housing with flat walls WALL thick, deepest at the inner corners,
+//       WALL sqrt(3) / (1 + sqrt(3)) deep (e.g. housing.off box 200 100 50 1)
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "guarded_main.h"
+#include "mesh/shapes.h"
+#include "mesh/write_mesh.h"
+
+int main(int argc, char** argv) {
+  return guarded_main("make_hollow_shell", [](int argc, char** argv) {
+    const std::string kind = argc > 2 ? argv[2] : "";
+    if (!((kind == "sphere" && argc == 5) || (kind == "box" && argc == 7))) {
+      std::fprintf(stderr, "usage: make_hollow_shell OUT.off sphere K RATIO\n"
+                           "       make_hollow_shell OUT.off box X Y Z WALL\n");
+      return 2;
+    }
+    cdbench::TriangleMesh solid, cavity;
+    if (kind == "sphere") {
+      const int k = std::stoi(argv[3]);
+      const double ratio = std::stod(argv[4]);
+      if (!(ratio > 0.0 && ratio < 1.0) || k < 0 || k > 7)
+        throw std::invalid_argument("RATIO must lie in (0, 1) and K in [0, 7]");
+      solid = cdbench::make_icosphere(1.0, k);
+      cavity = cdbench::make_icosphere(ratio, k);
+    } else {
+      const cdbench::Vec3 hi(std::stod(argv[3]), std::stod(argv[4]), std::stod(argv[5]));
+      const double wall = std::stod(argv[6]);
+      if (!(wall > 0.0) || !(2.0 * wall < hi.minCoeff()) || !std::isfinite(hi.maxCoeff()))
+        throw std::invalid_argument("WALL must be positive and less than half of X, Y and Z");
+      solid = cdbench::make_box(cdbench::Vec3::Zero(), hi);
+      cavity = cdbench::make_box(cdbench::Vec3::Constant(wall), hi - cdbench::Vec3::Constant(wall));
+    }
+    for (auto& f : cavity.faces) std::swap(f[1], f[2]);  // facing into the cavity
+    cdbench::write_off(cdbench::merge_meshes(solid, cavity), argv[1]);
+    return 0;
+  }, argc, argv);
+}
