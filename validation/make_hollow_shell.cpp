@@ -6,6 +6,8 @@
 //   make_hollow_shell OUT.off box X Y Z WALL    the box [0, X] x [0, Y] x [0, Z] and the box WALL
 //       inside it: a housing with flat walls WALL thick, deepest at the inner corners,
 //       WALL sqrt(3) / (1 + sqrt(3)) deep (e.g. housing.off box 200 100 50 1)
+//   make_hollow_shell OUT.off tube R_IN R_OUT LENGTH N    make_tube: an open-ended tube of N
+//       facets, its wall R_OUT - R_IN thick (e.g. tube.off tube 0.98 1 4 64)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -19,10 +21,20 @@
 int main(int argc, char** argv) {
   return guarded_main("make_hollow_shell", [](int argc, char** argv) {
     const std::string kind = argc > 2 ? argv[2] : "";
-    if (!((kind == "sphere" && argc == 5) || (kind == "box" && argc == 7))) {
+    if (!((kind == "sphere" && argc == 5) || (kind == "box" && argc == 7) || (kind == "tube" && argc == 7))) {
       std::fprintf(stderr, "usage: make_hollow_shell OUT.off sphere K RATIO\n"
-                           "       make_hollow_shell OUT.off box X Y Z WALL\n");
+                           "       make_hollow_shell OUT.off box X Y Z WALL\n"
+                           "       make_hollow_shell OUT.off tube R_IN R_OUT LENGTH N\n");
       return 2;
+    }
+    if (kind == "tube") {
+      const double r_in = std::stod(argv[3]), r_out = std::stod(argv[4]), length = std::stod(argv[5]);
+      const int n = std::stoi(argv[6]);
+      if (!(r_in > 0.0 && r_in < r_out && length > 0.0 && std::isfinite(r_out) && std::isfinite(length)) ||
+          n < 3 || n > 1000000)
+        throw std::invalid_argument("need 0 < R_IN < R_OUT, LENGTH > 0 and N in [3, 1000000]");
+      cdbench::write_off(cdbench::make_tube(r_in, r_out, length, n), argv[1]);
+      return 0;
     }
     cdbench::TriangleMesh solid, cavity;
     if (kind == "sphere") {

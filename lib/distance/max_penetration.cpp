@@ -62,8 +62,8 @@ constexpr std::size_t kMaxSlabTriangles = 32;
 // the faces it crosses (doc/distance.md, "Cubes across a thin wall"):
 // - T: every triangle within reach of c, reach >= |x - c| for every x of the cube K spanned by the
 //   computed corners (a certified superset of the triangles meeting K); an axis n (of the normals
-//   of T's first four, the one across which T's vertices span the thinnest slab) and h >= n.w >= l
-//   over T's vertices w (rigorous).
+//   of T's first four, the one across which T spans the thinnest slab) and h >= n.y >= l over T's
+//   points y in K (rigorous; `span` below).
 // - R+ = {y in K : n.y > h} is convex and meets no triangle of F (one meeting it meets K, so lies
 //   in T, whose points all have n.y <= h): it lies on one side of F. It is outside when it holds
 //   the centre, off F and outside, or a corner whose side the segment from the centre finds outside
@@ -86,15 +86,11 @@ double slab_depth_bound(const SignedDistance& sdf, const Vec3& c, double half, d
   constexpr double kInf = std::numeric_limits<double>::infinity();
   *deep_lower = -1.0;
   if (!sdf.triangles_within(c, reach, kMaxSlabTriangles, ids) || ids.empty()) return kInf;
-  const TriangleMesh& F = sdf.mesh();
+  // K's box about c, its corners' rounding included.
+  const double hk = round_up(half + 4e-16 * (c.cwiseAbs().maxCoeff() + half));
   const auto span = [&](const Vec3& n, double* h, double* l) {
-    *h = -kInf, *l = kInf;
-    for (std::uint32_t j : ids)
-      for (std::uint32_t w : F.faces[j]) {
-        const PlaneOffset o = plane_offset(n, 0.0, F.vertices[w]);
-        *h = std::max(*h, round_up(o.value + o.error));
-        *l = std::min(*l, round_down(o.value - o.error));
-      }
+    const Interval s = triangles_span_in_box(sdf.mesh(), sdf.planes(), ids, n, c, hk);
+    *h = s.hi, *l = s.lo;
   };
   Vec3 n = Vec3::Zero();
   double h = kInf, l = -kInf, thick = kInf;

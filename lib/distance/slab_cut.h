@@ -14,7 +14,10 @@
 //   (t_hi - t_lo) |b - a| + 4e-15 (|a| + |b|)   (max norms)
 // of the exact crossing, in any rounding mode: err is the largest such term.
 #include <array>
+#include <cstdint>
+#include <vector>
 
+#include "core/interval.h"
 #include "core/triangle_mesh.h"
 #include "distance/point_triangle_distance.h"
 
@@ -35,6 +38,17 @@ struct SlabCut {
 // points would be needed.
 bool cut_by_slab(const Vec3* corners, const PlaneOffset* offsets, int n_corners, const std::array<int, 2>* edges,
                  int n_edges, double hs, double ls, SlabCut& out, int capacity = SlabCut::kCapacity);
+
+// [l, h] holding n.y for every point y of the triangles `ids` that lies in the box c +- hk
+// (rigorous), for the slab's planes: each triangle j by its vertices and, where tighter, by the
+// box's points on its plane's slab {|n_j.y - d_j| <= eps_j} (planes[j]): with z = y - c and
+// e = n - mu n_j for any mu,
+//   n.y = n.c + e.z + mu n_j.z <= n.c + hk |e|_1 + mu (d_j - n_j.c) + |mu| eps_j,
+// likewise from below (mu = n.n_j / |n_j|^2; the doubles' rounding covered by 1e-13 of the terms'
+// sizes): a long triangle crossing the box at a seam counts by its part in the box, not by its far
+// vertices. Empty (lo > hi) without triangles.
+Interval triangles_span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes,
+                               const std::vector<std::uint32_t>& ids, const Vec3& n, const Vec3& c, double hk);
 
 // The 12 edges of a box whose corner k is (k & 1 ? hi : lo, k & 2 ? ..., k & 4 ? ...).
 extern const std::array<std::array<int, 2>, 12> kBoxEdges;

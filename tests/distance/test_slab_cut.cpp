@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <random>
+#include <vector>
 
 namespace cdbench {
 namespace {
@@ -97,6 +98,57 @@ TEST(SlabCut, NothingLeftWhenTheSlabMissesTheCell) {
   ASSERT_TRUE(cut_by_slab(v.data(), ov.data(), 8, kBoxEdges.data(), 12, 0.75, 0.25, cut));
   EXPECT_EQ(cut.n, 8);
   for (int k = 0; k < cut.n; ++k) EXPECT_EQ(cut.corner_of[k], -1);
+}
+
+// triangles_span_in_box: every sampled point of the triangles within the box has n.y in [l, h]
+// (long double products), on random triangles from small to long ones crossing the box, axes of
+// the triangles' own normals and random ones; and a long triangle counts by its part in the box.
+TEST(SlabCut, TrianglesSpanInABoxHoldsTheirPointsInIt) {
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> u(-1, 1), w(0, 1);
+  int inside = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Vec3 c(u(rng), u(rng), u(rng));
+    const double hk = 0.05 + 0.5 * w(rng), reach = trial % 3 == 0 ? 100.0 : 2.0;
+    TriangleMesh m;
+    std::vector<std::uint32_t> ids;
+    for (std::uint32_t j = 0; j < 4; ++j) {
+      const Vec3 p = c + hk * Vec3(u(rng), u(rng), u(rng));  // a point of the box on each triangle
+      const Vec3 a = p + reach * Vec3(u(rng), u(rng), u(rng)), b = p + reach * Vec3(u(rng), u(rng), u(rng));
+      const Vec3 q = p + (p - a) * w(rng) + (p - b) * w(rng);  // p inside (for most draws)
+      m.vertices.insert(m.vertices.end(), {a, b, q});
+      m.faces.push_back({3 * j, 3 * j + 1, 3 * j + 2});
+      ids.push_back(j);
+    }
+    std::vector<TrianglePlane> planes;
+    for (const Face& f : m.faces) planes.push_back(make_triangle_plane(m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]));
+    const Vec3 n = trial % 2 ? planes[0].n : Vec3(u(rng), u(rng), u(rng));
+    const Interval s = triangles_span_in_box(m, planes, ids, n, c, hk);
+    for (const Face& f : m.faces)
+      for (int k = 0; k < 2000; ++k) {
+        double x = w(rng), y = w(rng);
+        if (x + y > 1) x = 1 - x, y = 1 - y;
+        const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &q = m.vertices[f[2]];
+        const Vec3 pt = a + x * (b - a) + y * (q - a);
+        if (((pt - c).cwiseAbs().array() > hk).any()) continue;
+        ++inside;
+        const long double t = static_cast<long double>(n[0]) * pt[0] + static_cast<long double>(n[1]) * pt[1] +
+                              static_cast<long double>(n[2]) * pt[2];
+        EXPECT_LE(t, s.hi) << trial;
+        EXPECT_GE(t, s.lo) << trial;
+      }
+  }
+  EXPECT_GT(inside, 10000);
+  // A long tilted triangle through a small box: its vertices span 200 along n, its part in the box
+  // about the box's size.
+  TriangleMesh m;
+  m.vertices = {Vec3(-100, -100, -50), Vec3(100, -100, 50), Vec3(0, 100, 0)};
+  m.faces = {{0, 1, 2}};
+  const std::vector<TrianglePlane> planes{make_triangle_plane(m.vertices[0], m.vertices[1], m.vertices[2])};
+  const Interval s = triangles_span_in_box(m, planes, {0}, Vec3(0, 0, 1), Vec3(0, 0, 0), 0.01);
+  EXPECT_LT(s.hi - s.lo, 0.1);
+  EXPECT_GE(s.hi, 0.005);  // the box holds points of the plane z = x / 2 up to z = 0.005
+  EXPECT_LE(s.lo, -0.005);
 }
 
 }  // namespace
