@@ -144,6 +144,17 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
     }
   }
   Progress progress("offset levels", n);
+  // One level can mesh for minutes: the line names the levels in work and keeps its pace.
+  progress.start_heartbeat();
+  std::vector<char> running(n, 0);
+  const auto mark_running = [&](std::size_t i, bool on) {
+    std::lock_guard<std::mutex> lock(manifest_mutex);
+    running[i] = on;
+    std::string detail;
+    for (std::size_t k = 0; k < n; ++k)
+      if (running[k]) detail += (detail.empty() ? "(computing " : ", ") + r.names[k];
+    progress.set_detail(detail.empty() ? detail : detail + ")");
+  };
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     if (typed[i].reused) {
       progress.advance();
@@ -153,7 +164,9 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
     const double d = r.distances[i];
     const std::string key = key_of(i);
     const std::string name = file_name(i, r.names[i]);
+    mark_running(i, true);
     const OffsetLevel level = compute_offset_level(sdf, mp, d, oo);
+    mark_running(i, false);
     nlohmann::json e;
     e["level"] = r.names[i];
     e["key"] = key;

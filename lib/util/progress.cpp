@@ -34,7 +34,25 @@ void Progress::set_detail(const std::string& detail) {
   detail_ = detail;
 }
 
+void Progress::start_heartbeat() {
+  if (heartbeat_.joinable()) return;
+  heartbeat_ = std::thread([this] {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stop_cv_.wait_for(lock, std::chrono::milliseconds(active_ ? 200 : 1000), [this] { return stop_; })) {
+      lock.unlock();
+      advance(0);  // draws when due
+      lock.lock();
+    }
+  });
+}
+
 void Progress::finish() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  stop_cv_.notify_all();
+  if (heartbeat_.joinable()) heartbeat_.join();
   std::lock_guard<std::mutex> lock(mutex_);
   if (finished_) return;
   finished_ = true;
@@ -47,8 +65,10 @@ void Progress::draw(bool final_line) {
   const std::uint64_t done = done_.load(std::memory_order_relaxed);
   if (total_ > 0) {
     const double frac = static_cast<double>(done) / static_cast<double>(total_);
-    const double eta = frac > 0 ? elapsed * (1.0 / frac - 1.0) : 0.0;
-    std::fprintf(stderr, active_ ? "\r%s: %5.1f%% (%llu/%llu) %.0fs elapsed, ETA %.0fs %s\033[K" : "%s: %5.1f%% (%llu/%llu) %.0fs elapsed, ETA %.0fs %s", label_.c_str(),
+    // No estimate before the first step is done.
+    char eta[48] = "ETA ?";
+    if (frac > 0) std::snprintf(eta, sizeof eta, "ETA %.0fs", elapsed * (1.0 / frac - 1.0));
+    std::fprintf(stderr, active_ ? "\r%s: %5.1f%% (%llu/%llu) %.0fs elapsed, %s %s\033[K" : "%s: %5.1f%% (%llu/%llu) %.0fs elapsed, %s %s", label_.c_str(),
                  100.0 * frac, static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_),
                  elapsed, eta, detail_.c_str());
   } else {

@@ -4,9 +4,11 @@
 // many threads.
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <mutex>
 #include <string>
+#include <thread>
 
 namespace cdbench {
 
@@ -21,6 +23,10 @@ class Progress {
   void advance(std::uint64_t n = 1);
   // Replaces the free-text detail shown after the counter (e.g. the current bound).
   void set_detail(const std::string& detail);
+  // Draws at the same pace without advance() calls, from a thread of its own until finish(): for
+  // steps that run for minutes inside a library (an offset level's mesher) and would leave the
+  // line silent.
+  void start_heartbeat();
   void finish();
 
   static bool enabled();  // true when stderr is a terminal (redrawn line)
@@ -37,6 +43,9 @@ class Progress {
   std::string detail_;
   bool active_;
   bool finished_ = false;
+  std::thread heartbeat_;
+  std::condition_variable stop_cv_;
+  bool stop_ = false;  // under mutex_
 };
 
 }  // namespace cdbench

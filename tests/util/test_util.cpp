@@ -2,6 +2,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -16,6 +18,7 @@
 #include "util/error.h"
 #include "util/gnuplot.h"
 #include "util/large_pages.h"
+#include "util/progress.h"
 #include "util/least_key.h"
 #include "util/sha256.h"
 #include "util/union_find.h"
@@ -213,6 +216,40 @@ TEST(Gnuplot, QuotedTextAndAnyDirectoryName) {
 }  // namespace
 // Unions from several threads at once give the sets and roots (each set's smallest index) that one
 // thread gives, whatever the interleaving; find and unite agree with them.
+// The heartbeat (a thread drawing at the line's pace without advance calls): finish() stops it
+// at once, a short run prints nothing when stderr is not a terminal, and steps counted from several
+// threads meanwhile are safe (the sanitizer builds run this too).
+TEST(Progress, HeartbeatStopsPromptlyAndShortRunsStaySilent) {
+  const std::filesystem::path log = std::filesystem::temp_directory_path() / "cdbench_progress_test.txt";
+  std::fflush(stderr);
+  const int saved = dup(STDERR_FILENO);
+  ASSERT_GE(saved, 0);
+  std::FILE* f = std::fopen(log.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  dup2(fileno(f), STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  {
+    Progress p("test", 4000);
+    p.start_heartbeat();
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 4; ++t)
+      threads.emplace_back([&p] {
+        for (int k = 0; k < 1000; ++k) p.advance();
+      });
+    for (auto& t : threads) t.join();
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    p.finish();
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::fflush(stderr);
+  dup2(saved, STDERR_FILENO);
+  close(saved);
+  std::fclose(f);
+  EXPECT_LT(seconds, 2.0);
+  EXPECT_EQ(std::filesystem::file_size(log), 0u);
+  std::filesystem::remove(log);
+}
+
 TEST(UnionFind, ConcurrentUnionsGiveTheSerialSetsAndRoots) {
   const std::size_t n = 200000;
   std::mt19937_64 rng(7);
