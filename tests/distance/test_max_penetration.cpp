@@ -188,6 +188,15 @@ TEST(MaxPenetration, ThinWallsSetAsideByTheirSlab) {
   const SignedDistance sdf(m);
   const auto r = certified_max_penetration(sdf, o);
   EXPECT_TRUE(r.tolerance_reached) << r.cells << " cells";
+  {
+    // The slab bound's side tests and candidates leave the result independent of the threads.
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    const auto r1 = certified_max_penetration(sdf, o);
+    EXPECT_EQ(r1.depth.lo, r.depth.lo);
+    EXPECT_EQ(r1.depth.hi, r.depth.hi);
+    EXPECT_EQ(r1.cells, r.cells);
+    EXPECT_EQ(r1.point, r.point);
+  }
   EXPECT_LE(r.depth.width(), 1e-6 * m.bbox().diagonal());
   const double corner = w * std::sqrt(3.0) / (1.0 + std::sqrt(3.0));
   EXPECT_LE(r.depth.lo, corner * (1 + 1e-15)) << r.depth.lo;
