@@ -38,6 +38,15 @@ struct Outcome {
   std::uint32_t near = 0;      // the triangle found nearest to the centre (or one proving the bound)
 };
 
+// The computed corners of the cube c +- h, numbered as kBoxEdges (distance/slab_cut.h) expects:
+// corner k is on the high side of x, y, z where bit 0, 1, 2 of k is set. Both bounds below work on
+// the box these corners span.
+std::array<Vec3, 8> cube_corners(const Vec3& c, double h) {
+  std::array<Vec3, 8> v;
+  for (int k = 0; k < 8; ++k) v[k] = c + Vec3((k & 1) ? h : -h, (k & 2) ? h : -h, (k & 4) ? h : -h);
+  return v;
+}
+
 // The convexity bound over a cube: its 8 corners (see distance/depth_bound.h).
 // Near-coplanar triangles within coplanar_slack of a plane count as one planar patch where they
 // cover the cube's projection (distance/planar_patch.h): machined parts' plateaus between parallel
@@ -46,9 +55,7 @@ struct Outcome {
 // (minimax_depth_bound: the seams of faceted walls).
 double convexity_bound(const SignedDistance& sdf, const Vec3& c, double h, double radius,
                        std::vector<std::uint32_t>& ids, Vec3& candidate, double coplanar_slack, double enough) {
-  std::array<Vec3, 8> corners;
-  for (int corner = 0; corner < 8; ++corner)
-    corners[corner] = c + Vec3((corner & 1) ? h : -h, (corner & 2) ? h : -h, (corner & 4) ? h : -h);
+  const std::array<Vec3, 8> corners = cube_corners(c, h);
   double bound = depth_upper_bound(sdf, c, radius, corners.data(), 8, ids, &candidate, nullptr, nullptr, nullptr,
                                    coplanar_slack);
   if (bound > enough) bound = std::min(bound, minimax_depth_bound(sdf, ids, corners.data(), 8));
@@ -104,12 +111,11 @@ double slab_depth_bound(const SignedDistance& sdf, const Vec3& c, double half, d
   }
   if (!(thick < kInf)) return kInf;
   const double n_up = round_up(n.norm() * (1.0 + 1e-12));  // >= |n|
-  std::array<Vec3, 8> v;
+  const std::array<Vec3, 8> v = cube_corners(c, half);
   std::array<PlaneOffset, 8> ov;
   int top = 0, bottom = 0;
   double reach_hi = -kInf, reach_lo = kInf;  // n.x over K lies within
   for (int k = 0; k < 8; ++k) {
-    v[k] = c + Vec3((k & 1) ? half : -half, (k & 2) ? half : -half, (k & 4) ? half : -half);
     ov[k] = plane_offset(n, 0.0, v[k]);
     if (ov[k].value > ov[top].value) top = k;
     if (ov[k].value < ov[bottom].value) bottom = k;
