@@ -297,12 +297,32 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
     for (std::size_t j = 0; j < M; ++j)
       D[k * M + j] = known ? known->at(m, corners, k, j, ids[j])
                            : point_triangle_distance_upper_near(corners[k], m, ids[j]);
-  if (!minimax_weights(D.data(), n_corners, static_cast<int>(M), lambda)) return kInf;
-  keep_witness(ids, lambda, M, witness);
+  const double bound = minimax_bound(D.data(), n_corners, static_cast<int>(M), &lambda);
+  if (!lambda.empty()) keep_witness(ids, lambda, M, witness);
+  return bound;
+}
+
+double minimax_bound(const double* D, int K, int M, std::vector<double>* weights_out) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  thread_local std::vector<double> own;
+  std::vector<double>& lambda = weights_out ? *weights_out : own;
+  if (K <= 0 || M <= 0 || K > 16 || M > 16) return kInf;
+  if (!minimax_weights(D, K, M, lambda)) {
+    // The simplex's fixed tolerances can stall on nearly equal members far below 1 (a wall's
+    // coplanar facets): again on D scaled to at most 1 (the same optimum).
+    double top = 0.0;
+    for (int i = 0; i < K * M; ++i) top = std::max(top, D[i]);
+    std::array<double, 16 * 16> scaled;
+    for (int i = 0; i < K * M; ++i) scaled[static_cast<std::size_t>(i)] = D[i] / top;
+    if (!(top > 0.0) || !std::isfinite(top) || !minimax_weights(scaled.data(), K, M, lambda)) {
+      lambda.clear();
+      return kInf;
+    }
+  }
   double worst = 0.0;
-  for (int k = 0; k < n_corners; ++k) {
+  for (int k = 0; k < K; ++k) {
     double sum = 0.0, weights = 0.0;
-    for (std::size_t j = 0; j < M; ++j) {
+    for (int j = 0; j < M; ++j) {
       if (!(lambda[j] > 0.0)) continue;
       sum += lambda[j] * D[k * M + j];
       weights += lambda[j];

@@ -111,6 +111,15 @@ double minimax_depth_bound(const SignedDistance& sdf, const std::vector<std::uin
 // largest, worth certifying as a candidate (a lower bound on the maximum depth). moments (optional,
 // at most 8 corners) receives the translated form of the same bound, with the same weights.
 
+// The bound of minimax_depth_bound from any members: D[k * M + j] (K corners, M members, both at
+// most 16, D > 0) certified upper values at the cell's corners of M convex functions, each at least
+// dist(x, F) at the cell's points x that matter (e.g. its interior points of the solid: a triangle's
+// distance, or a plane's from distance/depth_plane.h). The weights of the program below, then the
+// largest corner's weighted mean rounded up: an upper bound of dist(x, F) at those points, as
+// every weighted mean of the members is convex. +inf when the program does not finish. weights
+// (optional) receives the members' weights (empty when the program did not finish).
+double minimax_bound(const double* D, int K, int M, std::vector<double>* weights = nullptr);
+
 // The small linear program behind minimax_depth_bound: weights lambda on the simplex minimising
 // max_k sum_j lambda_j D[k][j] (K rows, M members, D > 0 row-major, K, M <= 16). It only picks
 // weights (callers evaluate their bounds rigorously); false when it does not finish.

@@ -11,6 +11,10 @@ inline K::Point_3 P(const Vec3& v) { return K::Point_3(v.x(), v.y(), v.z()); }
 
 bool corners_collinear(const Vec3& a, const Vec3& b, const Vec3& c) { return CGAL::collinear(P(a), P(b), P(c)); }
 
+bool vectors_coplanar(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return CGAL::orientation(K::Point_3(0.0, 0.0, 0.0), P(a), P(b), P(c)) == CGAL::COPLANAR;
+}
+
 bool point_on_triangle(const Vec3& pd, const Vec3& ad, const Vec3& bd, const Vec3& cd) {
   const K::Point_3 p = P(pd), a = P(ad), b = P(bd), c = P(cd);
   if (CGAL::collinear(a, b, c)) {

@@ -11,6 +11,9 @@ bool point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& 
 // Whether a, b and c lie on one line (exact): a zero-area triangle.
 bool corners_collinear(const Vec3& a, const Vec3& b, const Vec3& c);
 
+// Whether the vectors a, b and c are linearly dependent (exact): their determinant is 0.
+bool vectors_coplanar(const Vec3& a, const Vec3& b, const Vec3& c);
+
 // Whether the closed triangles abc and def share a point (exact). A degenerate triangle (collinear
 // corners) is the union of its edges, a segment or a point. The one exact triangle-triangle
 // intersection test: certified distances and our collision trees both use it.

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "distance/depth_bound.h"
+#include "distance/depth_plane.h"
 #include "distance/point_triangle_distance.h"
 #include "distance/slab_cut.h"
 #include "util/progress.h"
@@ -36,6 +37,8 @@ struct Outcome {
   double upper = 0.0;      // certified upper bound of the depth over the cell's interior points
   double child_margin = 0.0;  // dist lower bound at the centre: children closer than it share the sign
   std::uint32_t near = 0;      // the triangle found nearest to the centre (or one proving the bound)
+  bool regions_tried = false;  // region_depth_bound ran on the cell
+  bool regions_won = false;    // and set it aside
 };
 
 // The computed corners of the cube c +- h, numbered as kBoxEdges (distance/slab_cut.h) expects:
@@ -45,6 +48,101 @@ std::array<Vec3, 8> cube_corners(const Vec3& c, double h) {
   std::array<Vec3, 8> v;
   for (int k = 0; k < 8; ++k) v[k] = c + Vec3((k & 1) ? h : -h, (k & 2) ? h : -h, (k & 4) ? h : -h);
   return v;
+}
+
+// Faces from which regions are grown as members (distance/depth_plane.h): the nearest few
+// distinct planes, and the nearest facing the other way (a wall's other side).
+constexpr std::size_t kNearFaces = 2;
+constexpr std::size_t kRegionFaces = 6;
+// Triangle members with them (minimax_bound takes at most 16 members).
+constexpr std::size_t kRegionTriangles = 16 - kRegionFaces;
+
+// The minimax bound over the cube's corners (a cube whose centre ref is inside) with the regions
+// beyond the nearest faces of `ids` (nearest first) that bound the depth there, besides the
+// triangles' distances: on a curved thin wall the facets' distances grow past their edges
+// quadratically in the cell's size over the wall's half thickness; the regions' distances are
+// exact across edges where the solid is convex, and convex across those where it is concave, where
+// the cube is cut into slices. +inf when no region is proven.
+double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_side, const Vec3* points, int n,
+                         const std::vector<std::uint32_t>& ids, double enough) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (n != 8) return kInf;
+  thread_local std::vector<std::uint32_t> scratch;
+  std::array<std::uint32_t, kRegionFaces> tried{};
+  std::array<DepthRegion, kRegionFaces> regions;
+  std::size_t nt = 0, nr = 0;
+  const auto coplanar = [&](std::uint32_t f, std::uint32_t g) {
+    const TrianglePlane &pf = sdf.planes()[f], &pg = sdf.planes()[g];
+    return (pf.n - pg.n).cwiseAbs().maxCoeff() <= 1e-12 && std::abs(pf.d - pg.d) <= 1e-12 * (1.0 + std::abs(pf.d));
+  };
+  const auto try_face = [&](std::uint32_t f) {
+    // A face whose plane the cube crosses: its region would rise above the cube (heuristic).
+    const TrianglePlane& pf = sdf.planes()[f];
+    for (int k = 0; k < n; ++k)
+      if (pf.n.dot(points[k]) - pf.d > pf.eps) return false;
+    for (std::size_t j = 0; j < nt; ++j)
+      if (coplanar(f, tried[j])) return false;  // the other half of a quad
+    for (std::size_t j = 0; j < nr; ++j)       // a face a region grew to
+      for (int i = 1; i < regions[j].n; ++i)
+        if (coplanar(f, regions[j].face[static_cast<std::size_t>(i)])) return false;
+    tried[nt++] = f;
+    if (prove_depth_region(sdf, f, points, n, ref, ref_side, &regions[nr], scratch)) ++nr;
+    return true;
+  };
+  for (std::size_t i = 0; i < ids.size() && i < 8 && nt < kNearFaces; ++i) try_face(ids[i]);
+  if (nt > 0) {
+    const Vec3 first = sdf.planes()[tried[0]].n;
+    for (std::size_t i = 0; i < ids.size() && nt < kRegionFaces; ++i)
+      if (sdf.planes()[ids[i]].n.dot(first) < 0.0) try_face(ids[i]);
+  }
+  if (nr == 0) return kInf;
+  const std::size_t ntri = std::min(ids.size(), kRegionTriangles);
+  const std::size_t M = ntri + nr;
+  // The minimax bound over points q[0..nq) (nq <= 16), plus err.
+  const auto bound_over = [&](const Vec3* q, int nq, double err) {
+    std::array<double, 16 * 16> D;
+    for (int k = 0; k < nq; ++k) {
+      for (std::size_t j = 0; j < ntri; ++j) D[k * M + j] = point_triangle_distance_upper_near(q[k], sdf.mesh(), ids[j]);
+      for (std::size_t j = 0; j < nr; ++j) D[k * M + ntri + j] = depth_region_value(sdf, regions[j], q[k]);
+    }
+    return round_up(minimax_bound(D.data(), nq, static_cast<int>(M)) + err);
+  };
+  const double bound = bound_over(points, n, 0.0);
+  if (!(bound > enough)) return bound;
+  // A region's distance is convex across its edges, where the depth may peak (a tube's seam, the
+  // outer faces' edge above it): the cube is cut into slices by planes through those edges, normal
+  // to the first edge's bisector (any planes are valid; these make each slice's region distances
+  // nearly affine), and the slices (cut_by_slab: their points within err) are bounded apart, each
+  // with the same members (proven for the whole cube).
+  const Vec3 centre = 0.5 * (points[0] + points[7]);
+  Vec3 b = Vec3::Zero();
+  std::array<double, 10> t;
+  std::size_t ncut = 0;
+  t[ncut++] = -kInf;
+  for (std::size_t j = 0; j < nr; ++j) {
+    std::array<Vec3, 6> edge;
+    const int m = depth_region_edge_points(sdf, regions[j], centre, edge);
+    if (m == 0) continue;
+    if (b == Vec3::Zero()) {
+      const Vec3 n0 = sdf.planes()[regions[j].face[0]].n, n1 = sdf.planes()[regions[j].face[1]].n;
+      b = n0 / n0.norm() - n1 / n1.norm();
+    }
+    for (int e = 0; e < m && ncut < t.size() - 1; ++e) t[ncut++] = b.dot(edge[static_cast<std::size_t>(e)]);
+  }
+  if (ncut == 1) return bound;
+  t[ncut++] = kInf;
+  std::sort(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(ncut));
+  std::array<PlaneOffset, 8> ov;
+  for (int k = 0; k < 8; ++k) ov[k] = plane_offset(b, 0.0, points[k]);
+  double split = 0.0;
+  for (std::size_t i = 0; i + 1 < ncut; ++i) {
+    SlabCut cut;
+    if (!cut_by_slab(points, ov.data(), 8, kBoxEdges.data(), 12, t[i + 1], t[i], cut, 16)) return bound;
+    if (cut.n == 0) continue;
+    split = std::max(split, bound_over(cut.q.data(), cut.n, cut.err));
+    if (!(split < bound)) return bound;
+  }
+  return std::min(bound, split);
 }
 
 // The convexity bound over a cube: its 8 corners (see distance/depth_bound.h).
@@ -208,12 +306,18 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
   Vec3 best_point = box.center();
   double upper_left = 0.0;  // max certified upper bound over the discarded cells and those a stop left
   bool stopped = false;     // a safety stop after a level: its next level was not built
+  std::uint64_t regions_tried_before = 0, regions_won_before = 0;  // the previous level's
   Progress progress("max penetration", 0);
 
   while (!frontier.empty()) {  // (a stop leaves it empty: the next level is not built)
     if (result.cells + frontier.size() > options.max_cells || frontier.size() > options.max_frontier) break;
     const double r = round_up(half * kSqrt3Up);  // covering radius of a cell around its centre
     const double snapshot = best;
+    // The regions beyond faces cost more than the other bounds; where they seldom set a cell aside
+    // (under 1 % of the cells tried: parts without thin curved walls) a level tries them only on
+    // every 16th cell, to learn whether the next should: a decision from the previous level's
+    // counts, so the same for any thread count.
+    const bool regions_everywhere = regions_tried_before < 64 || 100 * regions_won_before >= regions_tried_before;
     std::vector<Outcome> out(frontier.size());
     // Grain 1: after the first level the frontier holds 8-600 cells of 10 us to 1 ms each (armadillo),
     // which chunks of 64 gave to at most 9 threads (one below 65 cells).
@@ -238,6 +342,42 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
           o.sign = static_cast<signed char>(s == 0 ? 1 : s);  // on the surface: depth 0, treat as outside
         }
         o.child_margin = d.lo;
+        // The candidate (the weighted mean of the nearest points) is a medial point only along the
+        // directions its weights balance: on a bar, weights on two opposite faces give a point on
+        // the mid-plane between them, not on the axis. Candidates from the candidate (up to
+        // kCandidateRounds, while the cell is still kept) balance the others; each is a heuristic
+        // only, certified like the first.
+        const auto refine = [&](Vec3 candidate, std::vector<std::uint32_t>& ids, int rounds) {
+          for (int round = 0; round <= rounds; ++round) {
+            if (!((candidate - cell.center).cwiseAbs().array() <= half).all()) break;
+            // Within the ball of radius d.lo about the centre (inside F), which holds no point of
+            // F: the candidate is inside too, and needs no ray test.
+            const bool in_ball = (candidate - cell.center).norm() * (1.0 + 1e-12) < d.lo;
+            const Interval sc = in_ball ? with_side(sdf.unsigned_distance(candidate, nullptr, o.near), -1)
+                                        : sdf.signed_distance(candidate);
+            if (-sc.hi > o.lower) {
+              o.lower = -sc.hi;
+              o.point = candidate;
+            }
+            if (round == rounds || !(o.upper > std::max(snapshot, o.lower) + eps)) break;
+            const Vec3 from = candidate;
+            depth_upper_bound_among(sdf, from, ids, &from, 1, &candidate);
+          }
+        };
+        // A cell the triangles' bounds keep: its candidates first (while they keep it, as without
+        // the regions: cells set aside early would not refine the deepest point, on which every
+        // level's pruning depends), then the regions beyond its nearest faces.
+        const auto regions = [&](const Vec3& candidate, std::vector<std::uint32_t>& ids, int rounds) {
+          if (!(o.upper > snapshot + eps)) return;
+          thread_local std::vector<std::uint32_t> nearest;
+          nearest = ids;  // nearest first to the centre; refine reorders ids about its candidates
+          refine(candidate, ids, rounds);
+          if (!(o.upper > std::max(snapshot, o.lower) + eps) || !(regions_everywhere || i % 16 == 0)) return;
+          const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
+          o.upper = std::min(o.upper, region_depth_bound(sdf, cell.center, -1, corners.data(), 8, nearest, snapshot + eps));
+          o.regions_tried = true;
+          o.regions_won = !(o.upper > snapshot + eps);
+        };
         if (o.sign < 0) {
           o.lower = d.lo;
           o.point = cell.center;
@@ -250,26 +390,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
             o.upper = std::min(o.upper,
                                convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate, 0.25 * eps,
                                                snapshot + eps));
-            // The candidate (the weighted mean of the nearest points) is a medial point only along
-            // the directions its weights balance: on a bar, weights on two opposite faces give a
-            // point on the mid-plane between them, not on the axis. Candidates from the candidate
-            // (up to kCandidateRounds, while the cell is still kept) balance the others; each is a
-            // heuristic only, certified below like the first.
-            for (int round = 0; round <= kCandidateRounds; ++round) {
-              if (!((candidate - cell.center).cwiseAbs().array() <= half).all()) break;
-              // Within the ball of radius d.lo about the centre (inside F), which holds no point of
-              // F: the candidate is inside too, and needs no ray test.
-              const bool in_ball = (candidate - cell.center).norm() * (1.0 + 1e-12) < d.lo;
-              const Interval sc = in_ball ? with_side(sdf.unsigned_distance(candidate, nullptr, o.near), -1)
-                                          : sdf.signed_distance(candidate);
-              if (-sc.hi > o.lower) {
-                o.lower = -sc.hi;
-                o.point = candidate;
-              }
-              if (round == kCandidateRounds || !(o.upper > std::max(snapshot, o.lower) + eps)) break;
-              const Vec3 from = candidate;
-              depth_upper_bound_among(sdf, from, ids, &from, 1, &candidate);
-            }
+            regions(candidate, ids, kCandidateRounds);
           }
         } else {
           o.upper = round_up(r - d.lo);  // a point inside at distance <= r crosses the surface first
@@ -287,6 +408,16 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
             o.lower = deep_lower;
             o.point = deep;
           }
+          // A cube whose centre is inside but which may reach F: the faces' regions bound the
+          // depth of its interior points whatever its other points are (distance/depth_plane.h).
+          // Its candidate deep point too: cubes across a curved wall reach its mid-surface before
+          // cubes inside it do, and the deepest point found decides which cells are kept.
+          if (o.upper > snapshot + eps && o.sign < 0) {
+            Vec3 candidate;
+            o.upper = std::min(o.upper, convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate,
+                                                        0.25 * eps, snapshot + eps));
+            regions(candidate, ids, 0);
+          }
         }
         o.keep = o.upper > snapshot + eps;
         if (options.progress) progress.advance();
@@ -298,7 +429,12 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
     // reports from the kept cells themselves: the same interval), so that the memory stays within
     // them; a level that is built takes one allocation.
     std::uint64_t kept = 0;
-    for (const Outcome& o : out) kept += o.keep;
+    regions_tried_before = regions_won_before = 0;
+    for (const Outcome& o : out) {
+      kept += o.keep;
+      regions_tried_before += o.regions_tried;
+      regions_won_before += o.regions_won;
+    }
     const std::uint64_t next_cells = 8 * kept;
     const bool stop = next_cells > 0 && (next_cells > options.max_frontier ||
                                          result.cells + frontier.size() + next_cells > options.max_cells);

@@ -12,33 +12,40 @@ const std::array<std::array<int, 2>, 12> kBoxEdges{{{0, 1}, {2, 3}, {4, 5}, {6, 
                                                     {0, 2}, {1, 3}, {4, 6}, {5, 7},     // along y
                                                     {0, 4}, {1, 5}, {2, 6}, {3, 7}}};  // along z
 
+Interval triangle_span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes, std::uint32_t j,
+                              const Vec3& n, const Vec3& c, double hk) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double vh = -kInf, vl = kInf;
+  for (std::uint32_t w : mesh.faces[j]) {
+    const PlaneOffset o = plane_offset(n, 0.0, mesh.vertices[w]);
+    vh = std::max(vh, round_up(o.value + o.error));
+    vl = std::min(vl, round_down(o.value - o.error));
+  }
+  const TrianglePlane& pl = planes[j];
+  const double nn = pl.n.squaredNorm();
+  if (std::isfinite(pl.eps) && nn > 0.0) {
+    const PlaneOffset on = plane_offset(n, 0.0, c);
+    const double mu = n.dot(pl.n) / nn;
+    const Vec3 e = n - mu * pl.n;
+    const PlaneOffset oj = plane_offset(pl.n, pl.d, c);  // n_j.c - d_j
+    const double spread = hk * e.cwiseAbs().sum() + std::abs(mu) * pl.eps;
+    const double mid = on.value - mu * oj.value;
+    const double err = 1e-13 * (std::abs(on.value) + on.error + std::abs(mu) * (std::abs(oj.value) + oj.error) +
+                                spread + hk * (n.cwiseAbs().sum() + std::abs(mu) * pl.n.cwiseAbs().sum()));
+    vh = std::min(vh, round_up(mid + spread + err));
+    vl = std::max(vl, round_down(mid - spread - err));
+  }
+  return {vl, vh};
+}
+
 Interval triangles_span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes,
                                const std::vector<std::uint32_t>& ids, const Vec3& n, const Vec3& c, double hk) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   Interval span{kInf, -kInf};
-  const PlaneOffset on = plane_offset(n, 0.0, c);
   for (std::uint32_t j : ids) {
-    double vh = -kInf, vl = kInf;
-    for (std::uint32_t w : mesh.faces[j]) {
-      const PlaneOffset o = plane_offset(n, 0.0, mesh.vertices[w]);
-      vh = std::max(vh, round_up(o.value + o.error));
-      vl = std::min(vl, round_down(o.value - o.error));
-    }
-    const TrianglePlane& pl = planes[j];
-    const double nn = pl.n.squaredNorm();
-    if (std::isfinite(pl.eps) && nn > 0.0) {
-      const double mu = n.dot(pl.n) / nn;
-      const Vec3 e = n - mu * pl.n;
-      const PlaneOffset oj = plane_offset(pl.n, pl.d, c);  // n_j.c - d_j
-      const double spread = hk * e.cwiseAbs().sum() + std::abs(mu) * pl.eps;
-      const double mid = on.value - mu * oj.value;
-      const double err = 1e-13 * (std::abs(on.value) + on.error + std::abs(mu) * (std::abs(oj.value) + oj.error) +
-                                  spread + hk * (n.cwiseAbs().sum() + std::abs(mu) * pl.n.cwiseAbs().sum()));
-      vh = std::min(vh, round_up(mid + spread + err));
-      vl = std::max(vl, round_down(mid - spread - err));
-    }
-    span.hi = std::max(span.hi, vh);
-    span.lo = std::min(span.lo, vl);
+    const Interval s = triangle_span_in_box(mesh, planes, j, n, c, hk);
+    span.hi = std::max(span.hi, s.hi);
+    span.lo = std::min(span.lo, s.lo);
   }
   return span;
 }

@@ -49,6 +49,10 @@ bool cut_by_slab(const Vec3* corners, const PlaneOffset* offsets, int n_corners,
 // vertices. Empty (lo > hi) without triangles.
 Interval triangles_span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes,
                                const std::vector<std::uint32_t>& ids, const Vec3& n, const Vec3& c, double hk);
+// The same for the one triangle j (its points in the box: [lo, hi]; lo > hi never, but the range
+// may be wider than the triangle's part in the box, which can be empty).
+Interval triangle_span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes, std::uint32_t j,
+                              const Vec3& n, const Vec3& c, double hk);
 
 // The 12 edges of a box whose corner k is (k & 1 ? hi : lo, k & 2 ? ..., k & 4 ? ...).
 extern const std::array<std::array<int, 2>, 12> kBoxEdges;

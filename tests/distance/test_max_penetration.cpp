@@ -212,6 +212,33 @@ TEST(MaxPenetration, ThinWallsSetAsideByTheirSlab) {
   }
 }
 
+// A faceted tube whose wall is 2 % of its radius: a plateau of deepest points all along the wall's
+// mid-surface, bounded by the regions beyond its facets (distance/depth_plane.h). The deepest
+// point lies within (r_out - r_in) / 2 x [cos(pi / n), 1] (half the wall across a facet's middle,
+// half the radial wall anywhere).
+TEST(MaxPenetration, FacetedTubeWallByItsFacetsRegions) {
+  const int n = 128;
+  const TriangleMesh m = make_tube(0.98, 1.0, 1.0, n);
+  MaxPenetrationOptions o;
+  o.progress = false;
+  o.relative_tolerance = test_scale::pick(5e-6, 1e-4);
+  o.max_cells = 3000000;
+  const SignedDistance sdf(m);
+  const auto r = certified_max_penetration(sdf, o);
+  EXPECT_TRUE(r.tolerance_reached) << r.cells << " cells";
+  EXPECT_LE(r.depth.width(), o.relative_tolerance * m.bbox().diagonal());
+  EXPECT_LE(r.depth.lo, 0.01 * (1 + 1e-12)) << r.depth.lo;
+  EXPECT_GE(r.depth.hi, 0.01 * std::cos(M_PI / n) * (1 - 1e-12)) << r.depth.hi;
+  expect_no_sample_deeper(m, r);
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    const auto r1 = certified_max_penetration(sdf, o);
+    EXPECT_EQ(r1.depth.lo, r.depth.lo);
+    EXPECT_EQ(r1.depth.hi, r.depth.hi);
+    EXPECT_EQ(r1.cells, r.cells);
+  }
+}
+
 TEST(MaxPenetration, CoarseToleranceIsHonoured) {
   const TriangleMesh m = make_icosphere(1.0, 3);
   const auto r = run(m, 1e-2);

@@ -1,0 +1,274 @@
+#include "distance/depth_plane.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/interval.h"
+#include "distance/exact_predicates.h"
+#include "distance/slab_cut.h"
+
+namespace cdbench {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kMaxFaces = DepthRegion::kMaxFaces;
+// Beyond this many triangles near the box the neighbourhood is not a wall's few faces.
+constexpr std::size_t kMaxNear = 48;
+// sqrt(3) rounded up (the nearest double is below it).
+constexpr double kSqrt3Up = 1.7320508075688774;
+// Conditioning asked of two or three planes' common line or point (unit normals' Gram
+// determinant): their projections then stay near the cell.
+constexpr double kMinGram = 1e-12;
+
+// A lower bound of |n| (n.n rounds by at most 3 u relative and the root by 1 u more).
+inline double norm_lower(const Vec3& n) { return std::sqrt(n.squaredNorm()) * (1.0 - 4e-15); }
+
+// W's planes at their levels, and the projections (plain doubles: they place boxes and pick points,
+// whose use is checked rigorously).
+struct Region {
+  std::array<Vec3, kMaxFaces> n, u;  // normals, unit normals
+  std::array<double, kMaxFaces> nn{}, level{};
+  int nf = 0;
+  // Triples of planes that meet at one point (their normals independent), as bit masks.
+  std::array<unsigned, 4> triples{};
+  int nt = 0;
+
+  Vec3 onto_plane(int i, const Vec3& x) const { return x + ((level[i] - n[i].dot(x)) / nn[i]) * n[i]; }
+  Vec3 onto_line(int i, int j, const Vec3& x) const {
+    const double g = n[i].dot(n[j]), det = nn[i] * nn[j] - g * g;
+    const double ri = level[i] - n[i].dot(x), rj = level[j] - n[j].dot(x);
+    return x + ((ri * nn[j] - rj * g) / det) * n[i] + ((rj * nn[i] - ri * g) / det) * n[j];
+  }
+  Vec3 corner(int a, int b, int c) const {  // the common point of three planes (Cramer)
+    const Vec3 cbc = n[b].cross(n[c]), cca = n[c].cross(n[a]), cab = n[a].cross(n[b]);
+    return (level[a] * cbc + level[b] * cca + level[c] * cab) / n[a].dot(cbc);
+  }
+  // The points among which the nearest point of W to x lies (x outside int W): its projections on
+  // the faces' planes, on their common lines, and the triples' common points.
+  int candidates(const Vec3& x, std::array<Vec3, 14>& out) const {
+    int m = 0;
+    for (int i = 0; i < nf; ++i) out[m++] = onto_plane(i, x);
+    for (int i = 0; i < nf; ++i)
+      for (int j = i + 1; j < nf; ++j) out[m++] = onto_line(i, j, x);
+    for (int k = 0; k < nt; ++k) {
+      int idx[3], c = 0;
+      for (int i = 0; i < nf; ++i)
+        if (triples[k] >> i & 1u) idx[c++] = i;
+      out[m++] = corner(idx[0], idx[1], idx[2]);
+    }
+    return m;
+  }
+  // y in W (strict: in its interior), rigorously.
+  bool inside(const Vec3& y, bool strict) const {
+    for (int i = 0; i < nf; ++i) {
+      const PlaneOffset o = plane_offset(n[i], 0.0, y);
+      const double lo = round_down(o.value - o.error);
+      if (strict ? !(lo > level[i]) : !(lo >= level[i])) return false;
+    }
+    return true;
+  }
+  // y moved a hair into W (along the sum of the unit normals, which raises every n_i.y: the normals
+  // are within a right angle of each other).
+  Vec3 pushed(const Vec3& y, double delta) const {
+    Vec3 s = Vec3::Zero();
+    for (int i = 0; i < nf; ++i) s += u[i];
+    return y + delta * s;
+  }
+  // Adds the plane n.y = level if it keeps the projections well defined. False: not added.
+  bool add(const Vec3& nv, double lv) {
+    const double q = nv.squaredNorm();
+    if (nf >= kMaxFaces || !(q > 0.0) || !std::isfinite(lv)) return false;
+    const Vec3 unit = nv / std::sqrt(q);
+    for (int i = 0; i < nf; ++i) {
+      const double c = unit.dot(u[i]);
+      if (!(c > 0.0) || !(1.0 - c * c > kMinGram)) return false;  // within a right angle, not parallel
+    }
+    // Three planes whose normals are exactly dependent have no single common point; otherwise the
+    // point must be well placed.
+    std::array<unsigned, 4> more{};
+    int nm = 0;
+    for (int i = 0; i < nf; ++i)
+      for (int j = i + 1; j < nf; ++j) {
+        if (vectors_coplanar(n[i], n[j], nv)) continue;
+        const double g = std::abs(u[i].dot(u[j].cross(unit)));
+        if (!(g * g > kMinGram)) return false;
+        more[nm++] = (1u << i) | (1u << j) | (1u << nf);
+      }
+    if (nt + nm > 4) return false;
+    for (int k = 0; k < nm; ++k) triples[nt++] = more[k];
+    n[nf] = nv, u[nf] = unit, nn[nf] = q, level[nf] = lv;
+    ++nf;
+    return true;
+  }
+};
+
+bool make_region(const SignedDistance& sdf, const DepthRegion& r, Region& w) {
+  for (int i = 0; i < r.n; ++i)
+    if (!w.add(sdf.planes()[r.face[i]].n, r.level[i])) return false;
+  return w.nf == r.n;
+}
+
+// |x - y| rounded up (any rounding mode: a few ulps, covered with margin).
+inline double distance_up(const Vec3& x, const Vec3& y) {
+  return std::sqrt((x - y).squaredNorm()) * (1.0 + 1e-14) + 1e-15 * (x.cwiseAbs().maxCoeff() + y.cwiseAbs().maxCoeff());
+}
+
+}  // namespace
+
+bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec3* points, int n, const Vec3& ref,
+                        int ref_side, DepthRegion* out, std::vector<std::uint32_t>& scratch) {
+  if (n <= 0 || n > 16) return false;
+  const TrianglePlane& pl = sdf.planes()[face];
+  if (!std::isfinite(pl.eps)) return false;
+  Region w;
+  DepthRegion r;
+  double mag = 0.0;
+  Vec3 mean = Vec3::Zero();
+  for (int k = 0; k < n; ++k) {
+    mean += points[k];
+    mag = std::max(mag, points[k].cwiseAbs().maxCoeff());
+  }
+  mean /= n;
+  // top(n) >= n.x over P.
+  const auto top = [&](const Vec3& nv) {
+    double t = -kInf;
+    for (int k = 0; k < n; ++k) {
+      const PlaneOffset o = plane_offset(nv, 0.0, points[k]);
+      t = std::max(t, round_up(o.value + o.error));
+    }
+    return t;
+  };
+  // The first face at its own level (its points have n.y <= d + eps) or above P: P lies below it.
+  if (!w.add(pl.n, std::max(round_up(pl.d + pl.eps), top(pl.n)))) return false;
+  r.face[0] = face;
+  r.n = 1;
+  // The box of the projections of P's corners.
+  const auto projections_box = [&](Vec3& lo, Vec3& hi) {
+    lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
+    std::array<Vec3, 14> q;
+    for (int k = 0; k < n; ++k) {
+      const int m = w.candidates(points[k], q);
+      for (int j = 0; j < m; ++j) lo = lo.cwiseMin(q[j]), hi = hi.cwiseMax(q[j]);
+    }
+  };
+  Vec3 lo, hi;
+  projections_box(lo, hi);
+  if (!lo.allFinite() || !hi.allFinite()) return false;
+  Vec3 cb = 0.5 * (lo + hi);
+  double half = 0.5 * (hi - lo).maxCoeff();
+  // The projections' rounding (a few ulps of the coordinates and of the distances moved) is far
+  // below m0; `allow` leaves room for the region to change without a new box.
+  const double m0 = 1e-9 * (mag + half) + 1e-300;
+  bool proven = false;
+  double hk = 0.0;
+  for (int attempt = 0; attempt < 4 && !proven; ++attempt) {
+    hk = round_up(half + m0 + 0.0625 * half);
+    if (!sdf.triangles_within(cb, round_up(round_up(hk * kSqrt3Up) * (1.0 + 1e-12)), kMaxNear, scratch)) return false;
+    // Each triangle meeting the box c +- hk must lie, over its part there, below some face's level.
+    // Where none holds, its face joins the region (at its own level), or else the level it exceeds
+    // least rises to it (faces joining and levels rising only shrink W: the triangles passed
+    // before still pass).
+    for (std::uint32_t j : scratch) {
+      std::array<double, kMaxFaces> s{};
+      bool below = false;
+      for (int i = 0; i < w.nf && !below; ++i) {
+        s[i] = triangle_span_in_box(sdf.mesh(), sdf.planes(), j, w.n[i], cb, hk).hi;
+        below = s[i] <= w.level[i];
+      }
+      if (below) continue;
+      const TrianglePlane& pj = sdf.planes()[j];
+      if (std::isfinite(pj.eps) && w.nf < kMaxFaces) {
+        // At the level of its own part in the box (its plane's, up to rounding): it passes.
+        const double own = triangle_span_in_box(sdf.mesh(), sdf.planes(), j, pj.n, cb, hk).hi;
+        if (w.add(pj.n, own)) {
+          r.face[r.n++] = j;
+          continue;
+        }
+      }
+      int raise = 0;
+      for (int i = 1; i < w.nf; ++i)
+        if ((s[i] - w.level[i]) / std::sqrt(w.nn[i]) < (s[raise] - w.level[raise]) / std::sqrt(w.nn[raise])) raise = i;
+      if (!std::isfinite(s[raise])) return false;
+      w.level[raise] = s[raise];
+    }
+    // P must lie below some face's level (then no point of it is inside W).
+    bool below_one = false;
+    for (int i = 0; i < w.nf && !below_one; ++i) below_one = top(w.n[i]) <= w.level[i];
+    if (!below_one) return false;
+    // The projections for the region reached must lie in the box checked, m0 inside it.
+    projections_box(lo, hi);
+    if (!lo.allFinite() || !hi.allFinite()) return false;
+    const double inner = hk - m0;
+    if (((lo - cb).array() >= -inner).all() && ((hi - cb).array() <= inner).all()) {
+      proven = true;
+    } else {
+      cb = 0.5 * (lo + hi);
+      half = 0.5 * (hi - lo).maxCoeff();
+    }
+  }
+  if (!proven) return false;
+  // A point of R: the nearest point of W to the mean of P (approximately), pushed into W's interior.
+  std::array<Vec3, 14> q;
+  const int m = w.candidates(mean, q);
+  Vec3 z = Vec3::Zero();
+  double best = kInf;
+  for (int j = 0; j < m; ++j) {
+    const Vec3 y = w.pushed(q[j], 0.5 * m0);
+    if (!w.inside(y, true) || !((y - cb).cwiseAbs().maxCoeff() < hk * (1.0 - 1e-9))) continue;
+    const double dist = (y - mean).squaredNorm();
+    if (dist < best) best = dist, z = y;
+  }
+  if (!(best < kInf)) return false;
+  const Interval off_f{std::numeric_limits<double>::min(), kInf};  // z is in R, which holds no point of F
+  const int side = ref_side != 0 ? sdf.side(z, off_f, ref, ref_side) : sdf.side(z, off_f);
+  if (side <= 0) return false;
+  for (int i = 0; i < r.n; ++i) r.level[i] = w.level[i];
+  *out = r;
+  return true;
+}
+
+double depth_region_value(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x) {
+  if (region.n == 1) {
+    const Vec3& nv = sdf.planes()[region.face[0]].n;
+    const PlaneOffset o = plane_offset(nv, 0.0, x);
+    const double num = round_up(region.level[0] - round_down(o.value - o.error));
+    if (!(num > 0.0)) return 1e-300;
+    return std::max(1e-300, round_up(num / norm_lower(nv)));
+  }
+  Region w;
+  if (!make_region(sdf, region, w)) return kInf;
+  // Any point of W bounds the distance to it; the nearest candidate proven in W is tight (the
+  // candidates nearest first: the first in W is the nearest point, up to the push).
+  std::array<Vec3, 14> q;
+  std::array<std::pair<double, int>, 14> order;
+  const int m = w.candidates(x, q);
+  for (int j = 0; j < m; ++j) order[j] = {(q[j] - x).squaredNorm(), j};
+  std::sort(order.begin(), order.begin() + m);
+  const double delta = 1e-12 * x.cwiseAbs().maxCoeff() + 1e-300;
+  for (int k = 0; k < m; ++k)
+    for (double push = delta; push <= 1e6 * delta; push *= 1e3) {
+      const Vec3 y = w.pushed(q[order[k].second], push);
+      if (w.inside(y, false)) return std::max(1e-300, distance_up(x, y));
+    }
+  return kInf;
+}
+
+int depth_region_edge_points(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x,
+                             std::array<Vec3, 6>& out) {
+  Region w;
+  if (region.n < 2 || !make_region(sdf, region, w)) return 0;
+  int m = 0;
+  for (int i = 0; i < w.nf; ++i)
+    for (int j = i + 1; j < w.nf; ++j) {
+      const Vec3 p = w.onto_line(i, j, x);
+      // An edge of W where the line's point is in W (up to a hair); else the line lies outside it.
+      bool edge = true;
+      for (int k = 0; k < w.nf && edge; ++k)
+        if (k != i && k != j) edge = w.n[k].dot(p) >= w.level[k] - 1e-9 * std::sqrt(w.nn[k]) * (1.0 + p.norm());
+      if (edge && m < 6) out[m++] = p;
+    }
+  return m;
+}
+
+}  // namespace cdbench

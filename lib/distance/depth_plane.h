@@ -1,0 +1,56 @@
+#pragma once
+// Faces' planes that bound the depth over a convex cell where F curves away from them only nearby
+// (a thin wall's facets, curved or not): convex members of the convexity bound (depth_bound.h)
+// that, unlike the faces' distances, do not grow past the faces' edges. See doc/distance.md,
+// "Regions beyond faces".
+//
+// For up to four faces with planes n_i.y = d_i (n_i outward, unnormalised), levels H_i and the
+// convex region W = {y : n_i.y >= H_i for each i} (a half-space beyond one face; beyond several
+// where the solid is concave across their edges, as inside a tube, a wedge or a corner), and a
+// convex cell P (the hull of `points`) lying in {n_i.y <= H_i} for some i (so no point of P is inside
+// W): the point of W nearest to a point x of P is x's projection on one of the planes
+// {n_i.y = H_i}, on the line common to two, or the point common to three (three planes whose
+// normals are exactly dependent share no single point), so all of them lie in the box Pi of those
+// projections of P's corners. Let B be an open box holding Pi. If every triangle of F meeting B has,
+// over its part in B, n_i.y <= H_i for some i, the convex region R = B n int W holds no point of F
+// and lies on one side of it; if one point of R is proven outside, all of R is. Then for every point
+// x of P inside the solid, the segment from x to its nearest point of W ends where R's outside
+// points accumulate, so it meets F:
+//   dist(x, F) <= dist(x, W),
+// a convex function of x (for one face, (H - n.x) / |n|). The region grows from one face: a
+// triangle of B above every level adds its face (a neighbour bending back, as inside a tube) while
+// fewer than four are in and its plane is well placed; otherwise the level it exceeds least rises
+// to it. Where a face's neighbours bend away from the solid (a convex edge), one face at its own
+// level suffices.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "distance/signed_distance.h"
+
+namespace cdbench {
+
+struct DepthRegion {
+  static constexpr int kMaxFaces = 4;
+  std::array<std::uint32_t, kMaxFaces> face{};
+  std::array<double, kMaxFaces> level{};  // H_i, for the face's plane normal n_i = planes()[face].n
+  int n = 0;
+};
+
+// Tries to prove the bound above from `face` (grown as said) for the hull of points[0..n)
+// (n <= 16). ref: a point whose side ref_side (+-1) is known, from which the outside point of R is
+// reached by a segment (0: by the ray test). False when the proof fails (too many triangles near,
+// a neighbour rising far above the faces, R not outside: then the region bounds nothing here).
+bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec3* points, int n, const Vec3& ref,
+                        int ref_side, DepthRegion* out, std::vector<std::uint32_t>& scratch);
+
+// A certified upper end of dist(x, W) (at least 1e-300: members of minimax_bound are positive), for x
+// outside W's interior: the distance to a point proven in W.
+double depth_region_value(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x);
+
+// Points of the region's edges (lines common to two faces, where its distance is not affine) near
+// x: plain doubles, where to cut a cell, not a bound. Returns how many (at most 6).
+int depth_region_edge_points(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x,
+                             std::array<Vec3, 6>& out);
+
+}  // namespace cdbench

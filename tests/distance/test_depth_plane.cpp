@@ -1,0 +1,96 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "distance/depth_plane.h"
+#include "mesh/shapes.h"
+
+namespace cdbench {
+namespace {
+
+std::array<Vec3, 8> cube(const Vec3& c, double h) {
+  std::array<Vec3, 8> v;
+  for (int k = 0; k < 8; ++k) v[k] = c + Vec3((k & 1) ? h : -h, (k & 2) ? h : -h, (k & 4) ? h : -h);
+  return v;
+}
+
+// Cubes in a faceted tube's wall: every region proven from a nearby face bounds the depth of the
+// cube's inside points (an independent certified distance), the outer faces alone at their own
+// level, the inner ones grown over the neighbours that bend back.
+TEST(DepthRegion, BoundsTheDepthInATubesWall) {
+  const int facets = 256;
+  const double r_in = 0.98, r_out = 1.0;
+  const SignedDistance sdf(make_tube(r_in, r_out, 4.0, facets));
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<std::uint32_t> near, scratch;
+  int proven = 0, grown = 0, own_level = 0, checked = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const double a = 2 * M_PI * u(rng), rho = r_in + (r_out - r_in) * (0.1 + 0.8 * u(rng));
+    const Vec3 c(rho * std::cos(a), rho * std::sin(a), 0.5 + 3 * u(rng));
+    const double h = 0.0005 * (1 << (trial % 4));  // cubes up to a facet wide
+    if (sdf.side(c) != -1) continue;
+    const std::array<Vec3, 8> v = cube(c, h);
+    sdf.triangles_within(c, 3 * h + (r_out - r_in), 64, near);
+    for (std::uint32_t f : near) {
+      DepthRegion region;
+      if (!prove_depth_region(sdf, f, v.data(), 8, c, -1, &region, scratch)) continue;
+      ++proven;
+      grown += region.n >= 2;
+      const TrianglePlane& p = sdf.planes()[f];
+      own_level += region.n == 1 && region.level[0] <= p.d + p.eps + 1e-12;
+      for (int s = 0; s < 20; ++s) {
+        const Vec3 x = c + h * Vec3(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);
+        if (sdf.side(x) != -1) continue;
+        ++checked;
+        EXPECT_LE(sdf.unsigned_distance(x).lo, depth_region_value(sdf, region, x))
+            << "face " << f << " x " << x.transpose() << " region faces " << region.n;
+      }
+    }
+  }
+  EXPECT_GT(proven, 100);
+  EXPECT_GT(grown, 20);      // inner faces: a wedge or more
+  EXPECT_GT(own_level, 20);  // outer faces: their own plane
+  EXPECT_GT(checked, 1000);
+}
+
+// Faces that face into the solid (a box with its faces turned): the region beyond them is inside,
+// and no proof passes.
+TEST(DepthRegion, RefusedWhereTheRegionIsInside) {
+  TriangleMesh m = make_box(Vec3(0, 0, 0), Vec3(1, 1, 1));
+  for (auto& f : m.faces) std::swap(f[1], f[2]);
+  const SignedDistance sdf(m);
+  std::vector<std::uint32_t> scratch;
+  const Vec3 c(0.5, 0.5, 0.2);
+  const std::array<Vec3, 8> v = cube(c, 0.05);
+  for (std::uint32_t f = 0; f < m.faces.size(); ++f) {
+    DepthRegion region;
+    EXPECT_FALSE(prove_depth_region(sdf, f, v.data(), 8, c, -1, &region, scratch)) << "face " << f;
+    EXPECT_FALSE(prove_depth_region(sdf, f, v.data(), 8, c, 0, &region, scratch)) << "face " << f;
+  }
+}
+
+// A plane's value is the distance to it: exact on a box's face, and never below the true depth.
+TEST(DepthRegion, PlaneValueOnABox) {
+  const SignedDistance sdf(make_box(Vec3(0, 0, 0), Vec3(2, 1, 1)));
+  std::vector<std::uint32_t> scratch;
+  const Vec3 c(1.0, 0.5, 0.3);
+  const std::array<Vec3, 8> v = cube(c, 0.1);
+  int proven = 0;
+  for (std::uint32_t f = 0; f < sdf.mesh().faces.size(); ++f) {
+    DepthRegion region;
+    if (!prove_depth_region(sdf, f, v.data(), 8, c, -1, &region, scratch)) continue;
+    ++proven;
+    EXPECT_EQ(region.n, 1);  // a convex solid: no neighbour rises above a face
+    const Vec3& n = sdf.planes()[f].n;
+    const double exact = (sdf.planes()[f].d - n.dot(c)) / n.norm();
+    EXPECT_NEAR(depth_region_value(sdf, region, c), exact, 1e-12);
+    EXPECT_GE(depth_region_value(sdf, region, c), exact - 1e-15);
+  }
+  EXPECT_EQ(proven, 12);  // every face (two per side)
+}
+
+}  // namespace
+}  // namespace cdbench
