@@ -313,11 +313,12 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
     if (result.cells + frontier.size() > options.max_cells || frontier.size() > options.max_frontier) break;
     const double r = round_up(half * kSqrt3Up);  // covering radius of a cell around its centre
     const double snapshot = best;
-    // The regions beyond faces cost more than the other bounds; where they seldom set a cell aside
-    // (under 1 % of the cells tried: parts without thin curved walls) a level tries them only on
-    // every 16th cell, to learn whether the next should: a decision from the previous level's
-    // counts, so the same for any thread count.
-    const bool regions_everywhere = regions_tried_before < 64 || 100 * regions_won_before >= regions_tried_before;
+    // The regions beyond faces cost more than the other bounds and help only on thin curved walls:
+    // a level tries them on every cell only when the previous one tried them on at least 64 and
+    // they set at least 1 % of those aside; otherwise on every 16th cell, to learn whether the
+    // next level should (a decision from the previous level's counts: the same for any thread
+    // count).
+    const bool regions_everywhere = regions_tried_before >= 64 && 100 * regions_won_before >= regions_tried_before;
     std::vector<Outcome> out(frontier.size());
     // Grain 1: after the first level the frontier holds 8-600 cells of 10 us to 1 ms each (armadillo),
     // which chunks of 64 gave to at most 9 threads (one below 65 cells).
