@@ -20,6 +20,9 @@ constexpr double kSqrt3Up = 1.7320508075688774;
 // Conditioning asked of two or three planes' common line or point (unit normals' Gram
 // determinant): their projections then stay near the cell.
 constexpr double kMinGram = 1e-12;
+// The computed projections on a line or point of planes whose Gram determinant is g are within
+// about 10 u (|x| + |levels|) / g of the exact ones; this factor covers that with margin.
+constexpr double kProjectionError = 1e-12;
 
 // A lower bound of |n| (n.n rounds by at most 3 u relative and the root by 1 u more).
 inline double norm_lower(const Vec3& n) { return std::sqrt(n.squaredNorm()) * (1.0 - 4e-15); }
@@ -33,6 +36,7 @@ struct Region {
   // Triples of planes that meet at one point (their normals independent), as bit masks.
   std::array<unsigned, 4> triples{};
   int nt = 0;
+  double gram = 1.0;  // the least Gram determinant of its pairs and triples
 
   Vec3 onto_plane(int i, const Vec3& x) const { return x + ((level[i] - n[i].dot(x)) / nn[i]) * n[i]; }
   Vec3 onto_line(int i, int j, const Vec3& x) const {
@@ -84,6 +88,8 @@ struct Region {
       const double c = unit.dot(u[i]);
       if (!(c > 0.0) || !(1.0 - c * c > kMinGram)) return false;  // within a right angle, not parallel
     }
+    double least = gram;
+    for (int i = 0; i < nf; ++i) least = std::min(least, 1.0 - unit.dot(u[i]) * unit.dot(u[i]));
     // Three planes whose normals are exactly dependent have no single common point; otherwise the
     // point must be well placed.
     std::array<unsigned, 4> more{};
@@ -93,12 +99,14 @@ struct Region {
         if (vectors_coplanar(n[i], n[j], nv)) continue;
         const double g = std::abs(u[i].dot(u[j].cross(unit)));
         if (!(g * g > kMinGram)) return false;
+        least = std::min(least, g * g);
         more[nm++] = (1u << i) | (1u << j) | (1u << nf);
       }
     if (nt + nm > 4) return false;
     for (int k = 0; k < nm; ++k) triples[nt++] = more[k];
     n[nf] = nv, u[nf] = unit, nn[nf] = q, level[nf] = lv;
     ++nf;
+    gram = least;
     return true;
   }
 };
@@ -199,7 +207,9 @@ bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec
     // The projections for the region reached must lie in the box checked, m0 inside it.
     projections_box(lo, hi);
     if (!lo.allFinite() || !hi.allFinite()) return false;
-    const double inner = hk - m0;
+    // The exact projections are within m0 of the computed ones (and within the conditioning's
+    // error where lines or points are involved): they lie in the box checked.
+    const double inner = hk - std::max(m0, kProjectionError * (mag + half + hk) / w.gram);
     if (((lo - cb).array() >= -inner).all() && ((hi - cb).array() <= inner).all()) {
       proven = true;
     } else {

@@ -314,16 +314,20 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
     const double r = round_up(half * kSqrt3Up);  // covering radius of a cell around its centre
     const double snapshot = best;
     // The regions beyond faces cost more than the other bounds and help only on thin curved walls:
-    // a level tries them on every cell only when the previous one tried them on at least 64 and
-    // they set at least 1 % of those aside; otherwise on every 16th cell, to learn whether the
-    // next level should (a decision from the previous level's counts: the same for any thread
-    // count).
-    const bool regions_everywhere = regions_tried_before >= 64 && 100 * regions_won_before >= regions_tried_before;
+    // every 16th cell of a level is evaluated first, with them; the others try them when those
+    // set at least 1 % of the cells they were tried on aside (any, below 16 tries), or when the
+    // previous level's cells did (counts over fixed cells: the same for any thread count).
+    const bool regions_before = regions_tried_before >= 64 ? 100 * regions_won_before >= regions_tried_before
+                                                           : regions_won_before > 0;
+    bool regions_everywhere = true;  // during the first pass, which holds only sampled cells
     std::vector<Outcome> out(frontier.size());
     // Grain 1: after the first level the frontier holds 8-600 cells of 10 us to 1 ms each (armadillo),
     // which chunks of 64 gave to at most 9 threads (one below 65 cells).
+    // Pass 0: the sampled cells (i % 16 == 0); pass 1: the others.
+    const auto evaluate = [&](int pass) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frontier.size(), 1), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        if ((i % 16 == 0) != (pass == 0)) continue;
         const Cell& cell = frontier[i];
         Outcome& o = out[i];
         // Discard without a full query when some triangle is close enough to the centre:
@@ -373,7 +377,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
           thread_local std::vector<std::uint32_t> nearest;
           nearest = ids;  // nearest first to the centre; refine reorders ids about its candidates
           refine(candidate, ids, rounds);
-          if (!(o.upper > std::max(snapshot, o.lower) + eps) || !(regions_everywhere || i % 16 == 0)) return;
+          if (!(o.upper > std::max(snapshot, o.lower) + eps) || !regions_everywhere) return;
           const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
           o.upper = std::min(o.upper, region_depth_bound(sdf, cell.center, -1, corners.data(), 8, nearest, snapshot + eps));
           o.regions_tried = true;
@@ -424,6 +428,14 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
         if (options.progress) progress.advance();
       }
     });
+    };
+    evaluate(0);
+    {
+      std::uint64_t tried = 0, won = 0;
+      for (std::size_t i = 0; i < out.size(); i += 16) tried += out[i].regions_tried, won += out[i].regions_won;
+      regions_everywhere = regions_before || (tried >= 16 ? 100 * won >= tried : won > 0);
+    }
+    evaluate(1);
 
     // The next level (eight cells for each kept one) is counted before it is built: one past the
     // safety stops is never built (its cells would only carry their parents' bounds, which the stop
