@@ -8,6 +8,9 @@
 //       WALL sqrt(3) / (1 + sqrt(3)) deep (e.g. housing.off box 200 100 50 1)
 //   make_hollow_shell OUT.off tube R_IN R_OUT LENGTH N    make_tube: an open-ended tube of N
 //       facets, its wall R_OUT - R_IN thick (e.g. tube.off tube 0.98 1 4 64)
+//   make_hollow_shell OUT.off torus R A RATIO NU NV    make_torus(R, A, NU, NV) and the same with
+//       minor radius RATIO A: a ring-shaped shell, its wall curved both ways (e.g. ring.off torus 2
+//       0.5 0.98 200 24)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -21,10 +24,12 @@
 int main(int argc, char** argv) {
   return guarded_main("make_hollow_shell", [](int argc, char** argv) {
     const std::string kind = argc > 2 ? argv[2] : "";
-    if (!((kind == "sphere" && argc == 5) || (kind == "box" && argc == 7) || (kind == "tube" && argc == 7))) {
+    if (!((kind == "sphere" && argc == 5) || (kind == "box" && argc == 7) || (kind == "tube" && argc == 7) ||
+          (kind == "torus" && argc == 8))) {
       std::fprintf(stderr, "usage: make_hollow_shell OUT.off sphere K RATIO\n"
                            "       make_hollow_shell OUT.off box X Y Z WALL\n"
-                           "       make_hollow_shell OUT.off tube R_IN R_OUT LENGTH N\n");
+                           "       make_hollow_shell OUT.off tube R_IN R_OUT LENGTH N\n"
+                           "       make_hollow_shell OUT.off torus R A RATIO NU NV\n");
       return 2;
     }
     if (kind == "tube") {
@@ -37,7 +42,15 @@ int main(int argc, char** argv) {
       return 0;
     }
     cdbench::TriangleMesh solid, cavity;
-    if (kind == "sphere") {
+    if (kind == "torus") {
+      const double major = std::stod(argv[3]), minor = std::stod(argv[4]), ratio = std::stod(argv[5]);
+      const int nu = std::stoi(argv[6]), nv = std::stoi(argv[7]);
+      if (!(minor > 0.0 && minor < major && std::isfinite(major)) || !(ratio > 0.0 && ratio < 1.0) || nu < 3 ||
+          nv < 3 || nu > 100000 || nv > 100000)
+        throw std::invalid_argument("need 0 < A < R, RATIO in (0, 1) and NU, NV in [3, 100000]");
+      solid = cdbench::make_torus(major, minor, nu, nv);
+      cavity = cdbench::make_torus(major, ratio * minor, nu, nv);
+    } else if (kind == "sphere") {
       const int k = std::stoi(argv[3]);
       const double ratio = std::stod(argv[4]);
       if (!(ratio > 0.0 && ratio < 1.0) || k < 0 || k > 7)

@@ -239,6 +239,36 @@ TEST(MaxPenetration, FacetedTubeWallByItsFacetsRegions) {
   }
 }
 
+// A ring-shaped shell (a torus and a smaller one as its cavity: a wall 0.05 thick, curved both
+// ways): cubes wider than the wall cross one side and reach past its mid-surface, where only the
+// other side bounds the depth; the slab's part of the cube bounded with the triangles near its centre
+// and the regions beyond faces sets them aside (without: 97,000 cells at this tolerance).
+TEST(MaxPenetration, HollowTorusCubesAcrossOneSideByTheirPart) {
+  TriangleMesh m = make_torus(1.0, 0.5, 24, 12), cavity = make_torus(1.0, 0.45, 24, 12);
+  for (auto& f : cavity.faces) std::swap(f[1], f[2]);
+  m = merge_meshes(m, cavity);
+  MaxPenetrationOptions o;
+  o.progress = false;
+  o.relative_tolerance = 1e-3;
+  o.max_cells = 80000;
+  const SignedDistance sdf(m);
+  const auto r = certified_max_penetration(sdf, o);
+  EXPECT_TRUE(r.tolerance_reached) << r.cells << " cells";
+  EXPECT_LE(r.depth.width(), o.relative_tolerance * m.bbox().diagonal());
+  // Half the wall between parallel facets, and at most half the gap between the smooth tori.
+  EXPECT_LE(r.depth.lo, 0.025);
+  EXPECT_GE(r.depth.hi, 0.025 * std::cos(M_PI / 12) * std::cos(M_PI / 24));
+  expect_no_sample_deeper(m, r);
+  // Points of the mid-surface (the torus of minor radius 0.475) are no deeper than the upper end.
+  for (int i = 0; i < 48; ++i)
+    for (int j = 0; j < 24; ++j) {
+      const double u = 2 * M_PI * (i + 0.5) / 48, v = 2 * M_PI * (j + 0.25) / 24;
+      const Vec3 p((1.0 + 0.475 * std::cos(v)) * std::cos(u), (1.0 + 0.475 * std::cos(v)) * std::sin(u),
+                   0.475 * std::sin(v));
+      EXPECT_LE(-sdf.signed_distance(p).hi, r.depth.hi) << p.transpose();
+    }
+}
+
 TEST(MaxPenetration, CoarseToleranceIsHonoured) {
   const TriangleMesh m = make_icosphere(1.0, 3);
   const auto r = run(m, 1e-2);
