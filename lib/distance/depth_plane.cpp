@@ -24,8 +24,9 @@ constexpr double kMinGram = 1e-12;
 // about 10 u (|x| + |levels|) / g of the exact ones; this factor covers that with margin.
 constexpr double kProjectionError = 1e-12;
 
-// A lower bound of |n| (n.n rounds by at most 3 u relative and the root by 1 u more).
+// Bounds of |n| (n.n rounds by at most 3 u relative and the root by 1 u more).
 inline double norm_lower(const Vec3& n) { return std::sqrt(n.squaredNorm()) * (1.0 - 4e-15); }
+inline double norm_upper(const Vec3& n) { return std::sqrt(n.squaredNorm()) * (1.0 + 4e-15); }
 
 // W's planes at their levels, and the projections (plain doubles: they place boxes and pick points,
 // whose use is checked rigorously).
@@ -147,17 +148,21 @@ bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec
     }
     return t;
   };
-  // The first face at its own level (its points have n.y <= d + eps) or above P: P lies below it.
-  if (!w.add(pl.n, std::max(round_up(pl.d + pl.eps), top(pl.n)))) return false;
+  // The first face at its own level (its points have n.y <= d + eps): P lies below it, or crosses it.
+  const double own_level = round_up(pl.d + pl.eps);
+  const bool crossing = top(pl.n) > own_level;
+  if (!w.add(pl.n, own_level)) return false;
   r.face[0] = face;
   r.n = 1;
-  // The box of the projections of P's corners.
+  r.crossing = crossing;
+  // The box of the projections of P's corners (and of the corners, for a crossing region).
   const auto projections_box = [&](Vec3& lo, Vec3& hi) {
     lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
     std::array<Vec3, 14> q;
     for (int k = 0; k < n; ++k) {
       const int m = w.candidates(points[k], q);
       for (int j = 0; j < m; ++j) lo = lo.cwiseMin(q[j]), hi = hi.cwiseMax(q[j]);
+      if (crossing) lo = lo.cwiseMin(points[k]), hi = hi.cwiseMax(points[k]);
     }
   };
   Vec3 lo, hi;
@@ -200,8 +205,9 @@ bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec
       if (!std::isfinite(s[raise])) return false;
       w.level[raise] = s[raise];
     }
-    // P must lie below some face's level (then no point of it is inside W).
-    bool below_one = false;
+    // P must lie below some face's level (then no point of it is inside W), unless it is crossing
+    // (then B holds P: its interior points of the solid are not in int W).
+    bool below_one = crossing;
     for (int i = 0; i < w.nf && !below_one; ++i) below_one = top(w.n[i]) <= w.level[i];
     if (!below_one) return false;
     // The projections for the region reached must lie in the box checked, m0 inside it.
@@ -243,11 +249,22 @@ double depth_region_value(const SignedDistance& sdf, const DepthRegion& region, 
     const Vec3& nv = sdf.planes()[region.face[0]].n;
     const PlaneOffset o = plane_offset(nv, 0.0, x);
     const double num = round_up(region.level[0] - round_down(o.value - o.error));
+    if (region.crossing && num < 0.0) return round_up(num / norm_upper(nv));
     if (!(num > 0.0)) return 1e-300;
     return std::max(1e-300, round_up(num / norm_lower(nv)));
   }
   Region w;
   if (!make_region(sdf, region, w)) return kInf;
+  if (region.crossing && w.inside(x, false)) {
+    // Inside W: the signed distance, -(the distance to W's boundary) = max_i (H_i - n_i.x) / |n_i|.
+    double v = -kInf;
+    for (int i = 0; i < w.nf; ++i) {
+      const PlaneOffset o = plane_offset(w.n[i], 0.0, x);
+      const double num = round_up(w.level[i] - round_down(o.value - o.error));  // <= 0
+      v = std::max(v, round_up(num / norm_upper(w.n[i])));
+    }
+    return v;
+  }
   // Any point of W bounds the distance to it; the nearest candidate proven in W is tight (the
   // candidates nearest first: the first in W is the nearest point, up to the push).
   std::array<Vec3, 14> q;

@@ -22,6 +22,12 @@
 // fewer than four are in and its plane is well placed; otherwise the level it exceeds least rises
 // to it. Where a face's neighbours bend away from the solid (a convex edge), one face at its own
 // level suffices.
+//
+// A cell across the face's plane (some point of P above the face's own level): B must also hold P.
+// Then no interior point x of the solid in P lies in B n int W = R (outside), so dist(x, F) <=
+// dist(x, W) = sd(x), W's signed distance (negative in W: minus the distance to its boundary), which
+// is convex as W is; for one face the affine (H - n.x) / |n|. Negative where the cell reaches into
+// W, the member cuts the cell there as a clip would (doc/distance.md, "Regions beyond faces").
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -35,6 +41,7 @@ struct DepthRegion {
   std::array<std::uint32_t, kMaxFaces> face{};
   std::array<double, kMaxFaces> level{};  // H_i, for the face's plane normal n_i = planes()[face].n
   int n = 0;
+  bool crossing = false;  // the cell reaches into W: its member is W's signed distance
 };
 
 // Tries to prove the bound above from `face` (grown as said) for the hull of points[0..n)
@@ -44,8 +51,8 @@ struct DepthRegion {
 bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec3* points, int n, const Vec3& ref,
                         int ref_side, DepthRegion* out, std::vector<std::uint32_t>& scratch);
 
-// A certified upper end of dist(x, W) (at least 1e-300: members of minimax_bound are positive), for x
-// outside W's interior: the distance to a point proven in W.
+// A certified upper end of dist(x, W) (at least 1e-300), for x outside W's interior: the distance to
+// a point proven in W. For a crossing region, of W's signed distance (any sign).
 double depth_region_value(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x);
 
 // Points of the region's edges (lines common to two faces, where its distance is not affine) near

@@ -73,15 +73,15 @@ double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_si
   std::array<std::uint32_t, kRegionFaces> tried{};
   std::array<DepthRegion, kRegionFaces> regions;
   std::size_t nt = 0, nr = 0;
+  // (Heuristic: a face's region is seldom worth proving again from a face in the same plane.)
   const auto coplanar = [&](std::uint32_t f, std::uint32_t g) {
     const TrianglePlane &pf = sdf.planes()[f], &pg = sdf.planes()[g];
-    return (pf.n - pg.n).cwiseAbs().maxCoeff() <= 1e-12 && std::abs(pf.d - pg.d) <= 1e-12 * (1.0 + std::abs(pf.d));
+    const double lf = pf.n.norm(), lg = pg.n.norm();
+    if (!(lf > 0.0) || !(lg > 0.0)) return false;
+    return (pf.n / lf - pg.n / lg).cwiseAbs().maxCoeff() <= 1e-12 &&
+           std::abs(pf.d / lf - pg.d / lg) <= 1e-12 * (1.0 + std::abs(pf.d / lf));
   };
   const auto try_face = [&](std::uint32_t f) {
-    // A face whose plane the cube crosses: its region would rise above the cube (heuristic).
-    const TrianglePlane& pf = sdf.planes()[f];
-    for (int k = 0; k < n; ++k)
-      if (pf.n.dot(points[k]) - pf.d > pf.eps) return false;
     for (std::size_t j = 0; j < nt; ++j)
       if (coplanar(f, tried[j])) return false;  // the other half of a quad
     for (std::size_t j = 0; j < nr; ++j)       // a face a region grew to
@@ -100,14 +100,23 @@ double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_si
   if (nr == 0) return kInf;
   const std::size_t ntri = std::min(ids.size(), kRegionTriangles);
   const std::size_t M = ntri + nr;
-  // The minimax bound over points q[0..nq) (nq <= 16), plus err.
+  // The minimax bound over points q[0..nq) (nq <= 16), plus err. Crossing regions' members are
+  // negative above their faces: all members are raised by `shift` (at least their most negative
+  // value's size) for minimax_bound, whose weighted means are of positive values, and lowered after.
   const auto bound_over = [&](const Vec3* q, int nq, double err) {
     std::array<double, 16 * 16> D;
+    double least = 0.0;
     for (int k = 0; k < nq; ++k) {
       for (std::size_t j = 0; j < ntri; ++j) D[k * M + j] = point_triangle_distance_upper_near(q[k], sdf.mesh(), ids[j]);
-      for (std::size_t j = 0; j < nr; ++j) D[k * M + ntri + j] = depth_region_value(sdf, regions[j], q[k]);
+      for (std::size_t j = 0; j < nr; ++j) {
+        D[k * M + ntri + j] = depth_region_value(sdf, regions[j], q[k]);
+        least = std::min(least, D[k * M + ntri + j]);
+      }
     }
-    return round_up(minimax_bound(D.data(), nq, static_cast<int>(M)) + err);
+    if (!(least < 0.0)) return round_up(minimax_bound(D.data(), nq, static_cast<int>(M)) + err);
+    const double shift = round_up(-least * (1.0 + 1e-12) + 1e-300);
+    for (int i = 0; i < nq * static_cast<int>(M); ++i) D[i] = round_up(D[i] + shift);
+    return round_up(round_up(minimax_bound(D.data(), nq, static_cast<int>(M)) - shift) + err);
   };
   const double bound = bound_over(points, n, err);
   if (!(bound > enough) || !cube) return bound;
@@ -131,6 +140,24 @@ double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_si
     }
     for (int e = 0; e < m && ncut < t.size() - 1; ++e) t[ncut++] = b.dot(edge[static_cast<std::size_t>(e)]);
   }
+  // Two crossing regions' planes meet along an edge of F across the cube (a convex edge: each face's
+  // member is tight on its side of their bisector): cut there too.
+  for (std::size_t i = 0; i < nr; ++i)
+    for (std::size_t j = i + 1; j < nr && ncut < t.size() - 1; ++j) {
+      if (!regions[i].crossing || !regions[j].crossing) continue;
+      const TrianglePlane &pi = sdf.planes()[regions[i].face[0]], &pj = sdf.planes()[regions[j].face[0]];
+      const Vec3 ui = pi.n / pi.n.norm(), uj = pj.n / pj.n.norm();
+      const Vec3 dir = ui.cross(uj);
+      if (!(dir.squaredNorm() > 1e-12)) continue;
+      // The point of the two planes (at their levels) nearest to the centre.
+      const double ai = regions[i].level[0] / pi.n.norm(), aj = regions[j].level[0] / pj.n.norm();
+      const double g = ui.dot(uj), det = 1.0 - g * g;
+      const double ri = ai - ui.dot(centre), rj = aj - uj.dot(centre);
+      const Vec3 p = centre + ((ri - rj * g) / det) * ui + ((rj - ri * g) / det) * uj;
+      if (!((p - centre).cwiseAbs().maxCoeff() <= 0.5 * (points[7] - points[0]).maxCoeff())) continue;
+      if (b == Vec3::Zero()) b = ui - uj;
+      t[ncut++] = b.dot(p);
+    }
   if (ncut == 1) return bound;
   t[ncut++] = kInf;
   std::sort(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(ncut));

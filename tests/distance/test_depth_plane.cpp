@@ -56,20 +56,68 @@ TEST(DepthRegion, BoundsTheDepthInATubesWall) {
   EXPECT_GT(checked, 1000);
 }
 
-// Faces that face into the solid (a box with its faces turned): the region beyond them is inside,
-// and no proof passes.
-TEST(DepthRegion, RefusedWhereTheRegionIsInside) {
+// Faces that face into the solid (a box with its faces turned): the region beyond a face is inside
+// at its own level, so a proof passes only where its level rose to a region that is outside (beyond
+// the opposite face, across the cube), whose value then bounds the depth of the cube's points.
+TEST(DepthRegion, RegionsBeyondInwardFacesOnlyWhereOutside) {
   TriangleMesh m = make_box(Vec3(0, 0, 0), Vec3(1, 1, 1));
   for (auto& f : m.faces) std::swap(f[1], f[2]);
   const SignedDistance sdf(m);
   std::vector<std::uint32_t> scratch;
   const Vec3 c(0.5, 0.5, 0.2);
   const std::array<Vec3, 8> v = cube(c, 0.05);
-  for (std::uint32_t f = 0; f < m.faces.size(); ++f) {
-    DepthRegion region;
-    EXPECT_FALSE(prove_depth_region(sdf, f, v.data(), 8, c, -1, &region, scratch)) << "face " << f;
-    EXPECT_FALSE(prove_depth_region(sdf, f, v.data(), 8, c, 0, &region, scratch)) << "face " << f;
+  for (std::uint32_t f = 0; f < m.faces.size(); ++f)
+    for (int ref_side : {-1, 0}) {
+      DepthRegion region;
+      if (!prove_depth_region(sdf, f, v.data(), 8, c, ref_side, &region, scratch)) continue;
+      const Vec3& n = sdf.planes()[f].n;
+      EXPECT_GT(region.level[0], sdf.planes()[f].d + 0.5 * n.norm()) << "face " << f;  // risen across
+      for (int k = 0; k < 27; ++k) {
+        const Vec3 x = c + 0.05 * Vec3(k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1);
+        EXPECT_LE(sdf.unsigned_distance(x).lo, depth_region_value(sdf, region, x)) << "face " << f;
+      }
+    }
+}
+
+// A cube across a face (a box's top; a tube's bore, where the region grows over the bore's facets):
+// the proof passes with the cube reaching into W, whose signed distance is negative there and bounds
+// the depth of the cube's inside points.
+TEST(DepthRegion, CrossingCubesSignedMember) {
+  const auto check = [](const SignedDistance& sdf, const Vec3& c, double h, int* proven, int* grown) {
+    std::vector<std::uint32_t> near, scratch;
+    const std::array<Vec3, 8> v = cube(c, h);
+    sdf.triangles_within(c, 2 * h, 64, near);
+    for (std::uint32_t f : near) {
+      DepthRegion region;
+      if (!prove_depth_region(sdf, f, v.data(), 8, c, -1, &region, scratch) || !region.crossing) continue;
+      ++*proven;
+      *grown += region.n > 1;
+      int negative = 0;
+      for (int k = 0; k < 125; ++k) {
+        const Vec3 x = c + 0.5 * h * Vec3(k % 5 - 2, k / 5 % 5 - 2, k / 25 - 2);
+        const double value = depth_region_value(sdf, region, x);
+        const int side = sdf.side(x);
+        negative += value < 0.0;
+        if (side < 0) {
+          EXPECT_LE(sdf.unsigned_distance(x).lo, value) << x.transpose() << " face " << f;
+        }
+        if (value < 0.0) {
+          EXPECT_GE(side, 0) << x.transpose() << " face " << f;  // W is outside
+        }
+      }
+      EXPECT_GT(negative, 0) << "face " << f;
+    }
+  };
+  int proven = 0, grown = 0;
+  check(SignedDistance(make_box(Vec3(0, 0, 0), Vec3(2, 1, 1))), Vec3(1.0, 0.5, 0.98), 0.05, &proven, &grown);
+  EXPECT_EQ(proven, 2);  // the top's two triangles
+  EXPECT_EQ(grown, 0);
+  const SignedDistance tube(make_tube(0.98, 1.0, 4.0, 256));
+  for (int k = 0; k < 8; ++k) {
+    const double a = 0.7 * k + 0.1;
+    check(tube, Vec3(0.982 * std::cos(a), 0.982 * std::sin(a), 1.0 + 0.3 * k), 0.004, &proven, &grown);
   }
+  EXPECT_GT(grown, 4);  // the bore's regions grow over the facets bending back
 }
 
 // A plane's value is the distance to it: exact on a box's face, and never below the true depth.
