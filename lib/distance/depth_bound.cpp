@@ -337,10 +337,10 @@ double minimax_bound(const double* D, int K, int M, std::vector<double>* weights
 double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius, const Vec3* corners, int n_corners,
                          std::vector<std::uint32_t>& ids, Vec3* candidate, const Vec3* plane_normal, int* worst_corner,
                          TranslatedDepthBound* moments, double coplanar_slack, DepthWeights weights,
-                         DepthWitness* witness, CornerDistances* computed, const Vec3* cover_box) {
+                         DepthWitness* witness, CornerDistances* computed) {
   sdf.triangles_within(c, radius, max_triangles(weights) - 1, ids);  // stops after max_triangles
   return depth_upper_bound_among(sdf, c, ids, corners, n_corners, candidate, plane_normal, worst_corner, moments,
-                                 coplanar_slack, weights, witness, computed, cover_box);
+                                 coplanar_slack, weights, witness, computed);
 }
 
 double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids,

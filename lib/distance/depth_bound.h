@@ -79,7 +79,7 @@ double depth_upper_bound(const SignedDistance& sdf, const Vec3& c, double radius
                          const Vec3* plane_normal = nullptr, int* worst_corner = nullptr,
                          TranslatedDepthBound* moments = nullptr, double coplanar_slack = 0.0,
                          DepthWeights weights = DepthWeights::converged, DepthWitness* witness = nullptr,
-                         CornerDistances* computed = nullptr, const Vec3* cover_box = nullptr);
+                         CornerDistances* computed = nullptr);
 // The same bound from the triangles `ids` (any set; it should hold the nearest ones of the cell's
 // points to be tight), of which the nearest 49 to c are kept (16 with sparse weights): `ids` is
 // reordered nearest first and cut to those used. depth_upper_bound is triangles_within then this.

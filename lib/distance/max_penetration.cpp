@@ -57,18 +57,18 @@ constexpr std::size_t kRegionFaces = 6;
 // Triangle members with them (minimax_bound takes at most 16 members).
 constexpr std::size_t kRegionTriangles = 16 - kRegionFaces;
 
-// The minimax bound over points (a cube's corners, cube; or the hull holding a cube's interior
-// points of the solid within err) with the regions
-// beyond the nearest faces of `ids` (nearest first) that bound the depth there, besides the
-// triangles' distances: on a curved thin wall the facets' distances grow past their edges
-// quadratically in the cell's size over the wall's half thickness; the regions' distances are
-// exact across edges where the solid is convex, and convex across those where it is concave, where
-// a cube is cut into slices. +inf when no region is proven. ref: a point of the cube whose side is
-// ref_side (+-1; 0: not known), from which the regions' outside points are reached.
+// The minimax bound over the cube's corners with the regions beyond the nearest faces of `ids`
+// (nearest first) that bound the depth there, besides the triangles' distances: on a curved thin
+// wall the facets' distances grow past their edges quadratically in the cell's size over the wall's
+// half thickness; the regions' distances are exact across edges where the solid is convex, and
+// convex across those where it is concave, where the cube is cut into slices. A region whose face
+// the cube crosses bounds by its signed distance, negative where the cube reaches into it (outside).
+// +inf when no region is proven. ref: a point of the cube whose side is ref_side (+-1; 0: not
+// known), from which the regions' outside points are reached.
 double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_side, const Vec3* points, int n,
-                          double err, bool cube, const std::vector<std::uint32_t>& ids, double enough) {
+                         const std::vector<std::uint32_t>& ids, double enough) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  if (n < 1 || n > 16) return kInf;
+  if (n != 8) return kInf;
   thread_local std::vector<std::uint32_t> scratch;
   std::array<std::uint32_t, kRegionFaces> tried{};
   std::array<DepthRegion, kRegionFaces> regions;
@@ -118,8 +118,8 @@ double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_si
     for (int i = 0; i < nq * static_cast<int>(M); ++i) D[i] = round_up(D[i] + shift);
     return round_up(round_up(minimax_bound(D.data(), nq, static_cast<int>(M)) - shift) + err);
   };
-  const double bound = bound_over(points, n, err);
-  if (!(bound > enough) || !cube) return bound;
+  const double bound = bound_over(points, n, 0.0);
+  if (!(bound > enough)) return bound;
   // A region's distance is convex across its edges, where the depth may peak (a tube's seam, the
   // outer faces' edge above it): the cube is cut into slices by planes through those edges, normal
   // to the first edge's bisector (any planes are valid; these make each slice's region distances
@@ -189,18 +189,6 @@ double convexity_bound(const SignedDistance& sdf, const Vec3& c, double h, doubl
   return bound;
 }
 
-// The min-norm convexity bound over a cube's part: points within err of a convex set holding the
-// cube's interior points of the solid (planar patches decided on the cube, whose corners are `box`).
-// Its weights and candidate steer the regions tried after it; the minimax weights seldom set a part
-// aside where the regions do not (a thin wall's facets), so they are not tried.
-double part_convexity_bound(const SignedDistance& sdf, const Vec3& c, double radius, const std::array<Vec3, 8>& box,
-                            const SlabCut& part, std::vector<std::uint32_t>& ids, Vec3& candidate,
-                            double coplanar_slack) {
-  const double bound = depth_upper_bound(sdf, c, radius, part.q.data(), part.n, ids, &candidate, nullptr, nullptr,
-                                         nullptr, coplanar_slack, DepthWeights::converged, nullptr, nullptr, box.data());
-  return round_up(bound + part.err);
-}
-
 // Triangles near a cube for slab_depth_bound: beyond this many its slab is seldom thin.
 constexpr std::size_t kMaxSlabTriangles = 32;
 
@@ -226,14 +214,11 @@ constexpr std::size_t kMaxSlabTriangles = 32;
 // centre_side: the centre's certified side (+-1) when it is off F, else 0. deep / deep_lower: a point
 // midway through a wall proven outside on both sides, on an edge of K crossing both planes, and its
 // certified depth (-1 if none; tried only where it could exceed `enough`).
-// part: K's cut (its points within err hold K's interior points of the solid), when one was made
-// and bounded (n >= 1), else n = -1: a caller may bound it with other members.
 double slab_depth_bound(const SignedDistance& sdf, const Vec3& c, double half, double reach, int centre_side,
                         double coplanar_slack, double enough, std::vector<std::uint32_t>& ids, Vec3* deep,
-                        double* deep_lower, SlabCut* part) {
+                        double* deep_lower) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   *deep_lower = -1.0;
-  part->n = -1;
   if (!sdf.triangles_within(c, reach, kMaxSlabTriangles, ids) || ids.empty()) return kInf;
   // K's box about c, its corners' rounding included.
   const double hk = round_up(half + 4e-16 * (c.cwiseAbs().maxCoeff() + half));
@@ -303,7 +288,6 @@ double slab_depth_bound(const SignedDistance& sdf, const Vec3& c, double half, d
   if (!cut_by_slab(v.data(), ov.data(), 8, kBoxEdges.data(), 12, cut_hi ? h : kInf, cut_lo ? l : -kInf, cut))
     return kInf;
   if (cut.n == 0) return 0.0;  // no point of K inside F
-  *part = cut;
   Vec3 centroid = Vec3::Zero();
   for (int k = 0; k < cut.n; ++k) centroid += cut.q[k];
   centroid /= cut.n;
@@ -417,15 +401,15 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
         // A cell the triangles' bounds keep: its candidates first (while they keep it, as without
         // the regions: cells set aside early would not refine the deepest point, on which every
         // level's pruning depends), then the regions beyond its nearest faces.
-        // points: the cube's corners (cube), else a hull holding its interior points of F within err.
-        const auto regions = [&](const Vec3& candidate, std::vector<std::uint32_t>& ids, int rounds, const Vec3* points,
-                                 int n, double err, bool cube) {
+        const auto regions = [&](const Vec3& candidate, std::vector<std::uint32_t>& ids, int rounds) {
           if (!(o.upper > snapshot + eps)) return;
           thread_local std::vector<std::uint32_t> nearest;
           nearest = ids;  // nearest first to the centre; refine reorders ids about its candidates
           refine(candidate, ids, rounds);
           if (!(o.upper > std::max(snapshot, o.lower) + eps) || !regions_everywhere) return;
-          o.upper = std::min(o.upper, region_depth_bound(sdf, cell.center, d.lo > 0.0 ? o.sign : 0, points, n, err, cube, nearest, snapshot + eps));
+          const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
+          o.upper = std::min(o.upper, region_depth_bound(sdf, cell.center, d.lo > 0.0 ? o.sign : 0, corners.data(), 8,
+                                                         nearest, snapshot + eps));
           o.regions_tried = true;
           o.regions_won = !(o.upper > snapshot + eps);
         };
@@ -441,8 +425,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
             o.upper = std::min(o.upper,
                                convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate, 0.25 * eps,
                                                snapshot + eps));
-            const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
-            regions(candidate, ids, kCandidateRounds, corners.data(), 8, 0.0, true);
+            regions(candidate, ids, kCandidateRounds);
           }
         } else {
           o.upper = round_up(r - d.lo);  // a point inside at distance <= r crosses the surface first
@@ -454,33 +437,22 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
           const double reach = round_up(r + 1e-15 * (cell.center.cwiseAbs().maxCoeff() + half));
           Vec3 deep;
           double deep_lower;
-          SlabCut part;
           o.upper = std::min(o.upper, slab_depth_bound(sdf, cell.center, half, reach, d.lo > 0.0 ? o.sign : 0,
-                                                       0.25 * eps, snapshot + eps, ids, &deep, &deep_lower, &part));
+                                                       0.25 * eps, snapshot + eps, ids, &deep, &deep_lower));
           if (deep_lower > o.lower) {
             o.lower = deep_lower;
             o.point = deep;
           }
-          // A cube which may reach F: the faces' regions bound the depth of its interior points
-          // whatever its other points are (distance/depth_plane.h). Its candidate deep point too:
-          // cubes across a curved wall reach its mid-surface before cubes inside it do, and the
-          // deepest point found decides which cells are kept. Where the slab cut the cube, its kept
-          // part is bounded instead of the cube (whatever the centre's side), with the triangles
-          // near the centre: a cube across one side of a wall reaches past its mid-surface, where
-          // only the other side's triangles, beyond the slab's reach, bound the depth.
-          if (o.upper > snapshot + eps && (o.sign < 0 || (part.n >= 1 && part.n <= 16))) {
+          // A cube whose centre is inside but which may reach F: the faces' regions bound the
+          // depth of its interior points whatever its other points are (distance/depth_plane.h),
+          // those whose face it crosses cutting it there. Its candidate deep point too: cubes
+          // across a curved wall reach its mid-surface before cubes inside it do, and the deepest
+          // point found decides which cells are kept.
+          if (o.upper > snapshot + eps && o.sign < 0) {
             Vec3 candidate;
-            const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
-            const double radius = round_up(d.hi + 2 * r);
-            if (part.n >= 1 && part.n <= 16) {
-              o.upper = std::min(o.upper, part_convexity_bound(sdf, cell.center, radius, corners, part, ids, candidate,
-                                                               0.25 * eps));
-              regions(candidate, ids, 0, part.q.data(), part.n, part.err, false);
-            } else {
-              o.upper = std::min(o.upper, convexity_bound(sdf, cell.center, half, radius, ids, candidate, 0.25 * eps,
-                                                          snapshot + eps));
-              regions(candidate, ids, 0, corners.data(), 8, 0.0, true);
-            }
+            o.upper = std::min(o.upper, convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate,
+                                                        0.25 * eps, snapshot + eps));
+            regions(candidate, ids, 0);
           }
         }
         o.keep = o.upper > snapshot + eps;

@@ -240,10 +240,10 @@ TEST(MaxPenetration, FacetedTubeWallByItsFacetsRegions) {
 }
 
 // A ring-shaped shell (a torus and a smaller one as its cavity: a wall 0.05 thick, curved both
-// ways): cubes wider than the wall cross one side and reach past its mid-surface, where only the
-// other side bounds the depth; the slab's part of the cube bounded with the triangles near its centre
-// and the regions beyond faces sets them aside (without: 97,000 cells at this tolerance).
-TEST(MaxPenetration, HollowTorusCubesAcrossOneSideByTheirPart) {
+// ways): cubes as wide as the wall cross one side and reach past its mid-surface, where only the
+// other side bounds the depth; the regions beyond the faces they cross, whose signed distances cut
+// them there, set them aside (61,000 cells at this tolerance; 97,000 without those regions).
+TEST(MaxPenetration, HollowTorusCubesAcrossOneSideByCrossingRegions) {
   TriangleMesh m = make_torus(1.0, 0.5, 24, 12), cavity = make_torus(1.0, 0.45, 24, 12);
   for (auto& f : cavity.faces) std::swap(f[1], f[2]);
   m = merge_meshes(m, cavity);
