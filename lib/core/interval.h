@@ -29,4 +29,12 @@ inline double round_up(double x) {
 }
 inline double round_down(double x) { return -round_up(-x); }
 
+// sqrt(3) rounded up (the nearest double is below it): a cube's covering radius over its half side.
+constexpr double kSqrt3Up = 1.7320508075688774;
+
+// Bounds of |v| for a 3-vector v from its computed squared norm q = fl(v.v): q carries three
+// roundings (at most 3 u relative) and the root one more.
+inline double norm3_lower(double q) { return std::sqrt(q) * (1.0 - 4e-15); }
+inline double norm3_upper(double q) { return std::sqrt(q) * (1.0 + 4e-15); }
+
 }  // namespace cdbench

@@ -15,8 +15,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kMaxFaces = DepthRegion::kMaxFaces;
 // Beyond this many triangles near the box the neighbourhood is not a wall's few faces.
 constexpr std::size_t kMaxNear = 48;
-// sqrt(3) rounded up (the nearest double is below it).
-constexpr double kSqrt3Up = 1.7320508075688774;
 // Conditioning asked of two or three planes' common line or point (unit normals' Gram
 // determinant): their projections then stay near the cell.
 constexpr double kMinGram = 1e-12;
@@ -24,9 +22,8 @@ constexpr double kMinGram = 1e-12;
 // about 10 u (|x| + |levels|) / g of the exact ones; this factor covers that with margin.
 constexpr double kProjectionError = 1e-12;
 
-// Bounds of |n| (n.n rounds by at most 3 u relative and the root by 1 u more).
-inline double norm_lower(const Vec3& n) { return std::sqrt(n.squaredNorm()) * (1.0 - 4e-15); }
-inline double norm_upper(const Vec3& n) { return std::sqrt(n.squaredNorm()) * (1.0 + 4e-15); }
+inline double norm_lower(const Vec3& n) { return norm3_lower(n.squaredNorm()); }
+inline double norm_upper(const Vec3& n) { return norm3_upper(n.squaredNorm()); }
 
 // W's planes at their levels, and the projections (plain doubles: they place boxes and pick points,
 // whose use is checked rigorously).

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <vector>
 
+#include "core/interval.h"
 #include "distance/depth_bound.h"
 #include "distance/depth_plane.h"
 #include "distance/point_triangle_distance.h"
@@ -302,8 +303,6 @@ double slab_depth_bound(const SignedDistance& sdf, const Vec3& c, double half, d
 // Candidates of a deep point refined from the previous candidate, per kept cell (see the loop).
 constexpr int kCandidateRounds = 6;
 
-// sqrt(3) rounded up to a double (the nearest double is below sqrt(3)).
-constexpr double kSqrt3Up = 1.7320508075688774;
 
 }  // namespace
 

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "core/interval.h"
+
 namespace cdbench {
 
 int projected_side(const Vec3& a, const Vec3& b, const Vec3& x, const Vec3& n) {
@@ -128,8 +130,7 @@ bool patch_covers_cell(const TriangleMesh& mesh, const std::vector<std::uint32_t
 
 double patch_distance_bound(const TrianglePlane& plane, double eta, const Vec3& x) {
   const PlaneOffset o = plane_offset(plane.n, plane.d, x);
-  // |n| >= sqrt(fl(n.n)) (1 - 4e-15): n.n carries three roundings, the square root one more.
-  const double n_lo = std::sqrt(plane.n.squaredNorm()) * (1.0 - 4e-15);
+  const double n_lo = norm3_lower(plane.n.squaredNorm());
   return round_up(round_up(std::abs(o.value) + o.error + eta) / n_lo * (1.0 + 1e-15));
 }
 

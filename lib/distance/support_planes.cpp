@@ -39,10 +39,8 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
     p.n = pl.n;
     p.d = pl.d;
     p.e = e;
-    // n.n rounds by at most 3 u relative and the root by 1 u more.
-    const double r = std::sqrt(pl.n.squaredNorm());
-    p.norm_lo = r * (1.0 - 4e-15);
-    p.norm_up = r * (1.0 + 4e-15);
+    p.norm_lo = norm3_lower(pl.n.squaredNorm());
+    p.norm_up = norm3_upper(pl.n.squaredNorm());
     found.push_back(p);
   }
   S.convex_ = all;

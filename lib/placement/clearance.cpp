@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/interval.h"
 #include "distance/depth_bound.h"
 #include "distance/point_triangle_distance.h"
 #include "distance/slab_cut.h"
@@ -49,8 +50,7 @@ inline double relaxed_threshold(double upper, double tol, double rel, double tar
 // most u times a magnitude below |p0| + |p1 - p0| + |p2 - p0|; 1e-14 covers them (u = 1.1e-16) with
 // margin.
 inline double combination_rounding(const Vec3& p0, const Vec3& e1, const Vec3& e2) {
-  return 1e-14 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) *
-         1.7320508075688774;
+  return 1e-14 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) * kSqrt3Up;
 }
 
 // The interval of c computed for the placed doubles, widened to hold for the exact transform and
@@ -560,7 +560,7 @@ class BranchAndBound {
     // m lies within a few ulps (of the corners' magnitude) of the computed triangle (weights summing
     // to 1, dyadic or thirds); eta_m covers it.
     const double mag = std::max({v[0].cwiseAbs().maxCoeff(), v[1].cwiseAbs().maxCoeff(), v[2].cwiseAbs().maxCoeff()});
-    g.eta_m = g.eta + 2e-15 * mag * 1.7320508075688774 + 1e-300;
+    g.eta_m = g.eta + 2e-15 * mag * kSqrt3Up + 1e-300;
     for (const Vec3& x : v) g.r = std::max(g.r, (x - g.m).norm());
     g.r = up(g.r * (1.0 + 1e-12));
     return g;
@@ -813,8 +813,8 @@ class BranchAndBound {
         if (!(h < y0_at)) break;
       }
       if (!(h < y0_at)) continue;
-      // |n| >= sqrt(fl(n.n)) (1 - 4e-15); h - l rounded up.
-      const double bound = h > l ? up(up(h - l) / (std::sqrt(n.squaredNorm()) * (1.0 - 4e-15)) * (1.0 + 1e-15)) : 0.0;
+      // |n| >= norm3_lower(fl(n.n)); h - l rounded up.
+      const double bound = h > l ? up(up(h - l) / norm3_lower(n.squaredNorm()) * (1.0 + 1e-15)) : 0.0;
       if (-bound > best && bound < 0.5 * r) {
         best = -bound;
         *corner = lowest;
