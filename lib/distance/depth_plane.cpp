@@ -25,6 +25,20 @@ constexpr double kProjectionError = 1e-12;
 inline double norm_lower(const Vec3& n) { return norm3_lower(n.squaredNorm()); }
 inline double norm_upper(const Vec3& n) { return norm3_upper(n.squaredNorm()); }
 
+// An upper end of (H - n.x) / |n|, of either sign.
+double plane_excess_up(const Vec3& nv, double level, const Vec3& x) {
+  const PlaneOffset o = plane_offset(nv, 0.0, x);
+  const double num = round_up(level - round_down(o.value - o.error));
+  return num < 0.0 ? round_up(num / norm_upper(nv)) : round_up(num / norm_lower(nv));
+}
+
+// The point nearest to x of the line common to the planes n_i.y = H_i and n_j.y = H_j.
+Vec3 line_point(const Vec3& ni, double hi, double nni, const Vec3& nj, double hj, double nnj, const Vec3& x) {
+  const double g = ni.dot(nj), det = nni * nnj - g * g;
+  const double ri = hi - ni.dot(x), rj = hj - nj.dot(x);
+  return x + ((ri * nnj - rj * g) / det) * ni + ((rj * nni - ri * g) / det) * nj;
+}
+
 // W's planes at their levels, and the projections (plain doubles: they place boxes and pick points,
 // whose use is checked rigorously).
 struct Region {
@@ -38,9 +52,7 @@ struct Region {
 
   Vec3 onto_plane(int i, const Vec3& x) const { return x + ((level[i] - n[i].dot(x)) / nn[i]) * n[i]; }
   Vec3 onto_line(int i, int j, const Vec3& x) const {
-    const double g = n[i].dot(n[j]), det = nn[i] * nn[j] - g * g;
-    const double ri = level[i] - n[i].dot(x), rj = level[j] - n[j].dot(x);
-    return x + ((ri * nn[j] - rj * g) / det) * n[i] + ((rj * nn[i] - ri * g) / det) * n[j];
+    return line_point(n[i], level[i], nn[i], n[j], level[j], nn[j], x);
   }
   Vec3 corner(int a, int b, int c) const {  // the common point of three planes (Cramer)
     const Vec3 cbc = n[b].cross(n[c]), cca = n[c].cross(n[a]), cab = n[a].cross(n[b]);
@@ -243,23 +255,15 @@ bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec
 
 double depth_region_value(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x) {
   if (region.n == 1) {
-    const Vec3& nv = sdf.planes()[region.face[0]].n;
-    const PlaneOffset o = plane_offset(nv, 0.0, x);
-    const double num = round_up(region.level[0] - round_down(o.value - o.error));
-    if (region.crossing && num < 0.0) return round_up(num / norm_upper(nv));
-    if (!(num > 0.0)) return 1e-300;
-    return std::max(1e-300, round_up(num / norm_lower(nv)));
+    const double v = plane_excess_up(sdf.planes()[region.face[0]].n, region.level[0], x);
+    return region.crossing && v < 0.0 ? v : std::max(1e-300, v);
   }
   Region w;
   if (!make_region(sdf, region, w)) return kInf;
   if (region.crossing && w.inside(x, false)) {
     // Inside W: the signed distance, -(the distance to W's boundary) = max_i (H_i - n_i.x) / |n_i|.
     double v = -kInf;
-    for (int i = 0; i < w.nf; ++i) {
-      const PlaneOffset o = plane_offset(w.n[i], 0.0, x);
-      const double num = round_up(w.level[i] - round_down(o.value - o.error));  // <= 0
-      v = std::max(v, round_up(num / norm_upper(w.n[i])));
-    }
+    for (int i = 0; i < w.nf; ++i) v = std::max(v, plane_excess_up(w.n[i], w.level[i], x));
     return v;
   }
   // Any point of W bounds the distance to it; the nearest candidate proven in W is tight (the
@@ -293,6 +297,15 @@ int depth_region_edge_points(const SignedDistance& sdf, const DepthRegion& regio
       if (edge && m < 6) out[m++] = p;
     }
   return m;
+}
+
+bool crossing_regions_edge_point(const SignedDistance& sdf, const DepthRegion& a, const DepthRegion& b, const Vec3& x,
+                                 Vec3* out) {
+  if (!a.crossing || !b.crossing || a.n != 1 || b.n != 1) return false;
+  const Vec3 &na = sdf.planes()[a.face[0]].n, &nb = sdf.planes()[b.face[0]].n;
+  if (!((na.normalized().cross(nb.normalized())).squaredNorm() > 1e-12)) return false;  // (nearly) parallel
+  *out = line_point(na, a.level[0], na.squaredNorm(), nb, b.level[0], nb.squaredNorm(), x);
+  return out->allFinite();
 }
 
 }  // namespace cdbench

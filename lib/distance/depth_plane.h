@@ -60,4 +60,10 @@ double depth_region_value(const SignedDistance& sdf, const DepthRegion& region, 
 int depth_region_edge_points(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x,
                              std::array<Vec3, 6>& out);
 
+// The point nearest to x of the line common to two crossing one-face regions' planes (a convex edge
+// of F across the cell, where each member is tight on its side of the faces' bisector): plain
+// doubles, where to cut a cell. False for other regions or (nearly) parallel planes.
+bool crossing_regions_edge_point(const SignedDistance& sdf, const DepthRegion& a, const DepthRegion& b, const Vec3& x,
+                                 Vec3* out);
+
 }  // namespace cdbench

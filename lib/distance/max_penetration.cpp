@@ -141,22 +141,17 @@ double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_si
     }
     for (int e = 0; e < m && ncut < t.size() - 1; ++e) t[ncut++] = b.dot(edge[static_cast<std::size_t>(e)]);
   }
-  // Two crossing regions' planes meet along an edge of F across the cube (a convex edge: each face's
-  // member is tight on its side of their bisector): cut there too.
+  // Two crossing regions' planes meeting along an edge of F across the cube: cut there too.
   for (std::size_t i = 0; i < nr; ++i)
     for (std::size_t j = i + 1; j < nr && ncut < t.size() - 1; ++j) {
-      if (!regions[i].crossing || !regions[j].crossing) continue;
-      const TrianglePlane &pi = sdf.planes()[regions[i].face[0]], &pj = sdf.planes()[regions[j].face[0]];
-      const Vec3 ui = pi.n / pi.n.norm(), uj = pj.n / pj.n.norm();
-      const Vec3 dir = ui.cross(uj);
-      if (!(dir.squaredNorm() > 1e-12)) continue;
-      // The point of the two planes (at their levels) nearest to the centre.
-      const double ai = regions[i].level[0] / pi.n.norm(), aj = regions[j].level[0] / pj.n.norm();
-      const double g = ui.dot(uj), det = 1.0 - g * g;
-      const double ri = ai - ui.dot(centre), rj = aj - uj.dot(centre);
-      const Vec3 p = centre + ((ri - rj * g) / det) * ui + ((rj - ri * g) / det) * uj;
-      if (!((p - centre).cwiseAbs().maxCoeff() <= 0.5 * (points[7] - points[0]).maxCoeff())) continue;
-      if (b == Vec3::Zero()) b = ui - uj;
+      Vec3 p;
+      if (!crossing_regions_edge_point(sdf, regions[i], regions[j], centre, &p) ||
+          !((p - centre).cwiseAbs().maxCoeff() <= 0.5 * (points[7] - points[0]).maxCoeff()))
+        continue;
+      if (b == Vec3::Zero()) {
+        const Vec3 n0 = sdf.planes()[regions[i].face[0]].n, n1 = sdf.planes()[regions[j].face[0]].n;
+        b = n0 / n0.norm() - n1 / n1.norm();
+      }
       t[ncut++] = b.dot(p);
     }
   if (ncut == 1) return bound;
