@@ -506,7 +506,7 @@ TEST(PlanarPatch, BoxCoverageClaimsHoldUnderSampling) {
   std::mt19937_64 rng(12);
   std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
   int claimed = 0;
-  for (int k = 0; k < 600; ++k) {
+  for (int k = 0; k < test_scale::cases(600); ++k) {
     const Vec3 c = R * Vec3(3 * u(rng), 3 * u(rng), 1 + 0.5 * s(rng));
     const double h = 0.02 + 0.4 * u(rng);
     std::array<Vec3, 8> v;
@@ -521,7 +521,7 @@ TEST(PlanarPatch, BoxCoverageClaimsHoldUnderSampling) {
                                    << ", point " << x.transpose();
         }
   }
-  EXPECT_GT(claimed, 60) << "of 600";
+  EXPECT_GT(claimed, test_scale::cases(60)) << "of " << test_scale::cases(600);
 }
 
 }  // namespace

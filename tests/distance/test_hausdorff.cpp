@@ -9,6 +9,7 @@
 
 #include "distance/hausdorff.h"
 #include "mesh/shapes.h"
+#include "test_scale.h"
 
 namespace cdbench {
 namespace {
@@ -109,7 +110,7 @@ TEST(Hausdorff, AConstantDistanceToAFinelyTriangulatedSheetConverges) {
   square.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
   square.faces = {{0, 1, 2}, {0, 2, 3}};
   TriangleMesh sheet;
-  const int n = 60;
+  const int n = test_scale::pick(60, 30);  // a quarter of the triangles under the sanitizers
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> jitter(-0.3 / n, 0.3 / n);
   for (int j = 0; j <= n; ++j)

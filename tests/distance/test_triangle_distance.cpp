@@ -107,7 +107,7 @@ TEST(TriangleDistance, PlanePairLowerBoundAgainstExactRationals) {
   int positive = 0, over_without_eps = 0;
   for (double offset : {0.0, 1e3}) {
     const Vec3 o(offset, 0.5 * offset, -offset);
-    for (int k = 0; k < 3000; ++k) {
+    for (int k = 0; k < test_scale::cases(3000); ++k) {
       const Vec3 a = o + Vec3(u(rng), u(rng), u(rng)), b = o + Vec3(u(rng), u(rng), u(rng));
       const Vec3 c = k % 10 == 3 ? Vec3(a + w(rng) * (b - a) + 1e-10 * Vec3(u(rng), u(rng), u(rng)))
                                  : Vec3(o + Vec3(u(rng), u(rng), u(rng)));
@@ -132,8 +132,8 @@ TEST(TriangleDistance, PlanePairLowerBoundAgainstExactRationals) {
       if (pl.eps < HUGE_VAL && !(Epeck::FT(wrong) * Epeck::FT(wrong) <= exact)) ++over_without_eps;
     }
   }
-  EXPECT_GT(positive, 1000);
-  EXPECT_GT(over_without_eps, 10);
+  EXPECT_GT(positive, test_scale::cases(1000));
+  EXPECT_GT(over_without_eps, test_scale::cases(10));
 }
 
 
