@@ -447,6 +447,28 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
             o.upper = std::min(o.upper, convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate,
                                                         0.25 * eps, snapshot + eps));
             regions(candidate, ids, 0);
+          } else if (o.upper > snapshot + eps && snapshot > 0.0 && o.sign > 0 && d.lo > 0.0 && regions_everywhere &&
+                     !ids.empty() && ids.size() < kMaxSlabTriangles) {
+            // A cube whose centre is outside, reaching into a thin wall from its hollow or from
+            // outside (most of the cubes across a curved wall): the lemma needs only the cube's
+            // interior points, never its centre's side, so the regions bound them likewise, those
+            // whose face the cube crosses clipping it there; the outside centre, off F, is the
+            // segment test's known end. Nearest faces first, as the seeds are picked in that order.
+            // (Heuristics: not on the first level, whose cubes the next level sets aside anyway,
+            // nor where the slab bound found more triangles near than it takes.)
+            thread_local std::vector<std::pair<double, std::uint32_t>> by;
+            thread_local std::vector<std::uint32_t> sorted;
+            by.clear();
+            for (std::uint32_t t : ids)
+              by.emplace_back(point_triangle_distance_upper_near(cell.center, sdf.mesh(), t), t);
+            std::sort(by.begin(), by.end());
+            sorted.clear();
+            for (const auto& e : by) sorted.push_back(e.second);
+            const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
+            o.upper = std::min(
+                o.upper, region_depth_bound(sdf, cell.center, o.sign, corners.data(), 8, sorted, snapshot + eps));
+            o.regions_tried = true;
+            o.regions_won = !(o.upper > snapshot + eps);
           }
         }
         o.keep = o.upper > snapshot + eps;
