@@ -453,17 +453,29 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
             // outside (most of the cubes across a curved wall): the lemma needs only the cube's
             // interior points, never its centre's side, so the regions bound them likewise, those
             // whose face the cube crosses clipping it there; the outside centre, off F, is the
-            // segment test's known end. Nearest faces first, as the seeds are picked in that order.
-            // (Heuristics: not on the first level, whose cubes the next level sets aside anyway,
-            // nor where the slab bound found more triangles near than it takes.)
+            // segment test's known end. Nearest faces first, as the seeds are picked in that order:
+            // the slab bound's triangles (within r), or when none faces the other way those within
+            // r + best + eps, where an interior point deeper than best + eps has every face that
+            // bounds it (the wall's far side, beyond r from the hollow). (Heuristics: not on the
+            // first level, whose cubes the next level sets aside anyway, nor where the slab bound
+            // found more triangles near than it takes.)
             thread_local std::vector<std::pair<double, std::uint32_t>> by;
-            thread_local std::vector<std::uint32_t> sorted;
-            by.clear();
-            for (std::uint32_t t : ids)
-              by.emplace_back(point_triangle_distance_upper_near(cell.center, sdf.mesh(), t), t);
-            std::sort(by.begin(), by.end());
-            sorted.clear();
-            for (const auto& e : by) sorted.push_back(e.second);
+            thread_local std::vector<std::uint32_t> sorted, wide;
+            const auto sort_by_distance = [&](const std::vector<std::uint32_t>& from) {
+              by.clear();
+              for (std::uint32_t t : from)
+                by.emplace_back(point_triangle_distance_upper_near(cell.center, sdf.mesh(), t), t);
+              std::sort(by.begin(), by.end());
+              sorted.clear();
+              for (const auto& e : by) sorted.push_back(e.second);
+            };
+            sort_by_distance(ids);
+            const Vec3 first = sdf.planes()[sorted[0]].n;
+            const bool other_side = std::any_of(sorted.begin(), sorted.end(), [&](std::uint32_t t) {
+              return sdf.planes()[t].n.dot(first) < 0.0;
+            });
+            if (!other_side && sdf.triangles_within(cell.center, round_up(r + snapshot + eps), kMaxSlabTriangles, wide))
+              sort_by_distance(wide);
             const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
             o.upper = std::min(
                 o.upper, region_depth_bound(sdf, cell.center, o.sign, corners.data(), 8, sorted, snapshot + eps));
