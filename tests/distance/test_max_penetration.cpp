@@ -212,10 +212,6 @@ TEST(MaxPenetration, ThinWallsSetAsideByTheirSlab) {
   }
 }
 
-// A faceted tube whose wall is 2 % of its radius: a plateau of deepest points all along the wall's
-// mid-surface, bounded by the regions beyond its facets (distance/depth_plane.h). The deepest
-// point lies within (r_out - r_in) / 2 x [cos(pi / n), 1] (half the wall across a facet's middle,
-// half the radial wall anywhere).
 // make_tube(r_in, 1, 1, n) certified within `max_cells`: the tolerance reached, the deepest point
 // within (1 - r_in) / 2 x [cos(pi / n), 1], no sampled point deeper.
 MaxPenetrationResult expect_tube_wall_depth(const SignedDistance& sdf, double r_in, int n, double tolerance,
@@ -234,6 +230,10 @@ MaxPenetrationResult expect_tube_wall_depth(const SignedDistance& sdf, double r_
   return r;
 }
 
+// A faceted tube whose wall is 2 % of its radius: a plateau of deepest points all along the wall's
+// mid-surface, bounded by the regions beyond its facets (distance/depth_plane.h). The deepest
+// point lies within (r_out - r_in) / 2 x [cos(pi / n), 1] (half the wall across a facet's middle,
+// half the radial wall anywhere).
 TEST(MaxPenetration, FacetedTubeWallByItsFacetsRegions) {
   const int n = 128;
   const SignedDistance sdf(make_tube(0.98, 1.0, 1.0, n));
