@@ -248,8 +248,12 @@ double slab_depth_bound(const SignedDistance& sdf, const Vec3& c, double half, d
   const bool across = reach_hi > h && reach_lo < l;  // K may cross both planes: a wall
   const bool want_bound = (across ? 0.5 : 1.0) * (h - l) < 2.0 * n_up * enough;
   // A point midway through a wall (below) could raise the depth found: the wall is thinner than
-  // the cube, so the cube's other candidates are far from its mid-plane.
-  const bool want_deep = across && (h - l) > 2.0 * n_up * enough && (h - l) < 2.0 * n_up * half;
+  // the cube, so the cube's other candidates are far from its mid-plane. K may also end on one of
+  // the planes, within rounding: a flat face on the bounding box's side lies on the sides of a whole
+  // layer of cubes at every level (a plate, a washer), which then never cross it.
+  const double touch = 1e-9 * (h - l);
+  const bool want_deep = reach_hi > h - touch && reach_lo < l + touch && (h - l) > 2.0 * n_up * enough &&
+                         (h - l) < 2.0 * n_up * half;
   if (!want_bound && !want_deep) return kInf;
   const PlaneOffset oc = plane_offset(n, 0.0, c);
   const auto outside = [&](int k, bool above) {
@@ -262,16 +266,18 @@ double slab_depth_bound(const SignedDistance& sdf, const Vec3& c, double half, d
                              : sdf.side(v[k])) > 0;
   };
   const bool cut_hi = reach_hi > h && outside(top, true), cut_lo = reach_lo < l && outside(bottom, false);
-  if (want_deep && cut_hi && cut_lo) {
-    // A wall, outside on both sides: a point midway through it on an edge crossing both planes (on a
-    // flat wall's mid-plane), certified: a deep point found long before cubes fit inside a thin
-    // wall (the crossings in plain doubles; the point is certified as it is).
+  // Outside on both sides, or on one side with K ending on the other plane.
+  if (want_deep && (cut_hi || cut_lo) && (cut_hi || !(reach_hi > h + touch)) && (cut_lo || !(reach_lo < l - touch))) {
+    // A wall: a point midway through it on an edge crossing its mid-plane (on a flat wall's
+    // mid-plane), certified: a deep point found long before cubes fit inside a thin wall (the
+    // crossing in plain doubles; the point is certified as it is).
+    const double mid = 0.5 * (h + l);
     for (const auto& e : kBoxEdges) {
       const double a = ov[e[0]].value, b = ov[e[1]].value;
       if (!(a != b)) continue;
-      const double th = (h - a) / (b - a), tl = (l - a) / (b - a);
-      if (!(th >= 0.0 && th <= 1.0 && tl >= 0.0 && tl <= 1.0)) continue;
-      *deep = v[e[0]] + 0.5 * (th + tl) * (v[e[1]] - v[e[0]]);
+      const double t = (mid - a) / (b - a);
+      if (!(t >= 0.0 && t <= 1.0)) continue;
+      *deep = v[e[0]] + t * (v[e[1]] - v[e[0]]);
       *deep_lower = -sdf.signed_distance(*deep).hi;
       break;
     }

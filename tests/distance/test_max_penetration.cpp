@@ -16,11 +16,21 @@ namespace {
 // coarser tolerance under the sanitizers (tests/support/test_scale.h).
 const double kPlateauTolerance = test_scale::pick(1e-6, 1e-4);
 
-MaxPenetrationResult run(const TriangleMesh& m, double tol = 1e-6) {
+MaxPenetrationResult run(const TriangleMesh& m, double tol = 1e-6,
+                         std::uint64_t max_cells = MaxPenetrationOptions{}.max_cells) {
   MaxPenetrationOptions o;
   o.relative_tolerance = tol;
   o.progress = false;
+  o.max_cells = max_cells;
   return certified_max_penetration(SignedDistance(m), o);
+}
+
+// run within a budget of cells, the tolerance expected reached.
+MaxPenetrationResult run_within(const TriangleMesh& m, std::uint64_t max_cells, double tol = 1e-6) {
+  const auto r = run(m, tol, max_cells);
+  EXPECT_TRUE(r.tolerance_reached) << r.cells << " cells";
+  EXPECT_LE(r.depth.width(), tol * m.bbox().diagonal());
+  return r;
 }
 
 // Independent check of the upper bound: no sampled interior point is certified deeper.
@@ -137,13 +147,7 @@ TEST(MaxPenetration, BarsReachTheirAxisWithoutCellsAlongIt) {
 // stopped at 29.2 M cubes at this tolerance); the minimax weights bound them.
 TEST(MaxPenetration, FacetedTubeWithinTheCellBudget) {
   const TriangleMesh m = make_tube(0.17, 0.31, 1.0, 40);
-  MaxPenetrationOptions o;
-  o.relative_tolerance = kPlateauTolerance;
-  o.progress = false;
-  o.max_cells = 3000000;
-  const auto r = certified_max_penetration(SignedDistance(m), o);
-  EXPECT_TRUE(r.tolerance_reached) << r.cells << " cells";
-  EXPECT_LE(r.depth.width(), kPlateauTolerance * m.bbox().diagonal());
+  const auto r = run_within(m, 3000000, kPlateauTolerance);
   // Between parallel facets the wall is (r_out - r_in) cos(pi / n) thick; at the seams thicker.
   EXPECT_GT(r.depth.lo, 0.5 * (0.31 - 0.17) * std::cos(M_PI / 40));
   expect_no_sample_deeper(m, r);
@@ -209,6 +213,22 @@ TEST(MaxPenetration, ThinWallsSetAsideByTheirSlab) {
     const double a = w * u(rng);
     const Vec3 p = k % 2 ? Vec3(a, 100 * u(rng), 50 * u(rng)) : Vec3(a, a, a) + 1e-3 * Vec3(u(rng), u(rng), u(rng));
     EXPECT_LE(-sdf.signed_distance(p).hi, r.depth.hi);
+  }
+}
+
+// Sheet parts: a plate 1 x 1 x 0.002 and a washer (radii 0.3 and 1, 0.002 thick, 64 sides). Their
+// flat faces lie on the bounding box's sides, and so on the sides of a whole layer of cubes at every
+// level, which then never cross them: the point midway through the wall is also taken where a cube
+// ends on one plane, and the plateau of half the thickness is reached at the first level. Before,
+// the deepest point found stayed 0 until cubes fit inside the plate (11 M cubes for the plate; the
+// washer stopped at its memory bound).
+TEST(MaxPenetration, SheetsOnTheBoxSidesReachTheirMidPlane) {
+  const double t = 0.002;
+  for (const TriangleMesh& m : {make_box(Vec3(0, 0, 0), Vec3(1, 1, t)), make_tube(0.3, 1.0, t, 64)}) {
+    const auto r = run_within(m, 200000);
+    EXPECT_LE(r.depth.lo, 0.5 * t * (1 + 1e-12)) << r.depth.lo;
+    EXPECT_GE(r.depth.hi, 0.5 * t * (1 - 1e-12)) << r.depth.hi;
+    expect_no_sample_deeper(m, r);
   }
 }
 
