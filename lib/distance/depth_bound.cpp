@@ -27,9 +27,7 @@ double translated_depth(const TranslatedDepthBound& b, const Vec3& D) {
 }
 
 namespace {
-// The most triangles a bound combines: a partial set is still valid, and the nearest ones make it
-// tight (the first found by the tree's nearest-first order, or the nearest of a candidate list).
-constexpr std::size_t kMaxTriangles = 49;
+constexpr std::size_t kMaxTriangles = kMaxDepthTriangles;
 // With sparse weights (a few weighted triangles) the 16 nearest suffice, and gathering and sorting
 // fewer is cheaper (doc/performance.md, "Sparse weights for the pose certificates": 8, 12 and 16
 // measured alike, 5-10 % faster than 49).

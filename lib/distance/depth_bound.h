@@ -65,6 +65,10 @@ struct CornerDistances {
 // 1/2, after one or two steps that cancel opposing gradients: a few weighted triangles, so the
 // corners' certified distances are few; the pose certificates' cells, which the branch and bound
 // splits anyway (doc/poses.md, "The depth bound's weights").
+// The most triangles a bound combines: a partial set is still valid, and the nearest ones make it
+// tight (the first found by the tree's nearest-first order, or the nearest of a candidate list).
+constexpr std::size_t kMaxDepthTriangles = 49;
+
 enum class DepthWeights { converged, sparse };
 
 // c: a point of the cell (its centre); radius: the triangles considered are those within radius

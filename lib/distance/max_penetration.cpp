@@ -176,11 +176,26 @@ double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_si
 // faces tiled by many triangles.
 // When that bound still exceeds `enough`, the weights minimising it over the corners are tried too
 // (minimax_depth_bound: the seams of faceted walls).
-double convexity_bound(const SignedDistance& sdf, const Vec3& c, double h, double radius,
+double convexity_bound(const SignedDistance& sdf, const Vec3& c, double h, double radius, std::uint32_t near,
                        std::vector<std::uint32_t>& ids, Vec3& candidate, double coplanar_slack, double enough) {
   const std::array<Vec3, 8> corners = cube_corners(c, h);
-  double bound = depth_upper_bound(sdf, c, radius, corners.data(), 8, ids, &candidate, nullptr, nullptr, nullptr,
-                                   coplanar_slack);
+  if (!sdf.triangles_within(c, radius, kMaxDepthTriangles - 1, ids)) {
+    // More triangles within reach than the bound takes: the nearest ones, which about a thick
+    // part's axis (a finely faceted cylinder) all lie on one side of it, so that no weights balance
+    // them. The nearest triangle found for c and the one across, nearest to the point as far beyond
+    // c as c's nearest point of F is before it, take the place of two (a heuristic: any subset
+    // gives a valid bound).
+    const Face& f = sdf.mesh().faces[near];
+    const Vec3 q = 2.0 * c - closest_point_on_triangle(c, sdf.mesh().vertices[f[0]], sdf.mesh().vertices[f[1]],
+                                                       sdf.mesh().vertices[f[2]]);
+    std::uint32_t across = near;
+    sdf.unsigned_distance(q, &across);
+    ids.resize(kMaxDepthTriangles - 3);
+    for (const std::uint32_t t : {near, across})
+      if (std::find(ids.begin(), ids.end(), t) == ids.end()) ids.push_back(t);
+  }
+  double bound = depth_upper_bound_among(sdf, c, ids, corners.data(), 8, &candidate, nullptr, nullptr, nullptr,
+                                         coplanar_slack);
   if (bound > enough) bound = std::min(bound, minimax_depth_bound(sdf, ids, corners.data(), 8));
   return bound;
 }
@@ -423,7 +438,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
             thread_local std::vector<std::uint32_t> ids;
             Vec3 candidate;
             o.upper = std::min(o.upper,
-                               convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate, 0.25 * eps,
+                               convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), o.near, ids, candidate, 0.25 * eps,
                                                snapshot + eps));
             regions(candidate, ids, kCandidateRounds);
           }
@@ -450,7 +465,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
           // point found decides which cells are kept.
           if (o.upper > snapshot + eps && o.sign < 0) {
             Vec3 candidate;
-            o.upper = std::min(o.upper, convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), ids, candidate,
+            o.upper = std::min(o.upper, convexity_bound(sdf, cell.center, half, round_up(d.hi + 2 * r), o.near, ids, candidate,
                                                         0.25 * eps, snapshot + eps));
             regions(candidate, ids, 0);
           } else if (o.upper > snapshot + eps && snapshot > 0.0 && o.sign > 0 && d.lo > 0.0 && regions_everywhere &&

@@ -93,6 +93,23 @@ TriangleMesh make_tube(double r_in, double r_out, double length, int n) {
   return m;
 }
 
+TriangleMesh make_cylinder(double r, double length, int n) {
+  TriangleMesh m;
+  const double pi = std::acos(-1.0);
+  for (const double z : {0.0, length})
+    for (int i = 0; i < n; ++i) m.vertices.emplace_back(r * std::cos(2 * pi * i / n), r * std::sin(2 * pi * i / n), z);
+  const auto id = [&](int ring, int i) { return static_cast<std::uint32_t>(ring * n + (i + n) % n); };
+  for (int i = 0; i < n; ++i) {
+    m.faces.push_back({id(0, i), id(0, i + 1), id(1, i + 1)});  // side, facing away from the axis
+    m.faces.push_back({id(0, i), id(1, i + 1), id(1, i)});
+  }
+  for (int i = 1; i + 1 < n; ++i) {
+    m.faces.push_back({id(0, 0), id(0, i + 1), id(0, i)});  // bottom, facing -z
+    m.faces.push_back({id(1, 0), id(1, i), id(1, i + 1)});  // top, facing +z
+  }
+  return m;
+}
+
 TriangleMesh merge_meshes(const TriangleMesh& a, const TriangleMesh& b) {
   TriangleMesh m = a;
   const auto offset = static_cast<std::uint32_t>(a.vertices.size());

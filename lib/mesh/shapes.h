@@ -17,6 +17,10 @@ TriangleMesh make_box(const Vec3& lo, const Vec3& hi);
 // r_in < r_out with vertices at the same angles (a faceted pipe), annular ends; outward.
 TriangleMesh make_tube(double r_in, double r_out, double length, int n);
 
+// Solid faceted cylinder around the z axis, z in [0, length]: an n-gon of circumradius r, each end
+// a fan from its first vertex (slivers, as CAD exports triangulate planar faces); outward.
+TriangleMesh make_cylinder(double r, double length, int n);
+
 // Concatenation of meshes (several components).
 TriangleMesh merge_meshes(const TriangleMesh& a, const TriangleMesh& b);
 

@@ -232,6 +232,21 @@ TEST(MaxPenetration, SheetsOnTheBoxSidesReachTheirMidPlane) {
   }
 }
 
+// A pin: a solid cylinder of 600 sides (radius 1, length 3), whose deepest points form a segment of
+// its axis. Every side triangle is about equally far from a cube on the axis, and the 48 nearest
+// that the bounds take lie on one side of it: no weights balance them, and cubes had to shrink to
+// the tolerance along the axis (1.3 M cubes with 1,000 sides). The nearest triangle and the one
+// across take the place of two of them.
+TEST(MaxPenetration, FinelyFacetedCylinderBalancedByTheTriangleAcross) {
+  const int n = 600;
+  const double tol = 5e-6;
+  const TriangleMesh m = make_cylinder(1.0, 3.0, n);
+  const auto r = run_within(m, 400000, tol);
+  EXPECT_LE(r.depth.lo, std::cos(M_PI / n) * (1 + 1e-12)) << r.depth.lo;
+  EXPECT_GE(r.depth.hi, std::cos(M_PI / n) * (1 - 1e-12)) << r.depth.hi;
+  expect_no_sample_deeper(m, r);
+}
+
 // make_tube(r_in, 1, 1, n) certified within `max_cells`: the tolerance reached, the deepest point
 // within (1 - r_in) / 2 x [cos(pi / n), 1], no sampled point deeper.
 MaxPenetrationResult expect_tube_wall_depth(const SignedDistance& sdf, double r_in, int n, double tolerance,
