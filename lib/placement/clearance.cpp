@@ -1401,7 +1401,7 @@ bool reaches_tolerance(const ClearanceResult& c, double tolerance) {
 }
 
 std::shared_ptr<const SupportPlanes> support_planes_for(const TriangleMesh& fixed, const TriangleMesh& mover) {
-  constexpr std::size_t kMaxPlanes = 64;
+  constexpr std::size_t kMaxPlanes = 1024;
   if (mover.faces.empty()) return nullptr;
   auto S = std::make_shared<SupportPlanes>(SupportPlanes::build(fixed));
   if (!S->convex() || S->empty() || S->planes().size() > kMaxPlanes) return nullptr;

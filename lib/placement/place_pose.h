@@ -39,8 +39,8 @@ struct ApproachSetup {
   // The mover's sweep mesh in its own coordinates, built once: each orientation carries it
   // (placed_sweep_mesh) instead of building a tree.
   std::shared_ptr<const SweepMesh> mover_sweep;
-  // F's supporting planes where they pay (support_planes_for: F convex, few mover triangles x
-  // planes), else null: penetrating targets then step and certify by them (doc/poses.md,
+  // F's supporting planes where they pay (support_planes_for: F convex, at most 1,024 planes),
+  // else null: penetrating targets then step and certify by them (doc/poses.md,
   // "Supporting planes").
   std::shared_ptr<const SupportPlanes> support;
 };

@@ -156,6 +156,30 @@ TEST(SupportPlanes, TriangleBoundHoldsAlongTheLine) {
   }
 }
 
+// A sliver of a long rod's side (10 long, 6e-4 wide) across another rod of 500 sides (radius
+// 0.05), 0.0025 deep: the planes highest at the sliver's centroid are not those active where it is
+// deepest, and the column generation must bring the right ones in for the bound to be exact (with
+// four rounds it was 3e-4 below the least s, and the rods' penetrating certificates fell back to
+// the branch and bound: 1-3 s each). The least s, sampled every 1e-5 along the crossing, is within
+// that of the bound.
+TEST(SupportPlanes, ExactForASliverAcrossAFinelyFacetedRod) {
+  const TriangleMesh F = make_cylinder(0.05, 10.0, 500);
+  const SupportPlanes S = SupportPlanes::build(F);
+  ASSERT_TRUE(S.convex());
+  const SignedDistance sd(F);
+  const double y0 = 0.0475;
+  const std::array<Vec3, 3> v{Vec3(-5.0, y0, 5.0), Vec3(5.0, y0 + 1e-4, 5.0), Vec3(5.0, y0 + 7e-4, 5.0003)};
+  const HalfspaceBound b = halfspace_bound(S, v.data(), 3, Vec3(0, 1, 0));
+  double least = HUGE_VAL;
+  for (int i = 0; i <= 20000; ++i) {
+    const Vec3 x = v[0] + (0.49 + 0.02 * i / 20000.0) * (v[1] - v[0]);  // x from -0.1 to 0.1
+    least = std::min(least, sd.signed_distance(x).hi);
+  }
+  EXPECT_LT(least, -0.002);
+  EXPECT_LE(b.lower, least) << std::setprecision(17) << b.lower << " " << least;
+  EXPECT_GE(b.lower, least - 1.5e-5) << std::setprecision(17) << b.lower << " " << least;
+}
+
 // The control: with the rate halved the same check fails (it has teeth: along the line the bound
 // follows s closely, not merely from below).
 TEST(SupportPlanes, HalvedRateFailsTheCheck) {
