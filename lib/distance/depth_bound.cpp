@@ -27,7 +27,6 @@ double translated_depth(const TranslatedDepthBound& b, const Vec3& D) {
 }
 
 namespace {
-constexpr std::size_t kMaxTriangles = kMaxDepthTriangles;
 // With sparse weights (a few weighted triangles) the 16 nearest suffice, and gathering and sorting
 // fewer is cheaper (doc/performance.md, "Sparse weights for the pose certificates": 8, 12 and 16
 // measured alike, 5-10 % faster than 49).
@@ -45,7 +44,7 @@ inline double weighted_mean_up(double sum, double weights) {
 // The weights' Frank-Wolfe stop (DepthWeights).
 inline double weights_gap(DepthWeights w) { return w == DepthWeights::sparse ? 0.5 : 1e-15; }
 inline std::size_t max_triangles(DepthWeights w) {
-  return w == DepthWeights::sparse ? kMaxSparseTriangles : kMaxTriangles;
+  return w == DepthWeights::sparse ? kMaxSparseTriangles : kMaxDepthTriangles;
 }
 
 // The convexity bound with near-coplanar triangles merged into planar patches where they provably

@@ -211,7 +211,7 @@ HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, con
   lp.M = first;
   for (int j = 0; j < first; ++j) lp.idx[j] = order[j].second;
   lp.solve(P, x);
-  for (int round = 0; n == 3 && round < 16 && lp.M < 16; ++round) {
+  while (n == 3 && lp.M < 16) {  // each round adds a member
     const Vec3 y = x[0] + lp.beta * (x[1] - x[0]) + lp.gamma * (x[2] - x[0]);
     const double tol = 1e-12 * (1.0 + std::abs(lp.least));
     double best = lp.least + tol;
