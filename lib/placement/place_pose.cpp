@@ -145,10 +145,11 @@ class DeepZoneJumps {
 
   // The latest contact lambda of the mover moving along -dir with the deep zone, at or below
   // `lambda` (NaN: none known). worth: contacts at or above it are not worth a jump; gap: the
-  // certified clearance minus the target at lambda; flat: the steps c has been flat for; cells:
-  // the pose's certificate cells so far; the octree's cubes are added to *zone_cubes.
+  // certified clearance minus the target at lambda; flat: the steps c has been flat for;
+  // flat_slope: c's fall over those steps or the last two, the lesser, divided by the advance; cells: the pose's certificate
+  // cells so far; the octree's cubes are added to *zone_cubes.
   double contact(const ApproachSetup& setup, const OrientationFrame& frame, const Vec3& dir, double lambda,
-                 double gap, int flat, double worth, double lambda_far, std::uint64_t cells,
+                 double gap, int flat, double flat_slope, double worth, double lambda_far, std::uint64_t cells,
                  std::uint64_t* zone_cubes) {
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     const double pose_slack = pose_rounding_slack(frame, lambda_far);
@@ -179,7 +180,11 @@ class DeepZoneJumps {
     // (PoseOptions::deep_zone_cubes_per_cell), tried again once that has doubled: a query that
     // runs out costs at most a few times the advance it could have spared. A pose flat for
     // kPlateauSteps steps is on a plateau that pays for a query before that
-    // (PoseOptions::deep_zone_min_cubes).
+    // (PoseOptions::deep_zone_min_cubes), if c fell by at most kPlateauSlope of the advance over
+    // them or over the last two: c falling faster is a slide that meets the zone a few gaps on (about gap / slope),
+    // while the query refines the zone about the whole stretch of the mover within a gap of it (an
+    // L-shaped sheet bracket: 20,000 cubes a pose to jump two gaps; doc/performance.md, "Slides
+    // are not plateaus").
     // A level without a cover (shallower than a fifth of M) asks only once on a plateau: there
     // jumps save thin shells thousands of steps, while before it, and where the zone is a sheet in
     // a thin wall, a query costs more than it saves (doc/performance.md, "Shallow levels" and
@@ -188,7 +193,8 @@ class DeepZoneJumps {
     // After a cover that did not help, only from kUnhelpfulCoverSteps flat steps: on armadillo's
     // -25 % poses queries after 4 jumped a few gaps on short flat stretches at 16 % more time.
     if (cover_unhelpful_ && flat < kUnhelpfulCoverSteps) return kNaN;
-    const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_, flat >= kPlateauSteps);
+    const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_,
+                                                         flat >= kPlateauSteps && flat_slope <= kPlateauSlope);
     if (budget == 0) return kNaN;
     // A query that ran out is held and continued by the next try (with twice the budget) rather
     // than started again, with its own leaves while they are at most 1.2 times the size this gap
@@ -222,6 +228,11 @@ class DeepZoneJumps {
   // doc/performance.md, "Shallow levels"). 4 since session 57 (8 before; doc/performance.md,
   // "Where a jumped pose's time goes": thin parts 4-8 % fewer instructions, armadillo 1.4 % more).
   static constexpr int kPlateauSteps = 4, kNearPlateauSteps = 64, kUnhelpfulCoverSteps = 16;
+  // Thin machined parts' plateaus (rotor -20 %, alone or with pinion moving) at their fourth
+  // step: c fell by at most 1/16 of the advance over the run or over its last two steps, mostly
+  // both (some plateaus begin with the end of a fall); glancing slides (a sheet bracket, thin
+  // shells) by 0.1-0.4 over both.
+  static constexpr double kPlateauSlope = 1.0 / 16;
 
  private:
   const PoseOptions& options_;
@@ -571,6 +582,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     bool have_prev2 = false;
     int flat_steps = 0, near_flat = 0;
     double near_flat_gap = 0.0;  // the gap when the present run of near-flat steps began
+    // Where the present runs of flat and near-flat steps began (lambda, mid of c), for their slope.
+    double flat_from[2] = {0.0, 0.0}, near_from[2] = {0.0, 0.0};
     DeepZoneJumps jumps(options, target);
     bool segments_pay = true;  // until a segment's search runs out of its budget
     // The gap when they stopped paying, and whether they were tried again (below).
@@ -650,6 +663,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // saves (doc/performance.md). Thin parts' plateaus lie at about a tenth (rotor -20 %:
       // 0.08-0.12 |target|; at a fifth, as before 2026-11-28, they were not crossed).
       flat_steps = slope < 0.5 && mid - target > 0.1 * std::abs(target) ? flat_steps + 1 : 0;
+      if (flat_steps == 1) flat_from[0] = prev_lambda, flat_from[1] = prev_mid;
       // Flat within a tenth of |target| too: asked only once that has lasted kNearPlateauSteps
       // (a long plateau just above the target: repaired thin shells' poses of 1,300-1,900 steps).
       near_flat = slope < 0.5 ? near_flat + 1 : 0;
@@ -662,12 +676,20 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       if (near_flat <= 1 || gap < 0.125 * near_flat_gap) {
         near_flat_gap = gap;
         near_flat = std::min(near_flat, 1);
+        near_from[0] = prev_lambda, near_from[1] = prev_mid;
       }
-      if (flat_steps < 2 && near_flat >= DeepZoneJumps::kNearPlateauSteps) flat_steps = near_flat;
+      const double* run_from = flat_from;
+      if (flat_steps < 2 && near_flat >= DeepZoneJumps::kNearPlateauSteps) flat_steps = near_flat, run_from = near_from;
+      // The secant over the last two steps: for segment steps (below), and whether a flat run is
+      // a plateau or a slide (DeepZoneJumps). Loose certificates make the one-step secant jump
+      // between 0 and 0.6 on a slide (spool), the two-step one much less.
+      const double slope2 = have_prev2 ? std::max(0.0, (prev2_mid - mid) / (prev2_lambda - out.lambda)) : 1.0;
       if (flat_steps >= 2 && jumps.active()) {
         // Worth a jump only beyond what one two-sided step proves.
         const double worth = out.lambda - 2.0 * std::max(0.0, c.clearance.lo - target);
-        const double lk = jumps.contact(setup, frame, dir, out.lambda, gap, flat_steps, worth, lambda_far,
+        // c's fall over the flat run or over its last two steps, whichever is less, over the advance.
+        const double run_slope = std::min(slope2, (run_from[1] - mid) / (run_from[0] - out.lambda));
+        const double lk = jumps.contact(setup, frame, dir, out.lambda, gap, flat_steps, run_slope, worth, lambda_far,
                                         out.clearance_cells, &out.zone_cubes);
         if (!std::isnan(lk)) {
           if (!(lk > -lambda_far)) return missed();  // the line never meets the zone
@@ -680,9 +702,6 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           }
         }
       }
-      // The secant over the last two steps, for segment steps: loose certificates make the one-step
-      // secant jump between 0 and 0.6 on a slide (spool), the two-step one much less.
-      const double slope2 = have_prev2 ? std::max(0.0, (prev2_mid - mid) / (prev2_lambda - out.lambda)) : 1.0;
       prev2_lambda = prev_lambda;
       prev2_mid = prev_mid;
       have_prev2 = have_prev;

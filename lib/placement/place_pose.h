@@ -138,7 +138,9 @@ struct PoseOptions {
   // A query gets at least this many cubes or none: on thin machined parts' plateaus smaller
   // budgets ran out and were paid again, while every query completed within 11,000 (rotor -20 %;
   // doc/performance.md, "Clipped cubes"). A pose reaches it by its own work
-  // (deep_zone_cubes_per_cell) or by a plateau: c flat for 4 steps.
+  // (deep_zone_cubes_per_cell) or by a plateau: c flat for 4 steps, over which (or over the last
+  // two of which) it fell by at most 1/16 of the advance (a steeper fall is a slide that reaches
+  // the zone a few steps on).
   std::uint64_t deep_zone_min_cubes = 20000;
   // The level's cube verdicts shared by its poses' octree queries (optional; the same poses either
   // way, less work).

@@ -224,17 +224,19 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // most 1,000 cubes per approach of the request since session 35: 5; with queries that ran out
   // continued by the next try since session 36: 6; with a query's floor of 20,000 cubes from 4
   // flat steps instead of 8 since session 57: 7; with the octree asked on a long plateau after a
-  // cover contact not worth a jump since session 59: 8): their poses may differ within the
+  // cover contact not worth a jump since session 59: 8; the floor only where c fell by at most
+  // 1/16 of the advance over the flat steps or the last two, since session 65: 9): their poses may differ within the
   // tolerance from earlier binaries', whose
   // journals must therefore not be resumed or merged with them. Absent otherwise, so that other
   // runs still resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
-    run_key["deep_zone_jumps"] = 8;
+    run_key["deep_zone_jumps"] = 9;
   // Penetrating levels shallower than a fifth of M (no cover) jump to the octree's contact too since
-  // session 48 after 32 flat steps (1), since session 49 after 8 (2), since session 57 after 4 (3);
+  // session 48 after 32 flat steps (1), since session 49 after 8 (2), since session 57 after 4 (3),
+  // since session 65 only where c fell by at most 1/16 of the advance over them or the last two (4);
   // absent otherwise.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo && !z.cover; }))
-    run_key["shallow_zone_jumps"] = 3;
+    run_key["shallow_zone_jumps"] = 4;
   // Plateaus within a tenth of |target| above it ask the zone too once 64 steps long (session 48:
   // 1; since session 57 steps over which the gap has not fallen to an eighth, and a jump of at
   // most 2 |target| keeps the certificate's frontier: 2; since session 58 a jump of at most 4 |target|:
