@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "core/interval.h"
 #include "distance/depth_bound.h"
@@ -13,54 +14,103 @@ namespace cdbench {
 
 SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, double relative_slack) {
   SupportPlanes S;
-  if (F.faces.empty() || static_cast<double>(F.faces.size()) * static_cast<double>(F.vertices.size()) > max_work)
-    return S;
+  if (F.faces.empty()) return S;
   const double diagonal = F.bbox().diagonal();
   const double slack = relative_slack * diagonal;
   std::vector<SupportPlane> found;
+  std::vector<std::uint32_t> found_face;
   bool all = true;
-  for (const Face& f : F.faces) {
+  double work = 0.0;
+  // The vertex that refuted the previous face's plane is tried first: neighbouring faces of a
+  // non-convex part are mostly refuted by the same vertices.
+  std::size_t refuter = 0;
+  // Planes found supporting, by their normal and offset rounded to 1e-9: a face on the plane of
+  // one found before (a planar face of many triangles, a tube's end) maps to it unscanned. Its
+  // bound is that plane's, valid as any supporting plane's; near its own within the rounding.
+  std::map<std::array<long long, 4>, std::size_t> seen;
+  const auto key_of = [&](const TrianglePlane& pl) {
+    const double q = 1e9, dq = 1e9 / (1.0 + diagonal);
+    return std::array<long long, 4>{std::llround(pl.n[0] * q), std::llround(pl.n[1] * q), std::llround(pl.n[2] * q),
+                                    std::llround(pl.d * dq)};
+  };
+  std::vector<std::pair<std::uint32_t, std::size_t>> same_as;  // (face, index in found)
+  for (std::uint32_t fi = 0; fi < F.faces.size(); ++fi) {
+    const Face& f = F.faces[fi];
     const TrianglePlane pl = make_triangle_plane(F.vertices[f[0]], F.vertices[f[1]], F.vertices[f[2]]);
     if (!std::isfinite(pl.eps)) {
       all = false;
       continue;
     }
+    const bool finite_key = std::abs(pl.d) < 1e6 * (1.0 + diagonal);
+    if (finite_key) {
+      const auto it = seen.find(key_of(pl));
+      if (it != seen.end()) {
+        const SupportPlane& q = found[it->second];
+        if ((pl.n - q.n).cwiseAbs().maxCoeff() <= 1e-9 && std::abs(pl.d - q.d) <= 1e-9 * (1.0 + diagonal)) {
+          same_as.emplace_back(fi, it->second);
+          continue;
+        }
+      }
+    }
     double e = -std::numeric_limits<double>::infinity();
-    for (const Vec3& v : F.vertices) {
-      const PlaneOffset o = plane_offset(pl.n, pl.d, v);  // exact n.v - d <= value + error
+    const std::size_t nv = F.vertices.size();
+    for (std::size_t i = 0; i < nv; ++i) {
+      const std::size_t k = (refuter + i) % nv;
+      const PlaneOffset o = plane_offset(pl.n, pl.d, F.vertices[k]);  // exact n.v - d <= value + error
       e = std::max(e, round_up(o.value + o.error));
-      if (e > slack) break;
+      if (e > slack) {
+        refuter = k;
+        work += static_cast<double>(i + 1);
+        break;
+      }
     }
     if (!(e <= slack)) {
       all = false;
+      if (work > max_work) return SupportPlanes();
       continue;
     }
+    work += static_cast<double>(nv);
+    if (work > max_work) return SupportPlanes();
     SupportPlane p;
     p.n = pl.n;
     p.d = pl.d;
     p.e = e;
     p.norm_lo = norm3_lower(pl.n.squaredNorm());
     p.norm_up = norm3_upper(pl.n.squaredNorm());
+    if (finite_key) seen.emplace(key_of(pl), found.size());
     found.push_back(p);
+    found_face.push_back(fi);
   }
   S.convex_ = all;
-  // Coplanar faces give (nearly) the same plane: one of them is kept (any subset stays valid).
-  std::sort(found.begin(), found.end(), [](const SupportPlane& x, const SupportPlane& y) {
+  // Coplanar faces give (nearly) the same plane: one of them is kept (any subset stays valid), and
+  // each face maps to it (its plane's bound, within the merging tolerance, is the kept one's).
+  std::vector<std::size_t> order(found.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const SupportPlane &x = found[a], &y = found[b];
     for (int k = 0; k < 3; ++k)
       if (x.n[k] != y.n[k]) return x.n[k] < y.n[k];
-    return x.d < y.d;
+    return x.d < y.d || (x.d == y.d && found_face[a] < found_face[b]);
   });
+  S.face_plane_.assign(F.faces.size(), -1);
   const double scale = 1e-12 * (1.0 + diagonal);
-  for (const SupportPlane& p : found) {
-    bool duplicate = false;
-    for (std::size_t k = S.planes_.size(); k-- > 0 && !duplicate;) {
+  for (const std::size_t i : order) {
+    const SupportPlane& p = found[i];
+    std::int64_t same = -1;
+    for (std::size_t k = S.planes_.size(); k-- > 0 && same < 0;) {
       const SupportPlane& q = S.planes_[k];
       if (p.n[0] - q.n[0] > 1e-12) break;  // sorted by n[0]: no later kept plane is nearer
-      duplicate = (p.n - q.n).cwiseAbs().maxCoeff() <= 1e-12 && std::abs(p.d - q.d) <= scale;
-      if (duplicate && p.e < q.e) S.planes_[k] = p;
+      if ((p.n - q.n).cwiseAbs().maxCoeff() <= 1e-12 && std::abs(p.d - q.d) <= scale) same = static_cast<std::int64_t>(k);
     }
-    if (!duplicate) S.planes_.push_back(p);
+    if (same >= 0) {
+      if (p.e < S.planes_[static_cast<std::size_t>(same)].e) S.planes_[static_cast<std::size_t>(same)] = p;
+    } else {
+      same = static_cast<std::int64_t>(S.planes_.size());
+      S.planes_.push_back(p);
+    }
+    S.face_plane_[found_face[i]] = static_cast<std::int32_t>(same);
   }
+  for (const auto& [face, i] : same_as) S.face_plane_[face] = S.face_plane_[found_face[i]];
   return S;
 }
 
@@ -183,6 +233,13 @@ struct MemberProgram {
 
 }  // namespace
 
+namespace {
+// The rigorous bound with the program's weights: per corner, per member, (n.x - d - e) / |n|
+// rounded down, and the rate along d.
+HalfspaceBound rigorous_bound(const std::vector<SupportPlane>& P, const MemberProgram& lp, const Vec3* x, int n,
+                              const Vec3& d);
+}  // namespace
+
 HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, const Vec3& d, int max_members) {
   HalfspaceBound r;
   const std::vector<SupportPlane>& P = S.planes();
@@ -228,6 +285,32 @@ HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, con
     lp.idx[lp.M++] = static_cast<std::uint32_t>(join);
     lp.solve(P, x);
   }
+  return rigorous_bound(P, lp, x, n, d);
+}
+
+HalfspaceBound halfspace_bound_among(const SupportPlanes& S, const std::int32_t* members, int n_members,
+                                     const Vec3* x, int n, const Vec3& d) {
+  HalfspaceBound r;
+  const std::vector<SupportPlane>& P = S.planes();
+  thread_local MemberProgram lp;
+  lp.K = n;
+  lp.M = 0;
+  for (int j = 0; j < n_members && lp.M < 16; ++j)
+    if (members[j] >= 0 && static_cast<std::size_t>(members[j]) < P.size())
+      lp.idx[lp.M++] = static_cast<std::uint32_t>(members[j]);
+  if (lp.M == 0 || n < 1 || n > 8) {
+    r.lower = -std::numeric_limits<double>::infinity();
+    return r;
+  }
+  lp.solve(P, x);
+  return rigorous_bound(P, lp, x, n, d);
+}
+
+namespace {
+
+HalfspaceBound rigorous_bound(const std::vector<SupportPlane>& P, const MemberProgram& lp, const Vec3* x, int n,
+                              const Vec3& d) {
+  HalfspaceBound r;
   const int M = lp.M;
   const std::vector<double>& w = lp.w;
   // The rigorous bound with these weights: per corner, per member, (n.x - d - e) / |n| rounded down.
@@ -261,5 +344,7 @@ HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, con
   }
   return r;
 }
+
+}  // namespace
 
 }  // namespace cdbench

@@ -32,17 +32,22 @@ class SupportPlanes {
  public:
   SupportPlanes() = default;
   // The planes of F's faces that support F within `relative_slack` times its bounding-box diagonal
-  // (near-duplicates merged). Searched only when faces x vertices is at most max_work (an O(F V)
-  // scan): otherwise, and for a mesh no face of which supports it, the set is empty (only speed
-  // depends on it: every use has another bound).
+  // (near-duplicates merged). Each face's plane is tested against F's vertices until one lies
+  // beyond it (an O(F V) scan at worst, quick for faces that do not support F): when that has cost
+  // more than max_work vertex tests, and for a mesh no face of which supports it, the set is empty
+  // (only speed depends on it: every use has another bound).
   static SupportPlanes build(const TriangleMesh& F, double max_work = 2e7, double relative_slack = 1e-9);
   const std::vector<SupportPlane>& planes() const { return planes_; }
   bool empty() const { return planes_.empty(); }
+  // The index in planes() of a plane at least as tight as face f's own (within the merging
+  // tolerance), or -1 when f's plane does not support F.
+  std::int32_t plane_of(std::uint32_t f) const { return f < face_plane_.size() ? face_plane_[f] : -1; }
   // Every face of F supports it: F is convex (then the bound below is exact where s < 0).
   bool convex() const { return convex_; }
 
  private:
   std::vector<SupportPlane> planes_;
+  std::vector<std::int32_t> face_plane_;
   bool convex_ = false;
 };
 
@@ -59,5 +64,11 @@ struct HalfspaceBound {
   double beta = 1.0 / 3, gamma = 1.0 / 3;
 };
 HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, const Vec3& d, int max_members = 6);
+
+// The same bound from the given planes only (indices into S.planes(), at most 16 used; no column
+// generation): for a cell of a mover triangle near faces of F that support F (a non-convex F's
+// outer walls), the planes of those faces. lower = -inf when `members` is empty.
+HalfspaceBound halfspace_bound_among(const SupportPlanes& S, const std::int32_t* members, int n_members,
+                                     const Vec3* x, int n, const Vec3& d);
 
 }  // namespace cdbench

@@ -259,7 +259,8 @@ class BranchAndBound {
   // pose and rotation splits a cell the same way).
   BranchAndBound(const SignedDistance& fixed, const TriangleMesh& mover, const MoverOrientation& o, const PlacedView& P,
                  const Vec3& t, const ClearanceOptions& opt, bool keep_frontier)
-      : fixed_(fixed), mover_(mover), o_(o), P_(P), t_(t), tol_(opt.tolerance), rel_(opt.relative_tolerance),
+      : fixed_(fixed), mover_(mover), o_(o), P_(P), t_(t), hull_(opt.hull && !opt.hull->empty() ? opt.hull : nullptr),
+        tol_(opt.tolerance), rel_(opt.relative_tolerance),
         target_(opt.target), keep_discarded_(keep_frontier), store_(scratch_.get()), heap_(store_.heap),
         discarded_(store_.discarded), depth_(store_.depth), ids_(store_.ids),
         slab_ids_(store_.slab_ids) {
@@ -658,6 +659,10 @@ class BranchAndBound {
       // restale), which often sets the cell aside before the candidate list is gathered.
       lower = std::max(lower, face_corner_lower(nearest, v.data(), 3, eta));
     }
+    // The plane of the nearest face alone, where it supports F: no gather, no distance from the
+    // cell to F (a tube's slivers along its wall, each near F all along: that distance was most of
+    // the certificates' time).
+    if (lower < threshold() && threshold() < 0.0) lower = std::max(lower, hull_lower(v, nearest, eta, false));
     if (lower < threshold()) {
       // Distance from the cell to F, needed only where the cell may reach F (otherwise the
       // Lipschitz bound already proves it disjoint): the nearest triangles of any cell point lie
@@ -739,6 +744,7 @@ class BranchAndBound {
             if (w.n > 0) c.witness = w;
           }
         }
+        if (lower < threshold() && depth < kInf) lower = std::max(lower, hull_lower(v, nearest, eta, true));
       }
       // A cell centred outside F and across it (a mover face through a wall, or into F through a
       // face), whose convexity bound grows with its corners beyond the faces it crosses: its part
@@ -749,6 +755,26 @@ class BranchAndBound {
     }
     c.lower = lower;
     return c;
+  }
+
+  // The bound of s over a cell (corners v within eta of the exact ones) from the planes of F's
+  // faces that support F (ClearanceOptions::hull) among its nearest face and the triangles the
+  // depth bound gathered (ids_, with `gathered`): s >= the planes' weighted mean, exact where the cell's deepest
+  // points lie under faces of F's convex hull, whatever F's tessellation there. The triangle-wise
+  // bounds are loose where a cell lies across the long edges of a finely faceted wall (a tube's
+  // 4-long slivers: the branch and bound cut them into pieces under 10^-3 all along; doc/poses.md,
+  // "Hull planes in the branch and bound"). -inf without a hull plane at the nearest face.
+  double hull_lower(const std::array<Vec3, 3>& v, std::uint32_t nearest, double eta, bool gathered) const {
+    if (!hull_ || hull_->plane_of(nearest) < 0) return -kInf;
+    std::array<std::int32_t, 16> members;
+    int n = 0;
+    members[n++] = hull_->plane_of(nearest);
+    for (std::size_t i = 0; gathered && i < ids_.size() && n < 16; ++i) {
+      const std::int32_t p = hull_->plane_of(ids_[i]);
+      if (p >= 0 && std::find(members.begin(), members.begin() + n, p) == members.begin() + n) members[n++] = p;
+    }
+    const HalfspaceBound b = halfspace_bound_among(*hull_, members.data(), n, v.data(), 3, Vec3::Zero());
+    return down(b.lower - eta);
   }
 
   // A lower bound of s over a face cell K (corners v, centre m certainly outside F with
@@ -1038,6 +1064,7 @@ class BranchAndBound {
   const MoverOrientation& o_;
   const PlacedView P_;
   const Vec3& t_;
+  const SupportPlanes* hull_;
   double tol_, rel_, target_;
   double upper_ = kInf;
   std::int64_t argmin_face_ = -1;
@@ -1400,12 +1427,21 @@ bool reaches_tolerance(const ClearanceResult& c, double tolerance) {
          hi - lo <= (tolerance + 4.0 * c.transform_error) * (1.0 + 1e-12);
 }
 
-std::shared_ptr<const SupportPlanes> support_planes_for(const TriangleMesh& fixed, const TriangleMesh& mover) {
-  constexpr std::size_t kMaxPlanes = 1024;
-  if (mover.faces.empty()) return nullptr;
+std::shared_ptr<const SupportPlanes> hull_planes_for(const TriangleMesh& fixed) {
   auto S = std::make_shared<SupportPlanes>(SupportPlanes::build(fixed));
-  if (!S->convex() || S->empty() || S->planes().size() > kMaxPlanes) return nullptr;
+  if (S->empty()) return nullptr;
   return S;
+}
+
+std::shared_ptr<const SupportPlanes> support_planes_for(const TriangleMesh& fixed, const TriangleMesh& mover) {
+  return support_planes_for(hull_planes_for(fixed), mover);
+}
+
+std::shared_ptr<const SupportPlanes> support_planes_for(std::shared_ptr<const SupportPlanes> hull,
+                                                        const TriangleMesh& mover) {
+  constexpr std::size_t kMaxPlanes = 1024;
+  if (mover.faces.empty() || !hull || !hull->convex() || hull->planes().size() > kMaxPlanes) return nullptr;
+  return hull;
 }
 
 ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover, const Eigen::Matrix3d& R,

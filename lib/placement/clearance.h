@@ -94,6 +94,10 @@ struct ClearanceOptions {
   // end at its guessed deepest point), which is tight wherever c < 0; the usual paths run when it
   // is not tight enough. For penetrating poses; speed only.
   const SupportPlanes* support = nullptr;
+  // The planes of F's faces that support F (any F; hull_planes_for): a bound of each deep cell of
+  // the branch and bound from those at its nearest faces, tight under F's convex hull (a tube's
+  // outer wall). Speed only.
+  const SupportPlanes* hull = nullptr;
   // In/out: when valid, the branch and bound starts from it; replaced by this run's frontier
   // (invalidated when the distance path decides).
   ClearanceFrontier* frontier = nullptr;
@@ -151,6 +155,12 @@ SegmentCheck check_segment_above(const SignedDistance& fixed, const MoverOrienta
 // more than the branch and bound saves on a sphere (measured: doc/poses.md, "Supporting planes");
 // a finely faceted cylinder, whose triangles are long slivers, gains 5-60x. Null otherwise.
 std::shared_ptr<const SupportPlanes> support_planes_for(const TriangleMesh& fixed, const TriangleMesh& mover);
+// The same from F's supporting planes already found (hull_planes_for).
+std::shared_ptr<const SupportPlanes> support_planes_for(std::shared_ptr<const SupportPlanes> hull,
+                                                        const TriangleMesh& mover);
+// F's supporting planes for ClearanceOptions::hull: null when no face of F supports it (or the
+// search ran over its budget: SupportPlanes::build).
+std::shared_ptr<const SupportPlanes> hull_planes_for(const TriangleMesh& fixed);
 
 // The one-call form (builds the mover's orientation tree each time: for many poses of one rotation,
 // make_mover_orientation once and call the function above).

@@ -328,7 +328,8 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
   }
   // Only a convex F: there the planes' bound is exact wherever s < 0. A non-convex F's hull faces
   // bound only the parts of a penetration near them.
-  s.support = support_planes_for(fixed.mesh(), mover);
+  s.hull = hull_planes_for(fixed.mesh());
+  s.support = support_planes_for(s.hull, mover);
   s.mover_sweep = mover_sweep ? std::move(mover_sweep)
                               : std::make_shared<const SweepMesh>(make_sweep_mesh(mover.vertices, mover.faces));
   return s;
@@ -410,6 +411,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // (support_planes_for; doc/poses.md, "Supporting planes").
   const SupportPlanes* support = options.support_planes && target < 0.0 ? setup.support.get() : nullptr;
   copt.support = support;
+  copt.hull = options.support_planes && target < 0.0 ? setup.hull.get() : nullptr;
   // While far from the target an advance step needs only a loose lower bound: a width of a part of
   // the remaining gap (upper end - target, tightening as the search lowers the upper end) costs at
   // most that part of the step; the reported pose gets the full tolerance (`loose` = false).

@@ -43,6 +43,9 @@ struct ApproachSetup {
   // else null: penetrating targets then step and certify by them (doc/poses.md,
   // "Supporting planes").
   std::shared_ptr<const SupportPlanes> support;
+  // The planes of F's faces that support F, for any F (hull_planes_for; null when none): bounds of
+  // the penetrating certificates' cells near F's convex hull (ClearanceOptions::hull).
+  std::shared_ptr<const SupportPlanes> hull;
 };
 // mover_sweep: the mover's sweep mesh in its own coordinates when the caller has it (the fixed
 // surface's, when the mover is the fixed mesh); built here otherwise.

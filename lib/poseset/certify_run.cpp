@@ -126,8 +126,10 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   co.tolerance = result.tolerance;
   co.max_cells = rq.max_cells;
   // A convex F's planes certify penetrating poses at once (tried first; separated ones go on).
-  const std::shared_ptr<const SupportPlanes> support = support_planes_for(sdf.mesh(), *rq.mover);
+  const std::shared_ptr<const SupportPlanes> hull = hull_planes_for(sdf.mesh());
+  const std::shared_ptr<const SupportPlanes> support = support_planes_for(hull, *rq.mover);
   co.support = support.get();
+  co.hull = hull.get();
   Progress progress("certify", pending.size());
   Timer t_poses;
   const auto make_orientation = [&](const Eigen::Matrix3d& R) { return make_mover_orientation(*rq.mover, R); };

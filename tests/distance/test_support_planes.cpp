@@ -4,7 +4,10 @@
 // inside a convex F, and is not tight where a control says it should not be.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <iomanip>
+#include <limits>
 #include <random>
 
 #include "distance/signed_distance.h"
@@ -178,6 +181,87 @@ TEST(SupportPlanes, ExactForASliverAcrossAFinelyFacetedRod) {
   EXPECT_LT(least, -0.002);
   EXPECT_LE(b.lower, least) << std::setprecision(17) << b.lower << " " << least;
   EXPECT_GE(b.lower, least - 1.5e-5) << std::setprecision(17) << b.lower << " " << least;
+}
+
+// A non-convex F (a faceted tube): the outer wall's faces and the ends' support it, the bore's do
+// not; each face maps to a plane at least as tight as its own (plane_of), and the planes found
+// support F exactly. The tube's ends (one plane each, many triangles) map unscanned.
+TEST(SupportPlanes, TubeOuterWallAndEndsSupportItTheBoreDoesNot) {
+  const int n = 48;
+  const TriangleMesh F = make_tube(0.9, 1.0, 2.0, n);
+  const SupportPlanes S = SupportPlanes::build(F);
+  EXPECT_FALSE(S.convex());
+  expect_supporting(F, S);
+  EXPECT_EQ(S.planes().size(), static_cast<std::size_t>(n + 2));  // n quads' planes and the two ends
+  int outer = 0, bore = 0;
+  for (std::uint32_t f = 0; f < F.faces.size(); ++f) {
+    Vec3 c = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) c += F.vertices[F.faces[f][k]] / 3.0;
+    const double rho = std::hypot(c[0], c[1]);
+    const bool end = std::abs(F.vertices[F.faces[f][0]][2] - F.vertices[F.faces[f][1]][2]) < 1e-12 &&
+                     std::abs(F.vertices[F.faces[f][0]][2] - F.vertices[F.faces[f][2]][2]) < 1e-12;
+    const std::int32_t p = S.plane_of(f);
+    if (!end && rho < 0.95) {
+      EXPECT_EQ(p, -1) << "bore face " << f;
+      ++bore;
+      continue;
+    }
+    ASSERT_GE(p, 0) << "face " << f;
+    ++outer;
+    // The mapped plane is the face's own within the merging tolerance: its vertices on it.
+    const SupportPlane& q = S.planes()[static_cast<std::size_t>(p)];
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(q.n.dot(F.vertices[F.faces[f][k]]) - q.d, 0.0, 1e-9) << "face " << f;
+  }
+  EXPECT_EQ(bore, 2 * n);
+  EXPECT_EQ(outer, static_cast<int>(F.faces.size()) - 2 * n);
+  EXPECT_EQ(S.plane_of(static_cast<std::uint32_t>(F.faces.size())), -1);
+}
+
+// The bound from chosen planes (halfspace_bound_among) on the tube: cells along the wall, across
+// the outer facets' long edges and partly inside the wall, sampled densely against certified
+// signed distances: never above them, and within the sampling's reach of the least where the
+// cell's deepest points lie under the outer wall (there s is the least plane distance).
+TEST(SupportPlanes, ChosenPlanesBoundANonConvexTubesWall) {
+  const int n = 48;
+  const TriangleMesh F = make_tube(0.9, 1.0, 2.0, n);
+  const SupportPlanes S = SupportPlanes::build(F);
+  const SignedDistance sd(F);
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double worst_gap = 0.0;
+  for (int k = 0; k < 40; ++k) {
+    // A sliver along z at angle phi, 0.002-0.02 deep, a little tilted, about one facet wide.
+    const double phi = 3.14159 * u(rng), depth = 0.011 + 0.009 * u(rng), w = 2 * 3.14159 / n * (1.0 + 0.5 * u(rng));
+    const double r0 = 1.0 - depth;
+    const auto at = [&](double a, double rho, double z) { return Vec3(rho * std::cos(a), rho * std::sin(a), z); };
+    const std::array<Vec3, 3> v{at(phi, r0, 0.3), at(phi + 0.1 * w * u(rng), r0 + 0.002 * u(rng), 1.7),
+                                at(phi + w, r0, 0.3 + 0.2 * u(rng))};
+    // The planes of the faces nearest the cell's centroid (as the branch and bound gathers them).
+    std::vector<std::uint32_t> ids;
+    sd.triangles_within((v[0] + v[1] + v[2]) / 3.0, 0.9, 16, ids);
+    std::vector<std::int32_t> members;
+    for (const std::uint32_t f : ids)
+      if (S.plane_of(f) >= 0 && std::find(members.begin(), members.end(), S.plane_of(f)) == members.end())
+        members.push_back(S.plane_of(f));
+    ASSERT_FALSE(members.empty());
+    const HalfspaceBound b =
+        halfspace_bound_among(S, members.data(), static_cast<int>(members.size()), v.data(), 3, Vec3(0, 0, 1));
+    double least = HUGE_VAL;
+    for (int i = 0; i <= 60; ++i)
+      for (int j = 0; i + j <= 60; ++j) {
+        const Vec3 x = v[0] + (i / 60.0) * (v[1] - v[0]) + (j / 60.0) * (v[2] - v[0]);
+        const double sx = sd.signed_distance(x).hi;
+        ASSERT_LE(b.lower, sx) << std::setprecision(17) << "cell " << k << " at " << x.transpose();
+        least = std::min(least, sx);
+      }
+    double edge = 0.0;
+    for (int e = 0; e < 3; ++e) edge = std::max(edge, (v[e] - v[(e + 1) % 3]).norm());
+    worst_gap = std::max(worst_gap, (least - b.lower) - edge / 60.0);
+  }
+  EXPECT_LE(worst_gap, 1e-9);  // exact up to the sampling: s there is the least outer plane's
+  // The control: the bore's side has no plane, and an empty list bounds nothing.
+  EXPECT_EQ(halfspace_bound_among(S, nullptr, 0, nullptr, 3, Vec3(0, 0, 1)).lower,
+            -std::numeric_limits<double>::infinity());
 }
 
 // The control: with the rate halved the same check fails (it has teeth: along the line the bound

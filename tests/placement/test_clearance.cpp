@@ -7,8 +7,10 @@
 #include <array>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <random>
 
+#include "distance/support_planes.h"
 #include "mesh/components.h"
 #include "mesh/shapes.h"
 #include "placement/advance.h"
@@ -321,6 +323,46 @@ TEST(Clearance, NeedleCellsAgreeWithDenseSampling) {
     penetrating += !expect_cold_and_warm_agree(c, R, t, 1e-6, 48)[0].separated;
   }
   EXPECT_GT(penetrating, 6 * poses / 16);
+}
+
+// F's supporting planes in the branch and bound (ClearanceOptions::hull): a finely faceted tube
+// moved against itself, nearly coaxial and pushed into its own wall, so that the mover's wall
+// slivers run along F's across the long edges of its facets. Certificates with the planes are
+// rigorous (they meet the certificates without them and dense sampling) and need fewer cells.
+TEST(Clearance, HullPlanesCertifyAFacetedTubeWithFewerCells) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Case c(make_tube(0.95, 1.0, 0.6, 48), make_tube(0.95, 1.0, 0.6, 48));
+  const std::shared_ptr<const SupportPlanes> hull = hull_planes_for(c.fixed.mesh());
+  ASSERT_NE(hull, nullptr);
+  EXPECT_FALSE(hull->convex());
+  std::uint64_t with = 0, without = 0;
+  const int poses = test_scale::cases(6);
+  for (int k = 0; k < poses; ++k) {
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.01 * u(rng), Vec3(u(rng), u(rng), 0.0).normalized()).toRotationMatrix() *
+                              Eigen::AngleAxisd(3.14159 * u(rng), Vec3::UnitZ()).toRotationMatrix();
+    const double phi = 3.14159 * u(rng), shift = 0.006 + 0.003 * u(rng);
+    const Vec3 t(shift * std::cos(phi), shift * std::sin(phi), 0.05 * u(rng));
+    const MoverOrientation o = make_mover_orientation(c.mover, R);
+    ClearanceOptions opt;
+    opt.tolerance = 1e-6;
+    const ClearanceResult a = certify_clearance(c.fixed, c.mover, c.comps, o, t, opt);
+    opt.hull = hull.get();
+    const ClearanceResult b = certify_clearance(c.fixed, c.mover, c.comps, o, t, opt);
+    const Interval ref = sampled_enclosure(c.fixed, o.placed(t), c.mover.faces, 12);
+    SCOPED_TRACE(::testing::Message() << std::setprecision(17) << "case " << k << " t = (" << t.x() << ", " << t.y()
+                                      << ", " << t.z() << ")");
+    ASSERT_TRUE(a.tolerance_reached && b.tolerance_reached);
+    EXPECT_LT(b.clearance.hi, -0.001);  // into the wall
+    EXPECT_LE(b.clearance.lo, a.clearance.hi);
+    EXPECT_GE(b.clearance.hi, a.clearance.lo);
+    EXPECT_LE(b.clearance.lo, ref.hi);
+    EXPECT_GE(b.clearance.hi, ref.lo);
+    EXPECT_LE(b.clearance.width(), 1e-6 * 1.001);
+    with += b.cells;
+    without += a.cells;
+  }
+  EXPECT_LT(3 * with, 2 * without) << "with the planes " << with << " cells, without " << without;
 }
 
 // A branch and bound warm-started from the previous pose's frontier (shifted bounds, and the cells'
