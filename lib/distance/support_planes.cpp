@@ -17,8 +17,8 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
   if (F.faces.empty()) return S;
   const double diagonal = F.bbox().diagonal();
   const double slack = relative_slack * diagonal;
-  std::vector<SupportPlane> found;
-  std::vector<std::uint32_t> found_face;
+  std::vector<SupportPlane> found;  // in face order
+  std::vector<std::int64_t> found_of(F.faces.size(), -1);  // each face's entry of `found`, if any
   bool all = true;
   double work = 0.0;
   // The vertex that refuted the previous face's plane is tried first: neighbouring faces of a
@@ -33,7 +33,6 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
     return std::array<long long, 4>{std::llround(pl.n[0] * q), std::llround(pl.n[1] * q), std::llround(pl.n[2] * q),
                                     std::llround(pl.d * dq)};
   };
-  std::vector<std::pair<std::uint32_t, std::size_t>> same_as;  // (face, index in found)
   for (std::uint32_t fi = 0; fi < F.faces.size(); ++fi) {
     const Face& f = F.faces[fi];
     const TrianglePlane pl = make_triangle_plane(F.vertices[f[0]], F.vertices[f[1]], F.vertices[f[2]]);
@@ -47,7 +46,7 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
       if (it != seen.end()) {
         const SupportPlane& q = found[it->second];
         if ((pl.n - q.n).cwiseAbs().maxCoeff() <= 1e-9 && std::abs(pl.d - q.d) <= 1e-9 * (1.0 + diagonal)) {
-          same_as.emplace_back(fi, it->second);
+          found_of[fi] = static_cast<std::int64_t>(it->second);
           continue;
         }
       }
@@ -78,8 +77,8 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
     p.norm_lo = norm3_lower(pl.n.squaredNorm());
     p.norm_up = norm3_upper(pl.n.squaredNorm());
     if (finite_key) seen.emplace(key_of(pl), found.size());
+    found_of[fi] = static_cast<std::int64_t>(found.size());
     found.push_back(p);
-    found_face.push_back(fi);
   }
   S.convex_ = all;
   // Coplanar faces give (nearly) the same plane: one of them is kept (any subset stays valid), and
@@ -90,9 +89,9 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
     const SupportPlane &x = found[a], &y = found[b];
     for (int k = 0; k < 3; ++k)
       if (x.n[k] != y.n[k]) return x.n[k] < y.n[k];
-    return x.d < y.d || (x.d == y.d && found_face[a] < found_face[b]);
+    return x.d < y.d || (x.d == y.d && a < b);
   });
-  S.face_plane_.assign(F.faces.size(), -1);
+  std::vector<std::int32_t> kept(found.size());  // each entry's plane in planes_
   const double scale = 1e-12 * (1.0 + diagonal);
   for (const std::size_t i : order) {
     const SupportPlane& p = found[i];
@@ -100,7 +99,8 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
     for (std::size_t k = S.planes_.size(); k-- > 0 && same < 0;) {
       const SupportPlane& q = S.planes_[k];
       if (p.n[0] - q.n[0] > 1e-12) break;  // sorted by n[0]: no later kept plane is nearer
-      if ((p.n - q.n).cwiseAbs().maxCoeff() <= 1e-12 && std::abs(p.d - q.d) <= scale) same = static_cast<std::int64_t>(k);
+      if ((p.n - q.n).cwiseAbs().maxCoeff() <= 1e-12 && std::abs(p.d - q.d) <= scale)
+        same = static_cast<std::int64_t>(k);
     }
     if (same >= 0) {
       if (p.e < S.planes_[static_cast<std::size_t>(same)].e) S.planes_[static_cast<std::size_t>(same)] = p;
@@ -108,9 +108,11 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
       same = static_cast<std::int64_t>(S.planes_.size());
       S.planes_.push_back(p);
     }
-    S.face_plane_[found_face[i]] = static_cast<std::int32_t>(same);
+    kept[i] = static_cast<std::int32_t>(same);
   }
-  for (const auto& [face, i] : same_as) S.face_plane_[face] = S.face_plane_[found_face[i]];
+  S.face_plane_.resize(F.faces.size());
+  for (std::size_t f = 0; f < F.faces.size(); ++f)
+    S.face_plane_[f] = found_of[f] < 0 ? -1 : kept[static_cast<std::size_t>(found_of[f])];
   return S;
 }
 

@@ -759,8 +759,8 @@ class BranchAndBound {
 
   // The bound of s over a cell (corners v within eta of the exact ones) from the planes of F's
   // faces that support F (ClearanceOptions::hull) among its nearest face and the triangles the
-  // depth bound gathered (ids_, with `gathered`): s >= the planes' weighted mean, exact where the cell's deepest
-  // points lie under faces of F's convex hull, whatever F's tessellation there. The triangle-wise
+  // depth bound gathered (ids_, with `gathered`): s >= the planes' weighted mean, exact where the
+  // cell's deepest points lie under faces of F's convex hull, whatever F's tessellation there. The triangle-wise
   // bounds are loose where a cell lies across the long edges of a finely faceted wall (a tube's
   // 4-long slivers: the branch and bound cut them into pieces under 10^-3 all along; doc/poses.md,
   // "Hull planes in the branch and bound"). -inf without a hull plane at the nearest face.
@@ -1431,10 +1431,6 @@ std::shared_ptr<const SupportPlanes> hull_planes_for(const TriangleMesh& fixed) 
   auto S = std::make_shared<SupportPlanes>(SupportPlanes::build(fixed));
   if (S->empty()) return nullptr;
   return S;
-}
-
-std::shared_ptr<const SupportPlanes> support_planes_for(const TriangleMesh& fixed, const TriangleMesh& mover) {
-  return support_planes_for(hull_planes_for(fixed), mover);
 }
 
 std::shared_ptr<const SupportPlanes> support_planes_for(std::shared_ptr<const SupportPlanes> hull,

@@ -153,9 +153,8 @@ SegmentCheck check_segment_above(const SignedDistance& fixed, const MoverOrienta
 // (ClearanceOptions::support, halfspace_advance): F convex with at most 1,024 distinct face planes.
 // Each node and triangle the walk bounds picks its planes from all of them, so many planes cost
 // more than the branch and bound saves on a sphere (measured: doc/poses.md, "Supporting planes");
-// a finely faceted cylinder, whose triangles are long slivers, gains 5-60x. Null otherwise.
-std::shared_ptr<const SupportPlanes> support_planes_for(const TriangleMesh& fixed, const TriangleMesh& mover);
-// The same from F's supporting planes already found (hull_planes_for).
+// a finely faceted cylinder, whose triangles are long slivers, gains 5-60x. Null otherwise. `hull`:
+// F's supporting planes (hull_planes_for), the same set when F is convex.
 std::shared_ptr<const SupportPlanes> support_planes_for(std::shared_ptr<const SupportPlanes> hull,
                                                         const TriangleMesh& mover);
 // F's supporting planes for ClearanceOptions::hull: null when no face of F supports it (or the

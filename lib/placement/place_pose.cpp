@@ -146,8 +146,8 @@ class DeepZoneJumps {
   // The latest contact lambda of the mover moving along -dir with the deep zone, at or below
   // `lambda` (NaN: none known). worth: contacts at or above it are not worth a jump; gap: the
   // certified clearance minus the target at lambda; flat: the steps c has been flat for;
-  // flat_slope: c's fall over those steps or the last two, the lesser, divided by the advance; cells: the pose's certificate
-  // cells so far; the octree's cubes are added to *zone_cubes.
+  // flat_slope: c's fall over those steps or the last two, the lesser, divided by the advance;
+  // cells: the pose's certificate cells so far; the octree's cubes are added to *zone_cubes.
   double contact(const ApproachSetup& setup, const OrientationFrame& frame, const Vec3& dir, double lambda,
                  double gap, int flat, double flat_slope, double worth, double lambda_far, std::uint64_t cells,
                  std::uint64_t* zone_cubes) {
@@ -181,10 +181,10 @@ class DeepZoneJumps {
     // runs out costs at most a few times the advance it could have spared. A pose flat for
     // kPlateauSteps steps is on a plateau that pays for a query before that
     // (PoseOptions::deep_zone_min_cubes), if c fell by at most kPlateauSlope of the advance over
-    // them or over the last two: c falling faster is a slide that meets the zone a few gaps on (about gap / slope),
-    // while the query refines the zone about the whole stretch of the mover within a gap of it (an
-    // L-shaped sheet bracket: 20,000 cubes a pose to jump two gaps; doc/performance.md, "Slides
-    // are not plateaus").
+    // them or over the last two: c falling faster is a slide that meets the zone a few gaps on
+    // (about gap / slope), while the query refines the zone about the whole stretch of the mover
+    // within a gap of it (an L-shaped sheet bracket: 20,000 cubes a pose to jump two gaps;
+    // doc/performance.md, "Slides are not plateaus").
     // A level without a cover (shallower than a fifth of M) asks only once on a plateau: there
     // jumps save thin shells thousands of steps, while before it, and where the zone is a sheet in
     // a thin wall, a query costs more than it saves (doc/performance.md, "Shallow levels" and
@@ -681,7 +681,10 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         near_from[0] = prev_lambda, near_from[1] = prev_mid;
       }
       const double* run_from = flat_from;
-      if (flat_steps < 2 && near_flat >= DeepZoneJumps::kNearPlateauSteps) flat_steps = near_flat, run_from = near_from;
+      if (flat_steps < 2 && near_flat >= DeepZoneJumps::kNearPlateauSteps) {
+        flat_steps = near_flat;
+        run_from = near_from;
+      }
       // The secant over the last two steps: for segment steps (below), and whether a flat run is
       // a plateau or a slide (DeepZoneJumps). Loose certificates make the one-step secant jump
       // between 0 and 0.6 on a slide (spool), the two-step one much less.

@@ -225,9 +225,9 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // continued by the next try since session 36: 6; with a query's floor of 20,000 cubes from 4
   // flat steps instead of 8 since session 57: 7; with the octree asked on a long plateau after a
   // cover contact not worth a jump since session 59: 8; the floor only where c fell by at most
-  // 1/16 of the advance over the flat steps or the last two, since session 65: 9): their poses may differ within the
-  // tolerance from earlier binaries', whose
-  // journals must therefore not be resumed or merged with them. Absent otherwise, so that other
+  // 1/16 of the advance over the flat steps or the last two, since session 65: 9): their poses
+  // may differ within the tolerance from earlier binaries', whose journals must therefore not be
+  // resumed or merged with them. Absent otherwise, so that other
   // runs still resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
     run_key["deep_zone_jumps"] = 9;
