@@ -113,7 +113,137 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
   S.face_plane_.resize(F.faces.size());
   for (std::size_t f = 0; f < F.faces.size(); ++f)
     S.face_plane_[f] = found_of[f] < 0 ? -1 : kept[static_cast<std::size_t>(found_of[f])];
+  S.build_groups(0.5 * (F.bbox().lo + F.bbox().hi));
   return S;
+}
+
+void SupportPlanes::build_groups(const Vec3& centre) {
+  constexpr std::uint32_t kLeaf = 8;
+  groups_.clear();
+  order_.resize(planes_.size());
+  for (std::uint32_t j = 0; j < order_.size(); ++j) order_[j] = j;
+  if (planes_.empty()) return;
+  Vec3 lo = planes_[0].n, hi = planes_[0].n;
+  for (const SupportPlane& p : planes_) lo = lo.cwiseMin(p.n), hi = hi.cwiseMax(p.n);
+  // The planes' offsets are measured from F's box centre (n.y - d = n.(y - c) + (n.c - d)): a
+  // group's bound is then tight however far F lies from the origin. Any point would be valid.
+  double dmax = 0.0, emax = 0.0;
+  for (const SupportPlane& p : planes_) {
+    dmax = std::max(dmax, std::abs(p.d));
+    emax = std::max(emax, std::abs(p.e));
+  }
+  centre_ = centre.allFinite() ? centre : Vec3::Zero();
+  magnitude_ = centre_.cwiseAbs().sum() + dmax + emax + 1.0;
+  // Split at the median along the normals' widest axis; children stored in pairs.
+  groups_.push_back(Group{lo, hi, 0.0, 0.0, 0, static_cast<std::uint32_t>(planes_.size())});
+  for (std::size_t i = 0; i < groups_.size(); ++i) {
+    Group g = groups_[i];
+    Vec3 glo = planes_[order_[g.first]].n, ghi = glo;
+    double top = -HUGE_VAL, top_e = -HUGE_VAL;
+    for (std::uint32_t k = g.first; k < g.first + g.count; ++k) {
+      const SupportPlane& p = planes_[order_[k]];
+      glo = glo.cwiseMin(p.n);
+      ghi = ghi.cwiseMax(p.n);
+      const double o = p.n.dot(centre_) - p.d;
+      top = std::max(top, o);
+      top_e = std::max(top_e, o - p.e);
+    }
+    groups_[i].lo = glo;
+    groups_[i].hi = ghi;
+    groups_[i].top = top;
+    groups_[i].top_e = top_e;
+    if (g.count <= kLeaf) continue;
+    int axis = 0;
+    const Vec3 ext = ghi - glo;
+    if (ext[1] > ext[axis]) axis = 1;
+    if (ext[2] > ext[axis]) axis = 2;
+    const auto b = order_.begin() + g.first, m = b + g.count / 2, e = b + g.count;
+    std::nth_element(b, m, e, [&](std::uint32_t u, std::uint32_t v) {
+      return planes_[u].n[axis] < planes_[v].n[axis] || (planes_[u].n[axis] == planes_[v].n[axis] && u < v);
+    });
+    const std::uint32_t left = static_cast<std::uint32_t>(groups_.size());
+    groups_.push_back(Group{Vec3::Zero(), Vec3::Zero(), 0.0, 0.0, g.first, g.count / 2});
+    groups_.push_back(Group{Vec3::Zero(), Vec3::Zero(), 0.0, 0.0, g.first + g.count / 2, g.count - g.count / 2});
+    groups_[i].first = left;
+    groups_[i].count = 0;
+  }
+}
+
+double SupportPlanes::group_bound(const Group& g, const Vec3& y, bool with_e) const {
+  // For n in [lo, hi]: n.(y - c) <= sum over axes of max(lo u, hi u), u = y - c. The planes' computed
+  // values differ from the exact ones, and this sum and their n.c - d from theirs, by a few
+  // rounding errors of magnitudes |y|_1 + |c|_1 + |d| + e (|n| about 1): the margin covers them
+  // a thousandfold.
+  const Vec3 u = y - centre_;
+  double s = with_e ? g.top_e : g.top;
+  for (int a = 0; a < 3; ++a) s += std::max(g.lo[a] * u[a], g.hi[a] * u[a]);
+  return s + 1e-13 * (magnitude_ + y.cwiseAbs().sum() + u.cwiseAbs().sum());
+}
+
+// Depth first, the higher child first; a group is skipped when its bound is below `floor` (which
+// `leaf` may raise as it finds planes).
+template <class Leaf>
+void SupportPlanes::walk(const Vec3& y, bool with_e, const double& floor, const Leaf& leaf) const {
+  if (groups_.empty()) return;
+  std::array<std::uint32_t, 64> stack;
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Group& g = groups_[stack[--top]];
+    if (group_bound(g, y, with_e) < floor) continue;
+    if (g.count > 0) {
+      for (std::uint32_t k = g.first; k < g.first + g.count; ++k) leaf(order_[k]);
+      continue;
+    }
+    const double a = group_bound(groups_[g.first], y, with_e), b = group_bound(groups_[g.first + 1], y, with_e);
+    // The higher pushed last (popped first).
+    stack[top++] = a >= b ? g.first + 1 : g.first;
+    stack[top++] = a >= b ? g.first : g.first + 1;
+  }
+}
+
+void SupportPlanes::highest(const Vec3& g, int k, std::pair<double, std::uint32_t>* out) const {
+  k = std::min<int>(k, static_cast<int>(planes_.size()));
+  const auto before = [](const std::pair<double, std::uint32_t>& u, const std::pair<double, std::uint32_t>& v) {
+    return u.first > v.first || (u.first == v.first && u.second < v.second);
+  };
+  int have = 0;
+  if (!g.allFinite()) {  // no bound orders non-finite values: every plane, as a sort would
+    thread_local std::vector<std::pair<double, std::uint32_t>> all;
+    all.resize(planes_.size());
+    for (std::size_t j = 0; j < planes_.size(); ++j)
+      all[j] = {planes_[j].n.dot(g) - planes_[j].d, static_cast<std::uint32_t>(j)};
+    std::partial_sort(all.begin(), all.begin() + k, all.end(), before);
+    std::copy(all.begin(), all.begin() + k, out);
+    return;
+  }
+  double floor = -HUGE_VAL;  // the k-th value once k are held
+  walk(g, false, floor, [&](std::uint32_t j) {
+    const std::pair<double, std::uint32_t> x{planes_[j].n.dot(g) - planes_[j].d, j};
+    if (have == k && !before(x, out[k - 1])) return;
+    int i = have < k ? have++ : k - 1;
+    for (; i > 0 && before(x, out[i - 1]); --i) out[i] = out[i - 1];
+    out[i] = x;
+    if (have == k) floor = out[k - 1].first;
+  });
+}
+
+std::int64_t SupportPlanes::highest_above(const Vec3& y, double floor, const std::uint32_t* skip, int n_skip) const {
+  std::int64_t join = -1;
+  double best = floor;
+  const auto leaf = [&](std::uint32_t j) {
+    const double h = planes_[j].n.dot(y) - planes_[j].d - planes_[j].e;
+    if (!(h > best || (h == best && join >= 0 && j < join))) return;
+    if (std::find(skip, skip + n_skip, j) != skip + n_skip) return;
+    best = h;
+    join = j;
+  };
+  if (!y.allFinite()) {
+    for (std::uint32_t j = 0; j < planes_.size(); ++j) leaf(j);
+    return join;
+  }
+  walk(y, true, best, leaf);
+  return join;
 }
 
 namespace {
@@ -258,31 +388,18 @@ HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, con
   // were too few for a long sliver across a finely faceted rod, whose centroid's planes are not
   // those active where it is deepest: the bound stayed 10 % of the depth low.)
   const int first = std::min<int>(static_cast<int>(P.size()), std::clamp(max_members, 1, 16));
-  thread_local std::vector<std::pair<double, std::uint32_t>> order;
-  order.resize(P.size());
   Vec3 g = Vec3::Zero();
   for (int k = 0; k < n; ++k) g += x[k];
   g /= static_cast<double>(n);
-  for (std::size_t j = 0; j < P.size(); ++j) order[j] = {P[j].n.dot(g) - P[j].d, static_cast<std::uint32_t>(j)};
-  std::partial_sort(order.begin(), order.begin() + first, order.end(), [](const auto& u, const auto& v) {
-    return u.first > v.first || (u.first == v.first && u.second < v.second);
-  });
+  std::array<std::pair<double, std::uint32_t>, 16> top;
+  S.highest(g, first, top.data());
   lp.M = first;
-  for (int j = 0; j < first; ++j) lp.idx[j] = order[j].second;
+  for (int j = 0; j < first; ++j) lp.idx[j] = top[j].second;
   lp.solve(P, x);
   while (n == 3 && lp.M < 16) {  // each round adds a member
     const Vec3 y = x[0] + lp.beta * (x[1] - x[0]) + lp.gamma * (x[2] - x[0]);
     const double tol = 1e-12 * (1.0 + std::abs(lp.least));
-    double best = lp.least + tol;
-    std::int64_t join = -1;
-    for (std::size_t j = 0; j < P.size(); ++j) {
-      const double h = P[j].n.dot(y) - P[j].d - P[j].e;
-      if (h > best && std::find(lp.idx.begin(), lp.idx.begin() + lp.M, static_cast<std::uint32_t>(j)) ==
-                          lp.idx.begin() + lp.M) {
-        best = h;
-        join = static_cast<std::int64_t>(j);
-      }
-    }
+    const std::int64_t join = S.highest_above(y, lp.least + tol, lp.idx.data(), lp.M);
     if (join < 0) break;
     lp.idx[lp.M++] = static_cast<std::uint32_t>(join);
     lp.solve(P, x);

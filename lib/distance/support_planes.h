@@ -15,6 +15,7 @@
 // weights of a small linear program make it so, by linear-programming duality). See
 // doc/poses.md, "Supporting planes".
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/triangle_mesh.h"
@@ -45,10 +46,38 @@ class SupportPlanes {
   // Every face of F supports it: F is convex (then the bound below is exact where s < 0).
   bool convex() const { return convex_; }
 
+  // The `k` planes highest at g, by the computed n.g - d, highest first (ties: the lesser index),
+  // into `out` (value, index); k <= 16. The same as sorting every plane's value, from a tree of the
+  // planes by their normals that skips groups provably lower (a finely faceted rod's 502 planes:
+  // a few dozen evaluated).
+  void highest(const Vec3& g, int k, std::pair<double, std::uint32_t>* out) const;
+  // The plane with the greatest computed n.y - d - e above `floor`, not among `skip[0..n_skip)`
+  // (ties: the lesser index), or -1: what a scan of every plane keeping a strictly greater value
+  // finds.
+  std::int64_t highest_above(const Vec3& y, double floor, const std::uint32_t* skip, int n_skip) const;
+
  private:
+  // Groups of planes for highest(): a node's planes are order_[first, first + count) at a leaf
+  // (count > 0), else its children are nodes first and first + 1. Every plane's n lies in [lo, hi]
+  // and n.c - d (c: centre_) is at most top, n.c - d - e at most top_e (both as computed).
+  struct Group {
+    Vec3 lo, hi;
+    double top, top_e;
+    std::uint32_t first, count;
+  };
+  void build_groups(const Vec3& centre);
+  // Above every computed value (n.y - d, or n.y - d - e with `with_e`) of the group's planes.
+  double group_bound(const Group& g, const Vec3& y, bool with_e) const;
+  template <class Leaf>
+  void walk(const Vec3& y, bool with_e, const double& floor, const Leaf& leaf) const;
+
   std::vector<SupportPlane> planes_;
   std::vector<std::int32_t> face_plane_;
   bool convex_ = false;
+  std::vector<Group> groups_;
+  std::vector<std::uint32_t> order_;
+  Vec3 centre_ = Vec3::Zero();
+  double magnitude_ = 0.0;  // |centre|_1 + max |d| + max e + 1: the groups' rounding scale
 };
 
 // For the convex hull of the points x[0..n) (n <= 8: a triangle's corners, a box's) and a direction

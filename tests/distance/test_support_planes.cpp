@@ -266,6 +266,62 @@ TEST(SupportPlanes, ChosenPlanesBoundANonConvexTubesWall) {
 
 // The control: with the rate halved the same check fails (it has teeth: along the line the bound
 // follows s closely, not merely from below).
+// The planes highest at a point (highest) and the highest above a floor outside a set
+// (highest_above) are found from groups of planes by their normals: the same planes, in the same
+// order, as a scan of every plane, on convex and non-convex solids, near and far from F, with
+// floors at planes' own values (ties) and members skipped.
+TEST(SupportPlanes, GroupedSearchMatchesAScanOfEveryPlane) {
+  TriangleMesh far_rod = make_cylinder(0.05, 10.0, 500);
+  for (Vec3& v : far_rod.vertices) v = Vec3(v[2] + 1e3, v[0] - 250.0, v[1]);  // along x, far from 0
+  const std::vector<TriangleMesh> solids{make_cylinder(0.05, 10.0, 500), far_rod, make_icosphere(1.0, 3),
+                                         make_tube(0.98, 1.0, 4.0, 256), make_box(Vec3(0, 0, 0), Vec3(1, 2, 3))};
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const TriangleMesh& F : solids) {
+    const SupportPlanes S = SupportPlanes::build(F);
+    const std::vector<SupportPlane>& P = S.planes();
+    ASSERT_FALSE(P.empty());
+    const Aabb box = F.bbox();
+    const Vec3 mid = 0.5 * (box.lo + box.hi), half = 0.5 * (box.hi - box.lo);
+    for (int trial = 0; trial < 400; ++trial) {
+      const double reach = trial % 4 == 0 ? 1e-3 : trial % 4 == 1 ? 1.0 : trial % 4 == 2 ? 3.0 : 1e4;
+      Vec3 g = trial == 0 ? mid : Vec3(mid[0] + reach * half[0] * u(rng), mid[1] + reach * half[1] * u(rng),
+                                        mid[2] + reach * half[2] * u(rng));
+      std::vector<std::pair<double, std::uint32_t>> all(P.size());
+      for (std::size_t j = 0; j < P.size(); ++j) all[j] = {P[j].n.dot(g) - P[j].d, static_cast<std::uint32_t>(j)};
+      std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
+        return a.first > b.first || (a.first == b.first && a.second < b.second);
+      });
+      for (int k : {1, 6, 16}) {
+        std::array<std::pair<double, std::uint32_t>, 16> got;
+        S.highest(g, k, got.data());
+        for (int i = 0; i < std::min<int>(k, static_cast<int>(P.size())); ++i)
+          ASSERT_EQ(got[i].second, all[i].second) << std::setprecision(17) << "rank " << i << " of " << k << " at "
+                                                  << g.transpose();
+      }
+      // Skip the first few found, floor at the value of a plane further down (it must not be
+      // chosen: the floor is exceeded strictly).
+      std::vector<std::uint32_t> skip;
+      for (int i = 0; i < trial % 5 && i < static_cast<int>(P.size()); ++i) skip.push_back(all[i].second);
+      const std::size_t at = std::min<std::size_t>(P.size() - 1, static_cast<std::size_t>(trial % 7));
+      const double floor = P[all[at].second].n.dot(g) - P[all[at].second].d - P[all[at].second].e;
+      for (const double f : {floor, -HUGE_VAL, floor - 1e-9}) {
+        std::int64_t want = -1;
+        double best = f;
+        for (std::uint32_t j = 0; j < P.size(); ++j) {
+          const double h = P[j].n.dot(g) - P[j].d - P[j].e;
+          if (h > best && std::find(skip.begin(), skip.end(), j) == skip.end()) {
+            best = h;
+            want = j;
+          }
+        }
+        ASSERT_EQ(S.highest_above(g, f, skip.data(), static_cast<int>(skip.size())), want)
+            << std::setprecision(17) << "floor " << f << " at " << g.transpose();
+      }
+    }
+  }
+}
+
 TEST(SupportPlanes, HalvedRateFailsTheCheck) {
   const LineCheck c = check_lines(tetrahedron(), 11, 150, 0.5);
   EXPECT_GT(c.violations, 0);
