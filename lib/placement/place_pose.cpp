@@ -295,6 +295,17 @@ Vec3 pose_translation(const OrientationFrame& f, const Vec3& dir, double lambda)
   return Vec3(f.t0[0] + lambda * dir[0], f.t0[1] + lambda * dir[1], f.t0[2] + lambda * dir[2]);
 }
 
+double long_face_share(const TriangleMesh& m) {
+  if (m.faces.empty()) return 0.0;
+  const double limit_sq = 0.0625 * m.bbox().diagonal() * m.bbox().diagonal();
+  std::size_t n = 0;
+  for (const Face& f : m.faces) {
+    const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &c = m.vertices[f[2]];
+    n += std::max({(a - b).squaredNorm(), (b - c).squaredNorm(), (c - a).squaredNorm()}) > limit_sq;
+  }
+  return static_cast<double>(n) / static_cast<double>(m.faces.size());
+}
+
 void attach_surface_sweep(ApproachSetup& setup, const SweepMesh& surface) {
   const TriangleMesh& F = setup.fixed->mesh();
   if (surface.vertices != F.vertices || surface.faces != F.faces)
@@ -328,6 +339,11 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
   }
   // Only a convex F: there the planes' bound is exact wherever s < 0. A non-convex F's hull faces
   // bound only the parts of a penetration near them.
+  {
+    const bool same = mover.vertices == fixed.mesh().vertices && mover.faces == fixed.mesh().faces;
+    const double fixed_share = long_face_share(fixed.mesh());
+    s.keep_sweep_trees = std::max(fixed_share, same ? fixed_share : long_face_share(mover)) >= 0.25;
+  }
   s.hull = hull_planes_for(fixed.mesh());
   s.support = support_planes_for(s.hull, mover);
   s.mover_sweep = mover_sweep ? std::move(mover_sweep)
@@ -617,7 +633,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
               separated_advance(*setup.fixed, frame.orientation, pose_translation(frame, dir, out.lambda), dir, target,
                                 pose_rounding_slack(frame, std::abs(out.lambda) + h_max), h_max, copt.hint_pair_fixed,
                                 copt.hint_pair_mover, copt.sweep_trees);
-          if (!a.oriented_paid) copt.sweep_trees = nullptr;
+          if (!a.oriented_paid && !setup.keep_sweep_trees) copt.sweep_trees = nullptr;
           if (a.h >= h_max) return missed();  // no pair comes within reach before the far side
           h = std::max(h, a.h);
           if (a.fixed_face >= 0) {

@@ -46,7 +46,15 @@ struct ApproachSetup {
   // The planes of F's faces that support F, for any F (hull_planes_for; null when none): bounds of
   // the penetrating certificates' cells near F's convex hull (ClearanceOptions::hull).
   std::shared_ptr<const SupportPlanes> hull;
+  // A pose of a separated target keeps the sweep trees even where their oriented boxes prune
+  // little (ObbTrial): a quarter or more of F's or the mover's faces are long (long_face_share), so
+  // the world-aligned boxes of the box trees overlap across the whole crossing (a faceted rod's
+  // slivers: a million triangle pairs in one advance). Speed only.
+  bool keep_sweep_trees = false;
 };
+// The share of m's faces whose longest edge exceeds a quarter of m's bounding-box diagonal (0 for
+// an empty mesh).
+double long_face_share(const TriangleMesh& m);
 // mover_sweep: the mover's sweep mesh in its own coordinates when the caller has it (the fixed
 // surface's, when the mover is the fixed mesh); built here otherwise.
 ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover,

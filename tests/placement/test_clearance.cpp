@@ -463,6 +463,22 @@ TEST(PlacePose, PlannedStarts) {
   EXPECT_EQ(planned_start(0.0, false, StartPolicy::Offsets, band), S);
 }
 
+// Long faces (a quarter of the bounding-box diagonal or longer): a finely faceted rod's side
+// slivers are, a sphere's faces are not; a pose against or with such a part keeps the sweep trees.
+TEST(PlacePose, LongFacesKeepTheSweepTrees) {
+  const TriangleMesh rod = make_cylinder(0.05, 10.0, 64);  // 128 side slivers, 62 fan faces per cap
+  const TriangleMesh sphere = make_icosphere(1.0, 2);
+  EXPECT_GE(long_face_share(rod), 0.25);
+  EXPECT_LT(long_face_share(rod), 1.0);  // the caps' faces are short
+  EXPECT_EQ(long_face_share(sphere), 0.0);
+  EXPECT_EQ(long_face_share(TriangleMesh()), 0.0);
+  const SignedDistance rod_sd(rod), sphere_sd(sphere);
+  EXPECT_TRUE(make_approach_setup(rod_sd, rod).keep_sweep_trees);
+  EXPECT_TRUE(make_approach_setup(rod_sd, sphere).keep_sweep_trees);
+  EXPECT_TRUE(make_approach_setup(sphere_sd, rod).keep_sweep_trees);
+  EXPECT_FALSE(make_approach_setup(sphere_sd, sphere).keep_sweep_trees);
+}
+
 TEST(PlacePose, PolishedPosesHitTheTarget) {
   const TriangleMesh sphere = make_icosphere(1.0, 2);
   const SignedDistance fixed(sphere);
