@@ -372,7 +372,8 @@ HalfspaceBound rigorous_bound(const std::vector<SupportPlane>& P, const MemberPr
                               const Vec3& d);
 }  // namespace
 
-HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, const Vec3& d, int max_members) {
+HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, const Vec3& d, int max_members,
+                               HalfspaceSeed* seed) {
   HalfspaceBound r;
   const std::vector<SupportPlane>& P = S.planes();
   if (P.empty() || n < 1 || n > 8) {
@@ -395,6 +396,13 @@ HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, con
   S.highest(g, first, top.data());
   lp.M = first;
   for (int j = 0; j < first; ++j) lp.idx[j] = top[j].second;
+  // Then a seed's planes (those a nearby pose weighted: column generation then mostly confirms
+  // them instead of finding them one solve at a time).
+  if (seed)
+    for (int j = 0; j < seed->n && lp.M < 16; ++j)
+      if (seed->idx[j] < P.size() &&
+          std::find(lp.idx.begin(), lp.idx.begin() + lp.M, seed->idx[j]) == lp.idx.begin() + lp.M)
+        lp.idx[lp.M++] = seed->idx[j];
   lp.solve(P, x);
   while (n == 3 && lp.M < 16) {  // each round adds a member
     const Vec3 y = x[0] + lp.beta * (x[1] - x[0]) + lp.gamma * (x[2] - x[0]);
@@ -403,6 +411,11 @@ HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, con
     if (join < 0) break;
     lp.idx[lp.M++] = static_cast<std::uint32_t>(join);
     lp.solve(P, x);
+  }
+  if (seed) {
+    seed->n = 0;
+    for (int j = 0; j < lp.M && seed->n < 4; ++j)
+      if (lp.w[static_cast<std::size_t>(j)] > 0.0) seed->idx[seed->n++] = lp.idx[j];
   }
   return rigorous_bound(P, lp, x, n, d);
 }

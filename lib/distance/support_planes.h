@@ -14,7 +14,9 @@
 // poses, exact where the deepest point of a convex F's penetration lies on the triangle (the
 // weights of a small linear program make it so, by linear-programming duality). See
 // doc/poses.md, "Supporting planes".
+#include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -92,7 +94,17 @@ struct HalfspaceBound {
   double lower = 0.0, rate = 0.0;
   double beta = 1.0 / 3, gamma = 1.0 / 3;
 };
-HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, const Vec3& d, int max_members = 6);
+// `seed` (a triangle's, optional): planes a previous bound of the same triangle weighted (a nearby
+// pose of the mover), which join first; on return the planes this bound weights. Only the members,
+// hence the work and the weights, depend on it: the bound is rigorous for any.
+struct HalfspaceSeed {
+  std::array<std::uint32_t, 4> idx{};
+  int n = 0;
+};
+HalfspaceBound halfspace_bound(const SupportPlanes& S, const Vec3* x, int n, const Vec3& d, int max_members = 6,
+                               HalfspaceSeed* seed = nullptr);
+// Seeds of a mover's triangles by face index, kept over the poses of one advance.
+using HalfspaceSeeds = std::unordered_map<std::uint32_t, HalfspaceSeed>;
 
 // The same bound from the given planes only (indices into S.planes(), at most 16 used; no column
 // generation): for a cell of a mover triangle near faces of F that support F (a non-convex F's

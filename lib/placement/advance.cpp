@@ -176,6 +176,7 @@ struct HalfspacePolicy {
   bool step;
   double target, margin, best;
   HalfspaceMinimum out;
+  HalfspaceSeeds* seeds = nullptr;
 
   // The step a bound allows: s >= lower - mu rate - margin stays above the target while
   // mu < (lower - margin - target) / rate, rounded down; 0 when it is not above it now.
@@ -196,7 +197,7 @@ struct HalfspacePolicy {
   void leaf(std::uint32_t f) {
     const Face& face = (*o.faces)[f];
     const std::array<Vec3, 3> v{P[face[0]], P[face[1]], P[face[2]]};
-    const HalfspaceBound b = halfspace_bound(S, v.data(), 3, d);
+    const HalfspaceBound b = halfspace_bound(S, v.data(), 3, d, 6, seeds ? &(*seeds)[f] : nullptr);
     const double k = key(b);
     if (k < best || out.face < 0) {
       best = std::min(best, k);
@@ -941,23 +942,24 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
 }
 
 HalfspaceMinimum least_halfspace_bound(const SupportPlanes& support, const MoverOrientation& orientation,
-                                       const Vec3& t) {
+                                       const Vec3& t, HalfspaceSeeds* seeds) {
   HalfspacePolicy p{support, orientation, orientation.placed_view(t), t, Vec3::Zero(), false, 0.0, 0.0,
-                    std::numeric_limits<double>::infinity(), {}};
+                    std::numeric_limits<double>::infinity(), {}, seeds};
   p.out.lower = std::numeric_limits<double>::infinity();
   visit(orientation, p);
   return p.out;
 }
 
 HalfspaceAdvance halfspace_advance(const SupportPlanes& support, const MoverOrientation& orientation, const Vec3& t,
-                                   const Vec3& d, double target, double slack, double h_max) {
+                                   const Vec3& d, double target, double slack, double h_max,
+                                   HalfspaceSeeds* seeds) {
   // The exact mover at a pose t' within slack of t - mu d lies within transform_error(t) + slack of
   // the placed one moved by -mu d, and a double evaluation at t' within transform_error(t') more
   // (advance_rounding, as in separated_advance); c is 1-Lipschitz in them.
   const AdvanceRounding rounding = advance_rounding(orientation, t, d, slack, h_max);
   const double margin = round_up(round_up(slack + rounding.at_t) + rounding.farthest);
   HalfspacePolicy p{support, orientation, orientation.placed_view(t), t, d, true, target, margin,
-                    std::max(0.0, h_max), {}};
+                    std::max(0.0, h_max), {}, seeds};
   visit(orientation, p);
   HalfspaceAdvance r;
   r.h = std::min(p.best, std::max(0.0, h_max));

@@ -57,8 +57,11 @@ struct HalfspaceAdvance {
 // of t - mu d, 0 <= mu <= h, has c >= target for the exact transform and any double evaluation. No
 // precondition: the bound holds at every pose. The mover's box tree is walked best first, nodes
 // bounded by the planes at their boxes' corners, so that only triangles that may set h are bounded.
+// `seeds` (optional): each triangle's members from earlier bounds of the advance, updated (speed
+// only).
 HalfspaceAdvance halfspace_advance(const SupportPlanes& support, const MoverOrientation& orientation, const Vec3& t,
-                                   const Vec3& d, double target, double slack, double h_max);
+                                   const Vec3& d, double target, double slack, double h_max,
+                                   HalfspaceSeeds* seeds = nullptr);
 
 // The least plane bound over the placed mover's triangles at the pose t (no margins: the placed
 // doubles' triangles), the same walk: a lower bound of c at t up to the transform's rounding, and
@@ -69,7 +72,7 @@ struct HalfspaceMinimum {
   double beta = 1.0 / 3, gamma = 1.0 / 3;
 };
 HalfspaceMinimum least_halfspace_bound(const SupportPlanes& support, const MoverOrientation& orientation,
-                                       const Vec3& t);
+                                       const Vec3& t, HalfspaceSeeds* seeds = nullptr);
 
 // The latest advance at which the mover can meet a box of F's deep-zone cover
 // (distance/deep_cover.h; doc/poses.md, "Deep-zone jumps"): lambda_K such that every pose t' within

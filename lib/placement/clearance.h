@@ -94,6 +94,8 @@ struct ClearanceOptions {
   // end at its guessed deepest point), which is tight wherever c < 0; the usual paths run when it
   // is not tight enough. For penetrating poses; speed only.
   const SupportPlanes* support = nullptr;
+  // In/out, with `support`: its triangles' members from the advance's earlier bounds (speed only).
+  HalfspaceSeeds* support_seeds = nullptr;
   // The planes of F's faces that support F (any F; hull_planes_for): a bound of each deep cell of
   // the branch and bound from those at its nearest faces, tight under F's convex hull (a tube's
   // outer wall). Speed only.

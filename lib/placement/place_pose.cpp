@@ -427,6 +427,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // (support_planes_for; doc/poses.md, "Supporting planes").
   const SupportPlanes* support = options.support_planes && target < 0.0 ? setup.support.get() : nullptr;
   copt.support = support;
+  HalfspaceSeeds seeds;  // the planes' members per mover triangle, over this pose's steps
+  copt.support_seeds = support ? &seeds : nullptr;
   copt.hull = options.support_planes && target < 0.0 ? setup.hull.get() : nullptr;
   // While far from the target an advance step needs only a loose lower bound: a width of a part of
   // the remaining gap (upper end - target, tightening as the search lowers the upper end) costs at
@@ -654,7 +656,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         // it stays longer than the tolerance (Newton's method on a piecewise-linear c: a few steps).
         const auto planes_step = [&] {
           return halfspace_advance(*support, frame.orientation, pose_translation(frame, dir, out.lambda), dir, target,
-                                   pose_rounding_slack(frame, 2.0 * lambda_far), out.lambda + lambda_far);
+                                   pose_rounding_slack(frame, 2.0 * lambda_far), out.lambda + lambda_far, &seeds);
         };
         HalfspaceAdvance a = planes_step();
         if (a.h > step) {

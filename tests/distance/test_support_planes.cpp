@@ -322,6 +322,40 @@ TEST(SupportPlanes, GroupedSearchMatchesAScanOfEveryPlane) {
   }
 }
 
+// A seed (planes a nearby bound weighted) changes only the members: the bound stays below the
+// certified signed distance along a sliver across a rod and as tight as without one, whatever the
+// seed (the previous pose's, planes far from the sliver, an index out of range); it returns the
+// planes it weighted.
+TEST(SupportPlanes, SeedsChangeOnlyTheWork) {
+  const TriangleMesh F = make_cylinder(0.05, 10.0, 500);
+  const SupportPlanes S = SupportPlanes::build(F);
+  ASSERT_TRUE(S.convex());
+  const SignedDistance sd(F);
+  HalfspaceSeed carried;  // over the steps, as an advance carries it
+  for (int step = 0; step < 6; ++step) {
+    const double y0 = 0.046 - 0.0004 * step;
+    const std::array<Vec3, 3> v{Vec3(-5.0, y0, 5.0), Vec3(5.0, y0 + 1e-4, 5.0), Vec3(5.0, y0 + 7e-4, 5.0003)};
+    double least = HUGE_VAL;
+    for (int i = 0; i <= 4000; ++i)
+      least = std::min(least, sd.signed_distance(v[0] + (0.49 + 0.02 * i / 4000.0) * (v[1] - v[0])).hi);
+    const HalfspaceBound cold = halfspace_bound(S, v.data(), 3, Vec3(0, 1, 0));
+    HalfspaceSeed far;  // planes of the rod's far side and its caps
+    far.idx = {0, 1, static_cast<std::uint32_t>(S.planes().size() - 1), 1u << 30};
+    far.n = 4;
+    const HalfspaceSeed before = carried;
+    const HalfspaceBound warm = halfspace_bound(S, v.data(), 3, Vec3(0, 1, 0), 6, &carried);
+    const HalfspaceBound odd = halfspace_bound(S, v.data(), 3, Vec3(0, 1, 0), 6, &far);
+    for (const HalfspaceBound& b : {cold, warm, odd}) {
+      EXPECT_LE(b.lower, least) << std::setprecision(17) << "step " << step;
+      EXPECT_GE(b.lower, least - 1.5e-5) << std::setprecision(17) << "step " << step << " seeded with "
+                                         << before.n;
+    }
+    EXPECT_NEAR(warm.lower, cold.lower, 1e-12);
+    EXPECT_GT(carried.n, 0);
+    for (int j = 0; j < carried.n; ++j) EXPECT_LT(carried.idx[j], S.planes().size());
+  }
+}
+
 TEST(SupportPlanes, HalvedRateFailsTheCheck) {
   const LineCheck c = check_lines(tetrahedron(), 11, 150, 0.5);
   EXPECT_GT(c.violations, 0);
