@@ -123,8 +123,6 @@ void SupportPlanes::build_groups(const Vec3& centre) {
   order_.resize(planes_.size());
   for (std::uint32_t j = 0; j < order_.size(); ++j) order_[j] = j;
   if (planes_.empty()) return;
-  Vec3 lo = planes_[0].n, hi = planes_[0].n;
-  for (const SupportPlane& p : planes_) lo = lo.cwiseMin(p.n), hi = hi.cwiseMax(p.n);
   // The planes' offsets are measured from F's box centre (n.y - d = n.(y - c) + (n.c - d)): a
   // group's bound is then tight however far F lies from the origin. Any point would be valid.
   double dmax = 0.0, emax = 0.0;
@@ -134,8 +132,9 @@ void SupportPlanes::build_groups(const Vec3& centre) {
   }
   centre_ = centre.allFinite() ? centre : Vec3::Zero();
   magnitude_ = centre_.cwiseAbs().sum() + dmax + emax + 1.0;
-  // Split at the median along the normals' widest axis; children stored in pairs.
-  groups_.push_back(Group{lo, hi, 0.0, 0.0, 0, static_cast<std::uint32_t>(planes_.size())});
+  // Split at the median along the normals' widest axis; children stored in pairs. Each group's
+  // box and tops are set when it comes up.
+  groups_.push_back(Group{Vec3::Zero(), Vec3::Zero(), 0.0, 0.0, 0, static_cast<std::uint32_t>(planes_.size())});
   for (std::size_t i = 0; i < groups_.size(); ++i) {
     Group g = groups_[i];
     Vec3 glo = planes_[order_[g.first]].n, ghi = glo;
@@ -180,25 +179,31 @@ double SupportPlanes::group_bound(const Group& g, const Vec3& y, bool with_e) co
   return s + 1e-13 * (magnitude_ + y.cwiseAbs().sum() + u.cwiseAbs().sum());
 }
 
-// Depth first, the higher child first; a group is skipped when its bound is below `floor` (which
-// `leaf` may raise as it finds planes).
+// Depth first, the higher child first; a group is skipped when its bound (computed once, when its
+// parent is opened) is below `floor` (which `leaf` may raise as it finds planes).
 template <class Leaf>
 void SupportPlanes::walk(const Vec3& y, bool with_e, const double& floor, const Leaf& leaf) const {
   if (groups_.empty()) return;
-  std::array<std::uint32_t, 64> stack;
+  std::array<std::pair<std::uint32_t, double>, 64> stack;
   int top = 0;
-  stack[top++] = 0;
+  stack[top++] = {0, group_bound(groups_[0], y, with_e)};
   while (top > 0) {
-    const Group& g = groups_[stack[--top]];
-    if (group_bound(g, y, with_e) < floor) continue;
+    const auto [id, bound] = stack[--top];
+    if (bound < floor) continue;
+    const Group& g = groups_[id];
     if (g.count > 0) {
       for (std::uint32_t k = g.first; k < g.first + g.count; ++k) leaf(order_[k]);
       continue;
     }
     const double a = group_bound(groups_[g.first], y, with_e), b = group_bound(groups_[g.first + 1], y, with_e);
     // The higher pushed last (popped first).
-    stack[top++] = a >= b ? g.first + 1 : g.first;
-    stack[top++] = a >= b ? g.first : g.first + 1;
+    if (a >= b) {
+      stack[top++] = {g.first + 1, b};
+      stack[top++] = {g.first, a};
+    } else {
+      stack[top++] = {g.first, a};
+      stack[top++] = {g.first + 1, b};
+    }
   }
 }
 

@@ -326,24 +326,21 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
   s.mover_ref = mover_box.center();
   s.fixed_radius = max_distance(fixed.mesh().vertices, s.fixed_ref);
   s.mover_radius = max_distance(mover.vertices, s.mover_ref);
+  const bool same = mover.vertices == fixed.mesh().vertices && mover.faces == fixed.mesh().faces;
   {
     // The pairs within reach of a target tau lie in a band about the contact about sqrt(R tau)
     // across (R a curvature radius, here the smaller diagonal), holding some R tau / e^2 triangles
     // of median edge e: the advance pays while tau/e is at most 12 and (tau/e)(D/e) at most 1650
     // (measured on armadillo and its subdivisions and bunny00: doc/poses.md).
     const double e_fixed = median_edge_length(fixed.mesh());
-    const bool same = mover.vertices == fixed.mesh().vertices && mover.faces == fixed.mesh().faces;
     const double e = same ? e_fixed : std::min(e_fixed, median_edge_length(mover));
     const double D = std::min(fixed.bbox().diagonal(), mover_box.diagonal());
     s.advance_target_limit = D > 0.0 ? std::min(12.0 * e, 1650.0 * e * e / D) : 0.0;
   }
+  const double fixed_share = long_face_share(fixed.mesh());
+  s.keep_sweep_trees = std::max(fixed_share, same ? fixed_share : long_face_share(mover)) >= 0.25;
   // Only a convex F: there the planes' bound is exact wherever s < 0. A non-convex F's hull faces
   // bound only the parts of a penetration near them.
-  {
-    const bool same = mover.vertices == fixed.mesh().vertices && mover.faces == fixed.mesh().faces;
-    const double fixed_share = long_face_share(fixed.mesh());
-    s.keep_sweep_trees = std::max(fixed_share, same ? fixed_share : long_face_share(mover)) >= 0.25;
-  }
   s.hull = hull_planes_for(fixed.mesh());
   s.support = support_planes_for(s.hull, mover);
   s.mover_sweep = mover_sweep ? std::move(mover_sweep)
