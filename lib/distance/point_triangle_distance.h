@@ -175,6 +175,35 @@ inline double box_axis_gap_lower_bound(const AxisRange& a, const Aabb& b) {
   return gap > 0.0 ? gap / a.norm_up * (1.0 - 4e-15) : 0.0;
 }
 
+// A lower bound of the distance between triangles abc and xyz from the gap between their extents
+// along u (any direction; 0 when they overlap there). Any rounding mode.
+inline double triangle_pair_axis_gap(const Vec3& u, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& x,
+                                     const Vec3& y, const Vec3& z) {
+  const AxisExtent e = triangle_extent(u, a, b, c), f = triangle_extent(u, x, y, z);
+  const double gap = std::max(e.lo - f.hi, f.lo - e.hi);
+  return gap > 0.0 ? gap / (std::sqrt(u.squaredNorm()) * (1.0 + 4e-15) + 1e-300) * (1.0 - 4e-15) : 0.0;
+}
+
+// The longest edge of abc as a vector (either direction).
+inline Vec3 longest_edge(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 e0 = b - a, e1 = c - b, e2 = a - c;
+  const double l0 = e0.squaredNorm(), l1 = e1.squaredNorm(), l2 = e2.squaredNorm();
+  return l0 >= l1 && l0 >= l2 ? e0 : (l1 >= l2 ? e1 : e2);
+}
+
+// The same gap along the axis across both triangles' longest edges (ev: xyz's, longest_edge): two
+// long slivers crossing at a distance, each cutting the other's plane and side slabs (a finely
+// faceted tube's wall against a tilted copy's) are told apart on it, and seldom on any other of the
+// separating axes. 0 when the edges are near parallel (the axis then says little) or not finite.
+inline double long_edges_gap(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& x, const Vec3& y, const Vec3& z,
+                             const Vec3& ev) {
+  const Vec3 ef = longest_edge(a, b, c);
+  const Vec3 u = ef.cross(ev);
+  const double u2 = u.squaredNorm();
+  if (!(u2 > 1e-24 * ef.squaredNorm() * ev.squaredNorm()) || !std::isfinite(u2)) return 0.0;
+  return triangle_pair_axis_gap(u, a, b, c, x, y, z);
+}
+
 // The same margin as a reach time: xyz moved by s v stays more than r from the plane's triangle
 // while s < (margin - eps - r |n|) / (its approach rate along n): n.x - d changes by s n.v at every
 // point. 0 when nothing is proved (xyz straddles, or is within r), +inf when it certainly recedes.
