@@ -167,21 +167,15 @@ struct AxisRange {
 inline AxisRange triangle_axis_range(const Vec3& u, const std::array<Vec3, 3>& t) {
   return {u, triangle_extent(u, t[0], t[1], t[2]), std::sqrt(u.squaredNorm()) * (1.0 + 4e-15) + 1e-300};
 }
-// A lower bound of the distance between a box and that triangle from the gap between their
-// extents along the axis (0 when they overlap there). Any rounding mode.
-inline double box_axis_gap_lower_bound(const AxisRange& a, const Aabb& b) {
-  const AxisExtent e = box_extent(a.u, b);
+// A lower bound of the distance between a set whose extent along a.u is e and that triangle, from
+// the gap between the extents (0 when they overlap there). Any rounding mode.
+inline double axis_gap_lower_bound(const AxisRange& a, const AxisExtent& e) {
   const double gap = std::max(e.lo - a.t.hi, a.t.lo - e.hi);
   return gap > 0.0 ? gap / a.norm_up * (1.0 - 4e-15) : 0.0;
 }
-
-// A lower bound of the distance between triangles abc and xyz from the gap between their extents
-// along u (any direction; 0 when they overlap there). Any rounding mode.
-inline double triangle_pair_axis_gap(const Vec3& u, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& x,
-                                     const Vec3& y, const Vec3& z) {
-  const AxisExtent e = triangle_extent(u, a, b, c), f = triangle_extent(u, x, y, z);
-  const double gap = std::max(e.lo - f.hi, f.lo - e.hi);
-  return gap > 0.0 ? gap / (std::sqrt(u.squaredNorm()) * (1.0 + 4e-15) + 1e-300) * (1.0 - 4e-15) : 0.0;
+// The same for a box.
+inline double box_axis_gap_lower_bound(const AxisRange& a, const Aabb& b) {
+  return axis_gap_lower_bound(a, box_extent(a.u, b));
 }
 
 // The longest edge of abc as a vector (either direction).
@@ -201,7 +195,7 @@ inline double long_edges_gap(const Vec3& a, const Vec3& b, const Vec3& c, const 
   const Vec3 u = ef.cross(ev);
   const double u2 = u.squaredNorm();
   if (!(u2 > 1e-24 * ef.squaredNorm() * ev.squaredNorm()) || !std::isfinite(u2)) return 0.0;
-  return triangle_pair_axis_gap(u, a, b, c, x, y, z);
+  return axis_gap_lower_bound(triangle_axis_range(u, {x, y, z}), triangle_extent(u, a, b, c));
 }
 
 // The same margin as a reach time: xyz moved by s v stays more than r from the plane's triangle
