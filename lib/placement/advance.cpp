@@ -185,19 +185,71 @@ struct HalfspacePolicy {
     if (!(room > 0.0)) return 0.0;
     return b.rate > 0.0 ? round_down(room / b.rate) : HUGE_VAL;
   }
+  // With the mover's sweep tree (SweepTrees): its volumes hold the placed points at mover_t; at t
+  // they lie within shift_pad of them moved by D = t - mover_t (as in separated_advance).
+  Vec3 D = Vec3::Zero();
+  double shift_pad = 0.0;
+  // The planes the best triangle so far weighted: members of every node's program from then on
+  // (a node's box has no column generation, and the planes highest at its centre need not be those
+  // active where it is deepest: a long node across a faceted rod).
+  HalfspaceSeed node_seed{};
+
   double key(const HalfspaceBound& b) const { return step ? allowed(b) : b.lower; }
   double bound(const Aabb& box) const {
     std::array<Vec3, 8> c;
     for (int k = 0; k < 8; ++k)
       for (int a = 0; a < 3; ++a) c[k][a] = ((k >> a) & 1 ? box.hi[a] : box.lo[a]) + t[a];
-    return key(halfspace_bound(S, c.data(), 8, d));
+    HalfspaceSeed seed = node_seed;
+    return key(halfspace_bound(S, c.data(), 8, d, 6, &seed));
+  }
+  // A sweep-tree node: the planes' bound over its oriented box moved by D, a parallelepiped whose
+  // 8 corners are computed; every point it holds lies within `far` of their hull (below), and s is
+  // 1-Lipschitz, so the hull's bound less `far` holds for them (the rate is unchanged). A long,
+  // tilted node's axis-aligned box has corners far from its triangles (a rotated rod: 81 % of its
+  // poses' instructions were this walk on the box tree; doc/poses.md, "Supporting planes").
+  double bound(const SweepVolume& v) const {
+    std::array<Vec3, 8> c;
+    if (!(v.obb.half[0] >= 0.0)) {
+      // No oriented box: its axis-aligned one moved by D, each corner within 2u of its
+      // coordinates' magnitudes per coordinate (any rounding mode).
+      double magnitude = D.cwiseAbs().sum();
+      for (int a = 0; a < 3; ++a) magnitude += std::max(std::abs(v.box.lo[a]), std::abs(v.box.hi[a]));
+      for (int k = 0; k < 8; ++k)
+        for (int a = 0; a < 3; ++a) c[k][a] = ((k >> a) & 1 ? v.box.hi[a] : v.box.lo[a]) + D[a];
+      return bound_over(c, round_up(shift_pad + 1e-15 * round_up(magnitude * (1.0 + 1e-12))));
+    }
+    const Obb o = shifted_obb(v.obb, D, shift_pad);
+    std::array<Vec3, 3> h;
+    double magnitude = std::abs(o.center[0]) + std::abs(o.center[1]) + std::abs(o.center[2]);
+    for (int k = 0; k < 3; ++k) {
+      h[k] = o.half[k] * o.axes.col(k);
+      magnitude += std::abs(h[k][0]) + std::abs(h[k][1]) + std::abs(h[k][2]);
+    }
+    for (int k = 0; k < 8; ++k)
+      for (int a = 0; a < 3; ++a)
+        c[k][a] = o.center[a] + ((k & 1) ? h[0][a] : -h[0][a]) + ((k & 2) ? h[1][a] : -h[1][a]) +
+                  ((k & 4) ? h[2][a] : -h[2][a]);
+    // The exact corners centre +- half_k axes_k (of the computed centre, axes and halves) lie
+    // within the coordinates' rounding of the computed ones: a product and three sums, at most
+    // 8 u (|centre_a| + sum_k half_k |axes_ka|) per coordinate in any rounding mode (u = 2^-53),
+    // whose sum over a bounds the distance; a convex combination of exact corners lies as near to
+    // the same combination of computed ones. Plus the box's pad.
+    return bound_over(c, round_up(o.pad + 1e-15 * round_up(magnitude * (1.0 + 1e-12))));
+  }
+  double bound_over(const std::array<Vec3, 8>& c, double far) const {
+    HalfspaceSeed seed = node_seed;
+    HalfspaceBound b = halfspace_bound(S, c.data(), 8, d, 6, &seed);
+    b.lower = round_down(b.lower - far);
+    return key(b);
   }
   double prune_bound() const { return best; }
   bool done() const { return step && best <= 0.0; }
   void leaf(std::uint32_t f) {
     const Face& face = (*o.faces)[f];
     const std::array<Vec3, 3> v{P[face[0]], P[face[1]], P[face[2]]};
-    const HalfspaceBound b = halfspace_bound(S, v.data(), 3, d, 6, seeds ? &(*seeds)[f] : nullptr);
+    HalfspaceSeed seed = seeds ? (*seeds)[f] : HalfspaceSeed{};
+    const HalfspaceBound b = halfspace_bound(S, v.data(), 3, d, 6, &seed);
+    if (seeds) (*seeds)[f] = seed;
     const double k = key(b);
     if (k < best || out.face < 0) {
       best = std::min(best, k);
@@ -205,15 +257,29 @@ struct HalfspacePolicy {
       out.face = f;
       out.beta = b.beta;
       out.gamma = b.gamma;
+      node_seed = seed;
     }
   }
 };
 
 // Every triangle for a small mover (its few tree nodes, each an 8-corner program, cost more than
-// they prune: a tetrahedron's poses several times slower walked), else the walk.
-void visit(const MoverOrientation& o, HalfspacePolicy& p) {
+// they prune: a tetrahedron's poses several times slower walked), else the walk: on the mover's
+// sweep tree when the caller has it (oriented boxes), else on its box tree.
+void visit(const MoverOrientation& o, HalfspacePolicy& p, const SweepTrees* trees, std::int64_t hint) {
   constexpr std::size_t kLoopFaces = 64;
   if (o.faces->size() > kLoopFaces) {
+    if (hint >= 0 && static_cast<std::size_t>(hint) < o.faces->size()) p.leaf(static_cast<std::uint32_t>(hint));
+    if (trees && trees->mover && !trees->mover->tree.empty()) {
+      if (trees->mover->faces.size() != o.faces->size())
+        throw std::invalid_argument("supporting planes' walk: the sweep mesh is not the mover's");
+      // A placed vertex at t lies within the transform's rounding at t and at mover_t of the one
+      // at mover_t moved by the exact t - mover_t, and the computed D within 1e-15 |D|_1 of it.
+      p.D = Vec3(p.t[0] - trees->mover_t[0], p.t[1] - trees->mover_t[1], p.t[2] - trees->mover_t[2]);
+      p.shift_pad = round_up((o.transform_error(p.t) + o.transform_error(trees->mover_t)) +
+                             1e-15 * p.D.cwiseAbs().sum());
+      traverse_nearest_first(trees->mover->tree, p);
+      return;
+    }
     traverse_nearest_first(o.boxes, p);
     return;
   }
@@ -942,17 +1008,17 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
 }
 
 HalfspaceMinimum least_halfspace_bound(const SupportPlanes& support, const MoverOrientation& orientation,
-                                       const Vec3& t, HalfspaceSeeds* seeds) {
+                                       const Vec3& t, HalfspaceSeeds* seeds, const SweepTrees* trees, std::int64_t hint) {
   HalfspacePolicy p{support, orientation, orientation.placed_view(t), t, Vec3::Zero(), false, 0.0, 0.0,
                     std::numeric_limits<double>::infinity(), {}, seeds};
   p.out.lower = std::numeric_limits<double>::infinity();
-  visit(orientation, p);
+  visit(orientation, p, trees, hint);
   return p.out;
 }
 
 HalfspaceAdvance halfspace_advance(const SupportPlanes& support, const MoverOrientation& orientation, const Vec3& t,
                                    const Vec3& d, double target, double slack, double h_max,
-                                   HalfspaceSeeds* seeds) {
+                                   HalfspaceSeeds* seeds, const SweepTrees* trees, std::int64_t hint) {
   // The exact mover at a pose t' within slack of t - mu d lies within transform_error(t) + slack of
   // the placed one moved by -mu d, and a double evaluation at t' within transform_error(t') more
   // (advance_rounding, as in separated_advance); c is 1-Lipschitz in them.
@@ -960,7 +1026,7 @@ HalfspaceAdvance halfspace_advance(const SupportPlanes& support, const MoverOrie
   const double margin = round_up(round_up(slack + rounding.at_t) + rounding.farthest);
   HalfspacePolicy p{support, orientation, orientation.placed_view(t), t, d, true, target, margin,
                     std::max(0.0, h_max), {}, seeds};
-  visit(orientation, p);
+  visit(orientation, p, trees, hint);
   HalfspaceAdvance r;
   r.h = std::min(p.best, std::max(0.0, h_max));
   r.face = p.out.face;

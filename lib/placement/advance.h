@@ -58,10 +58,14 @@ struct HalfspaceAdvance {
 // precondition: the bound holds at every pose. The mover's box tree is walked best first, nodes
 // bounded by the planes at their boxes' corners, so that only triangles that may set h are bounded.
 // `seeds` (optional): each triangle's members from earlier bounds of the advance, updated (speed
-// only).
+// only). `trees` (optional; only its mover part is used): the mover's sweep tree placed at
+// mover_t, walked instead of the box tree, its nodes bounded at their oriented boxes' corners
+// (moved to t and grown by the rounding): a long, tilted part's world-aligned boxes are far
+// looser. Any tree gives a valid h; h may differ between them.
 HalfspaceAdvance halfspace_advance(const SupportPlanes& support, const MoverOrientation& orientation, const Vec3& t,
                                    const Vec3& d, double target, double slack, double h_max,
-                                   HalfspaceSeeds* seeds = nullptr);
+                                   HalfspaceSeeds* seeds = nullptr, const SweepTrees* trees = nullptr,
+                                   std::int64_t hint = -1);
 
 // The least plane bound over the placed mover's triangles at the pose t (no margins: the placed
 // doubles' triangles), the same walk: a lower bound of c at t up to the transform's rounding, and
@@ -72,7 +76,8 @@ struct HalfspaceMinimum {
   double beta = 1.0 / 3, gamma = 1.0 / 3;
 };
 HalfspaceMinimum least_halfspace_bound(const SupportPlanes& support, const MoverOrientation& orientation,
-                                       const Vec3& t, HalfspaceSeeds* seeds = nullptr);
+                                       const Vec3& t, HalfspaceSeeds* seeds = nullptr,
+                                       const SweepTrees* trees = nullptr, std::int64_t hint = -1);
 
 // The latest advance at which the mover can meet a box of F's deep-zone cover
 // (distance/deep_cover.h; doc/poses.md, "Deep-zone jumps"): lambda_K such that every pose t' within

@@ -1093,7 +1093,7 @@ namespace {
 // False when the two ends are farther apart than the requested width.
 bool halfspace_certificate(const SignedDistance& fixed, const SupportPlanes& support, const MoverOrientation& o,
                            const Vec3& t, const ClearanceOptions& options, ClearanceResult& r) {
-  const HalfspaceMinimum m = least_halfspace_bound(support, o, t, options.support_seeds);
+  const HalfspaceMinimum m = least_halfspace_bound(support, o, t, options.support_seeds, options.support_trees, options.hint_face);
   if (m.face < 0 || !(m.lower > -kInf)) return false;
   const PlacedView P = o.placed_view(t);
   const Face& tri = (*o.faces)[static_cast<std::size_t>(m.face)];

@@ -96,6 +96,9 @@ struct ClearanceOptions {
   const SupportPlanes* support = nullptr;
   // In/out, with `support`: its triangles' members from the advance's earlier bounds (speed only).
   HalfspaceSeeds* support_seeds = nullptr;
+  // With `support`: the mover's sweep tree (its mover part) for the planes' walk
+  // (least_halfspace_bound). Speed only.
+  const SweepTrees* support_trees = nullptr;
   // The planes of F's faces that support F (any F; hull_planes_for): a bound of each deep cell of
   // the branch and bound from those at its nearest faces, tight under F's convex hull (a tube's
   // outer wall). Speed only.

@@ -426,6 +426,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   copt.support = support;
   HalfspaceSeeds seeds;  // the planes' members per mover triangle, over this pose's steps
   copt.support_seeds = support ? &seeds : nullptr;
+  copt.support_trees = support ? &trees : nullptr;  // its oriented boxes for the planes' walks
   copt.hull = options.support_planes && target < 0.0 ? setup.hull.get() : nullptr;
   // While far from the target an advance step needs only a loose lower bound: a width of a part of
   // the remaining gap (upper end - target, tightening as the search lowers the upper end) costs at
@@ -653,7 +654,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         // it stays longer than the tolerance (Newton's method on a piecewise-linear c: a few steps).
         const auto planes_step = [&] {
           return halfspace_advance(*support, frame.orientation, pose_translation(frame, dir, out.lambda), dir, target,
-                                   pose_rounding_slack(frame, 2.0 * lambda_far), out.lambda + lambda_far, &seeds);
+                                   pose_rounding_slack(frame, 2.0 * lambda_far), out.lambda + lambda_far, &seeds,
+                                   &trees, copt.hint_face);
         };
         HalfspaceAdvance a = planes_step();
         if (a.h > step) {

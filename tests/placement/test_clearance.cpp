@@ -664,6 +664,68 @@ TEST(SupportPlanes, TreeWalkFindsTheLeastTriangleBound) {
   }
 }
 
+// The walk on the mover's sweep tree (oriented boxes, placed at another pose t0 and moved to t),
+// on a finely faceted rod crossing a copy of itself at random tilts, where the world-aligned boxes
+// of its long side slivers are loose: its least bound is the least triangle bound (fails if the
+// shift to t is left out: nodes would be bounded where the mover is not), it is a lower end of s
+// at points of the placed mover, and its steps keep c at or above the target (certificates along
+// each step).
+TEST(SupportPlanes, WalkOnOrientedBoxesAlongARotatedRod) {
+  const TriangleMesh rod = make_cylinder(0.05, 2.0, 200);
+  Case c(rod, rod);
+  const SupportPlanes S = SupportPlanes::build(rod);
+  ASSERT_TRUE(S.convex());
+  const SweepMesh own = make_sweep_mesh(rod.vertices, rod.faces);
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int stepped = 0, penetrating = 0;
+  for (int k = 0; k < test_scale::cases(12); ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const MoverOrientation o = make_mover_orientation(rod, R);
+    // The mover's middle near F's axis, its axis tilted: the two rods cross.
+    const Vec3 t = Vec3(0.045 * u(rng), 0.045 * u(rng), 1.0) - R * Vec3(0.0, 0.0, 1.0);
+    const Vec3 t0 = t + Vec3(0.3, -0.2, 0.1);
+    const SweepMesh at_t0 = placed_sweep_mesh(own, R, t0, o.placed(t0), o.transform_error(t0));
+    const SweepTrees trees{nullptr, &at_t0, t0};
+    const PlacedView P = o.placed_view(t);
+    double least = HUGE_VAL;
+    for (const Face& f : rod.faces) {
+      const std::array<Vec3, 3> v{P[f[0]], P[f[1]], P[f[2]]};
+      least = std::min(least, halfspace_bound(S, v.data(), 3, Vec3::Zero()).lower);
+    }
+    const HalfspaceMinimum walk = least_halfspace_bound(S, o, t, nullptr, &trees, static_cast<std::int64_t>(k));
+    EXPECT_GE(walk.lower, least) << std::setprecision(17) << "case " << k;
+    EXPECT_LE(walk.lower - least, 1e-12) << std::setprecision(17) << "case " << k << " walk " << walk.lower
+                                         << " loop " << least;
+    penetrating += walk.lower < 0.0;
+    for (std::size_t f = 0; f < rod.faces.size(); f += 7) {
+      const Face& face = rod.faces[f];
+      const Vec3 x = (P[face[0]] + P[face[1]] + P[face[2]]) / 3.0;
+      ASSERT_LE(walk.lower, c.fixed.signed_distance(x).hi) << std::setprecision(17) << "case " << k << " face " << f;
+    }
+    // A step towards a deeper target, along a random direction.
+    const Vec3 dir = random_direction(rng);
+    ClearanceOptions copt;
+    copt.tolerance = 1e-9;
+    const ClearanceResult c0 = certify_clearance(c.fixed, rod, c.comps, o, t, copt);
+    const double target = c0.clearance.lo - 0.01;
+    const double slack = 8.0 * 0x1p-52 * (t.cwiseAbs().maxCoeff() + 4.0);
+    const HalfspaceAdvance a = halfspace_advance(S, o, t, dir, target, slack, 4.0, nullptr, &trees, walk.face);
+    ASSERT_GE(a.h, 0.0);
+    if (!(a.h > 0.0)) continue;
+    ++stepped;
+    for (double at : {1.0, 0.5, 0.5 * (1.0 + u(rng))}) {
+      const double mu = at * a.h;
+      const Vec3 t2(t[0] - mu * dir[0], t[1] - mu * dir[1], t[2] - mu * dir[2]);
+      const ClearanceResult r = certify_clearance(c.fixed, rod, c.comps, o, t2, copt);
+      ASSERT_GE(r.clearance.hi, target) << std::setprecision(17) << "case " << k << " h " << a.h << " at " << at
+                                        << " clearance [" << r.clearance.lo << ", " << r.clearance.hi << "]";
+    }
+  }
+  EXPECT_GT(penetrating, test_scale::cases(12) / 2);
+  EXPECT_GT(stepped, test_scale::cases(12) / 2);
+}
+
 TEST(SupportPlanes, StepsLandOnTheFirstCrossing) {
   // A box against a box, and an icosahedron against a 320-face sphere (the mover's tree walked).
   for (int pair = 0; pair < 2; ++pair) {
