@@ -295,6 +295,10 @@ Vec3 pose_translation(const OrientationFrame& f, const Vec3& dir, double lambda)
   return Vec3(f.t0[0] + lambda * dir[0], f.t0[1] + lambda * dir[1], f.t0[2] + lambda * dir[2]);
 }
 
+// F's planes from which their steps are tried at separated targets too (ApproachSetup::
+// separated_planes).
+constexpr std::size_t kSeparatedPlanesMin = 128;
+
 double long_face_share(const TriangleMesh& m) {
   if (m.faces.empty()) return 0.0;
   const double limit_sq = 0.0625 * m.bbox().diagonal() * m.bbox().diagonal();
@@ -343,6 +347,11 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
   // bound only the parts of a penetration near them.
   s.hull = hull_planes_for(fixed.mesh());
   s.support = support_planes_for(s.hull, mover);
+  // Where the separated advance is dear: its sliver pairs near a crossing grow with the square of
+  // the sides, the planes' walk hardly (instructions of 40 approaches of pins and a rod against
+  // themselves, doc/performance.md, "The planes at separated levels": 64 sides +22 %, 200 -7 %,
+  // 500 -53 %, 1,000 -46 %).
+  s.separated_planes = s.support && fixed_share >= 0.25 && s.support->planes().size() >= kSeparatedPlanesMin;
   s.mover_sweep = mover_sweep ? std::move(mover_sweep)
                               : std::make_shared<const SweepMesh>(make_sweep_mesh(mover.vertices, mover.faces));
   return s;
@@ -424,9 +433,14 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // (support_planes_for; doc/poses.md, "Supporting planes").
   const SupportPlanes* support = options.support_planes && target < 0.0 ? setup.support.get() : nullptr;
   copt.support = support;
+  // Their steps at separated targets too where F's faces are long (ApproachSetup::
+  // separated_planes: a finely faceted rod or pin, whose sliver pairs make the separated advance
+  // dear). Tried before it; the certificates there keep the pair paths.
+  const SupportPlanes* step_planes =
+      options.support_planes && (target < 0.0 || setup.separated_planes) ? setup.support.get() : nullptr;
   HalfspaceSeeds seeds;  // the planes' members per mover triangle, over this pose's steps
-  copt.support_seeds = support ? &seeds : nullptr;
-  copt.support_trees = support ? &trees : nullptr;  // its oriented boxes for the planes' walks
+  copt.support_seeds = step_planes ? &seeds : nullptr;
+  copt.support_trees = step_planes ? &trees : nullptr;  // its oriented boxes for the planes' walks
   copt.hull = options.support_planes && target < 0.0 ? setup.hull.get() : nullptr;
   // While far from the target an advance step needs only a loose lower bound: a width of a part of
   // the remaining gap (upper end - target, tightening as the search lowers the upper end) costs at
@@ -622,6 +636,29 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         }
         break;
       }
+      if (step_planes) {
+        // The planes' step where it beats this certificate's, chained without certificates while
+        // it stays longer than the tolerance (Newton's method on a piecewise-linear c: a few steps).
+        const auto planes_step = [&] {
+          return halfspace_advance(*step_planes, frame.orientation, pose_translation(frame, dir, out.lambda), dir, target,
+                                   pose_rounding_slack(frame, 2.0 * lambda_far), out.lambda + lambda_far, &seeds,
+                                   &trees, copt.hint_face);
+        };
+        HalfspaceAdvance a = planes_step();
+        if (a.h > step) {
+          for (;;) {
+            if (a.face >= 0) set_hint(copt, {a.beta, a.gamma}, static_cast<std::uint32_t>(a.face));
+            out.lambda -= a.h;
+            ++out.steps;
+            if (out.lambda <= -lambda_far) return missed();
+            if (a.h <= options.tolerance || out.steps >= options.max_steps) break;
+            a = planes_step();
+            if (!(a.h > 0.0)) break;
+          }
+          c = certify(out.lambda, false);
+          continue;
+        }
+      }
       if (options.separated_advance && target > 0.0 && target <= setup.advance_target_limit) {
         // c > target > 0: the mover's surface is outside F and apart from it. Advance by the pair
         // traversal's reach bound (advance.h), pose after pose without a certificate while the
@@ -648,29 +685,6 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         }
         c = certify(out.lambda, false);
         continue;
-      }
-      if (support) {
-        // The planes' step where it beats this certificate's, chained without certificates while
-        // it stays longer than the tolerance (Newton's method on a piecewise-linear c: a few steps).
-        const auto planes_step = [&] {
-          return halfspace_advance(*support, frame.orientation, pose_translation(frame, dir, out.lambda), dir, target,
-                                   pose_rounding_slack(frame, 2.0 * lambda_far), out.lambda + lambda_far, &seeds,
-                                   &trees, copt.hint_face);
-        };
-        HalfspaceAdvance a = planes_step();
-        if (a.h > step) {
-          for (;;) {
-            if (a.face >= 0) set_hint(copt, {a.beta, a.gamma}, static_cast<std::uint32_t>(a.face));
-            out.lambda -= a.h;
-            ++out.steps;
-            if (out.lambda <= -lambda_far) return missed();
-            if (a.h <= options.tolerance || out.steps >= options.max_steps) break;
-            a = planes_step();
-            if (!(a.h > 0.0)) break;
-          }
-          c = certify(out.lambda, false);
-          continue;
-        }
       }
       const double mid = 0.5 * (c.clearance.lo + c.clearance.hi);
       const double slope = have_prev ? std::max(0.0, (prev_mid - mid) / (prev_lambda - out.lambda)) : 1.0;

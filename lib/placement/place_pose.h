@@ -51,6 +51,10 @@ struct ApproachSetup {
   // the world-aligned boxes of the box trees overlap across the whole crossing (a faceted rod's
   // slivers: a million triangle pairs in one advance). Speed only.
   bool keep_sweep_trees = false;
+  // With `support`: its steps at separated targets too, where a quarter or more of F's faces are
+  // long (a finely faceted rod or pin: outside F the planes' bound is the distance to a face's
+  // plane, within a hair of the distance to F across its sides). Speed only.
+  bool separated_planes = false;
 };
 // The share of m's faces whose longest edge exceeds a quarter of m's bounding-box diagonal (0 for
 // an empty mesh).

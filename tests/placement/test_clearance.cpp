@@ -726,6 +726,58 @@ TEST(SupportPlanes, WalkOnOrientedBoxesAlongARotatedRod) {
   EXPECT_GT(stepped, test_scale::cases(12) / 2);
 }
 
+// Polishing to a tight tolerance from the given start (the supporting planes' place_pose tests).
+PoseOptions tight_options(PoseStart start) {
+  PoseOptions o;
+  o.tolerance = 1e-7;
+  o.start = start;
+  return o;
+}
+
+// At separated targets a finely faceted rod's planes step first (ApproachSetup::separated_planes):
+// poses on target and on the first crossing, as without the planes: every pose sampled in the 0.1
+// before it (densest near it) and at a few farther ones certified at or above the target. (The
+// lambdas of the two may differ by more than the tolerance where c falls slowly: each is within
+// the tolerance of the target in c, not of the other in lambda.)
+TEST(SupportPlanes, SeparatedStepsOnAFinelyFacetedRod) {
+  const TriangleMesh rod = make_cylinder(0.05, 1.0, 260);
+  const Scene scene(rod, rod);
+  ASSERT_TRUE(scene.setup.support);
+  ASSERT_TRUE(scene.setup.separated_planes);
+  const ApproachSetup setup = scene.attached();
+  PoseOptions opt = tight_options(PoseStart::Far);
+  std::mt19937_64 rng(41);
+  int placed = 0;
+  const int cases = test_scale::cases(6);
+  for (int k = 0; k < cases; ++k) {
+    const OrientationFrame frame = make_orientation_frame(setup, random_rotation(rng));
+    const Vec3 dir = random_direction(rng);
+    for (double target : {0.002, 0.02}) {
+      for (bool planes : {false, true}) {
+        opt.support_planes = planes;
+        const PoseOutcome p = place_pose(setup, frame, nullptr, dir, target, opt);
+        if (!p.contact) continue;
+        placed += planes;
+        EXPECT_TRUE(p.on_target && p.certified) << target;
+        // On the sweep trees: the rods' oriented boxes part the slivers' pairs.
+        const SweepTrees trees{&scene.surface, &frame.swept, frame.t0};
+        ClearanceOptions copt;
+        copt.tolerance = 1e-4;
+        copt.sweep_trees = &trees;
+        for (int i = 1; i <= 24; ++i) {
+          const double x = i <= 20 ? 0.1 * (i / 20.0) * (i / 20.0) : 0.1 + 0.3 * (i - 20);
+          const ClearanceResult c = certify_clearance(scene.fixed, scene.mover, setup.components, frame.orientation,
+                                                      pose_translation(frame, dir, p.lambda + x), copt);
+          ASSERT_GE(c.clearance.hi, target - opt.tolerance)
+              << std::setprecision(17) << "case " << k << " target " << target << " planes " << planes
+              << " pose lambda " << p.lambda << " passed a crossing at lambda " << p.lambda + x;
+        }
+      }
+    }
+  }
+  EXPECT_GT(placed, cases);
+}
+
 TEST(SupportPlanes, StepsLandOnTheFirstCrossing) {
   // A box against a box, and an icosahedron against a 320-face sphere (the mover's tree walked).
   for (int pair = 0; pair < 2; ++pair) {
@@ -733,9 +785,7 @@ TEST(SupportPlanes, StepsLandOnTheFirstCrossing) {
                       pair ? make_icosphere(0.3, 2) : make_box(Vec3(-0.3, -0.1, -0.2), Vec3(0.3, 0.1, 0.2)));
     ASSERT_TRUE(scene.setup.support);
     const ApproachSetup setup = scene.attached();
-    PoseOptions opt;
-    opt.tolerance = 1e-7;
-    opt.start = PoseStart::Surface;
+    PoseOptions opt = tight_options(PoseStart::Surface);
     std::mt19937_64 rng(17);
     int steps_with = 0, steps_without = 0;
     for (int k = 0; k < test_scale::cases(10); ++k) {
