@@ -209,15 +209,6 @@ struct HalfspacePolicy {
   // poses' instructions were this walk on the box tree; doc/poses.md, "Supporting planes").
   double bound(const SweepVolume& v) const {
     std::array<Vec3, 8> c;
-    if (!(v.obb.half[0] >= 0.0)) {
-      // No oriented box: its axis-aligned one moved by D, each corner within 2u of its
-      // coordinates' magnitudes per coordinate (any rounding mode).
-      double magnitude = D.cwiseAbs().sum();
-      for (int a = 0; a < 3; ++a) magnitude += std::max(std::abs(v.box.lo[a]), std::abs(v.box.hi[a]));
-      for (int k = 0; k < 8; ++k)
-        for (int a = 0; a < 3; ++a) c[k][a] = ((k >> a) & 1 ? v.box.hi[a] : v.box.lo[a]) + D[a];
-      return bound_over(c, round_up(shift_pad + 1e-15 * round_up(magnitude * (1.0 + 1e-12))));
-    }
     const Obb o = shifted_obb(v.obb, D, shift_pad);
     std::array<Vec3, 3> h;
     double magnitude = std::abs(o.center[0]) + std::abs(o.center[1]) + std::abs(o.center[2]);
@@ -234,9 +225,7 @@ struct HalfspacePolicy {
     // 8 u (|centre_a| + sum_k half_k |axes_ka|) per coordinate in any rounding mode (u = 2^-53),
     // whose sum over a bounds the distance; a convex combination of exact corners lies as near to
     // the same combination of computed ones. Plus the box's pad.
-    return bound_over(c, round_up(o.pad + 1e-15 * round_up(magnitude * (1.0 + 1e-12))));
-  }
-  double bound_over(const std::array<Vec3, 8>& c, double far) const {
+    const double far = round_up(o.pad + 1e-15 * round_up(magnitude * (1.0 + 1e-12)));
     HalfspaceSeed seed = node_seed;
     HalfspaceBound b = halfspace_bound(S, c.data(), 8, d, 6, &seed);
     b.lower = round_down(b.lower - far);
@@ -269,7 +258,8 @@ void visit(const MoverOrientation& o, HalfspacePolicy& p, const SweepTrees* tree
   constexpr std::size_t kLoopFaces = 64;
   if (o.faces->size() > kLoopFaces) {
     if (hint >= 0 && static_cast<std::size_t>(hint) < o.faces->size()) p.leaf(static_cast<std::uint32_t>(hint));
-    if (trees && trees->mover && !trees->mover->tree.empty()) {
+    // (A tree built without oriented boxes has none at any node: the box tree then.)
+    if (trees && trees->mover && !trees->mover->tree.empty() && trees->mover->tree.nodes[0].bv.obb.half[0] >= 0.0) {
       if (trees->mover->faces.size() != o.faces->size())
         throw std::invalid_argument("supporting planes' walk: the sweep mesh is not the mover's");
       // A placed vertex at t lies within the transform's rounding at t and at mover_t of the one
