@@ -42,7 +42,7 @@ struct AdvancePolicy {
   double reach;  // target + margins, rounded up
   double best;   // the least bound so far (starts at h_max)
   std::int64_t best_f = -1, best_m = -1;
-  Vec3 D = Vec3::Zero();  // with sweep trees: t - mover_t, and the rounding it leaves (above)
+  Vec3 D = Vec3::Zero();  // with sweep trees: t - mover_t and its pad (MoverOrientation::shift_from)
   double shift_pad = 0.0;
   ObbTrial trial = ObbTrial();
 
@@ -144,12 +144,9 @@ SeparatedAdvance separated_advance(const SignedDistance& fixed, const MoverOrien
       static_cast<std::size_t>(hint_mover) < orientation.faces->size())
     policy.leaf(static_cast<std::uint32_t>(hint_fixed), static_cast<std::uint32_t>(hint_mover));
   if (trees && trees->fixed && trees->mover) {
-    // A placed vertex at t, fl(r + t), lies within u |r + t| + u |r + mover_t| (per coordinate)
-    // of fl(r + mover_t) + (t - mover_t), and the computed D within u |t - mover_t| of the exact
-    // difference (upward rounding: 2u); the transform's bounds at both poses cover the former.
-    policy.D = Vec3(t[0] - trees->mover_t[0], t[1] - trees->mover_t[1], t[2] - trees->mover_t[2]);
-    policy.shift_pad = (orientation.transform_error(t) + orientation.transform_error(trees->mover_t)) +
-                       1e-15 * policy.D.cwiseAbs().sum();
+    const MoverOrientation::Shift shift = orientation.shift_from(trees->mover_t, t);
+    policy.D = shift.D;
+    policy.shift_pad = shift.pad;
     if (!policy.done()) traverse_pairs_nearest_first(trees->fixed->tree, trees->mover->tree, policy);
     r.oriented_paid = policy.trial.paid();
   } else if (!policy.done()) {
@@ -186,7 +183,7 @@ struct HalfspacePolicy {
     return b.rate > 0.0 ? round_down(room / b.rate) : HUGE_VAL;
   }
   // With the mover's sweep tree (SweepTrees): its volumes hold the placed points at mover_t; at t
-  // they lie within shift_pad of them moved by D = t - mover_t (as in separated_advance).
+  // they lie within shift_pad of them moved by D = t - mover_t (MoverOrientation::shift_from).
   Vec3 D = Vec3::Zero();
   double shift_pad = 0.0;
   // The planes the best triangle so far weighted: members of every node's program from then on
@@ -262,11 +259,9 @@ void visit(const MoverOrientation& o, HalfspacePolicy& p, const SweepTrees* tree
     if (trees && trees->mover && !trees->mover->tree.empty() && trees->mover->tree.nodes[0].bv.obb.half[0] >= 0.0) {
       if (trees->mover->faces.size() != o.faces->size())
         throw std::invalid_argument("supporting planes' walk: the sweep mesh is not the mover's");
-      // A placed vertex at t lies within the transform's rounding at t and at mover_t of the one
-      // at mover_t moved by the exact t - mover_t, and the computed D within 1e-15 |D|_1 of it.
-      p.D = Vec3(p.t[0] - trees->mover_t[0], p.t[1] - trees->mover_t[1], p.t[2] - trees->mover_t[2]);
-      p.shift_pad = round_up((o.transform_error(p.t) + o.transform_error(trees->mover_t)) +
-                             1e-15 * p.D.cwiseAbs().sum());
+      const MoverOrientation::Shift shift = o.shift_from(trees->mover_t, p.t);
+      p.D = shift.D;
+      p.shift_pad = shift.pad;
       traverse_nearest_first(trees->mover->tree, p);
       return;
     }

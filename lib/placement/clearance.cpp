@@ -109,8 +109,9 @@ struct DistancePolicy {
   }
   bool split_first(const SweepVolume& f, const SweepVolume& m) const { return split_first(f.box, m.box); }
   void use_sweep_trees(const SweepTrees& trees, const MoverOrientation& o) {
-    D = Vec3(t[0] - trees.mover_t[0], t[1] - trees.mover_t[1], t[2] - trees.mover_t[2]);
-    shift_pad = (o.transform_error(t) + o.transform_error(trees.mover_t)) * (1.0 + 1e-12) + 1e-15 * D.cwiseAbs().sum();
+    const MoverOrientation::Shift shift = o.shift_from(trees.mover_t, t);
+    D = shift.D;
+    shift_pad = shift.pad;
   }
   double prune_bound() const { return fast ? threshold_sq : best_hi_sq; }
   bool split_first(const Aabb& f, const Aabb& m) const { return f.extent().squaredNorm() >= m.extent().squaredNorm(); }

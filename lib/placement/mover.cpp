@@ -44,4 +44,9 @@ double MoverOrientation::transform_error(const Vec3& t) const {
   return round_up(e.norm() * (1.0 + 1e-12));
 }
 
+MoverOrientation::Shift MoverOrientation::shift_from(const Vec3& from, const Vec3& t) const {
+  const Vec3 D(t[0] - from[0], t[1] - from[1], t[2] - from[2]);
+  return {D, round_up((transform_error(t) + transform_error(from)) * (1.0 + 1e-12) + 1e-15 * D.cwiseAbs().sum())};
+}
+
 }  // namespace cdbench

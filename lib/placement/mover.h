@@ -29,6 +29,17 @@ struct MoverOrientation {
   PlacedView placed_view(const Vec3& t) const { return PlacedView{&rotated, t}; }
   // Euclidean bound on |fl-evaluated R x + t - exact R x + t| for any vertex and any evaluation.
   double transform_error(const Vec3& t) const;
+
+  // The shift from another pose `from` of this orientation (SweepTrees::mover_t, whose volumes hold
+  // the vertices placed there) to t: D = t - from as computed, and a pad with every placed vertex
+  // fl(r + t) within it of fl(r + from) + D. Each placed vertex is within the transform's bound of
+  // r + t (r + from), and the computed D within 2u |t - from| per coordinate of the exact
+  // difference (any rounding mode); the factor covers the pad's own rounding.
+  struct Shift {
+    Vec3 D;
+    double pad;
+  };
+  Shift shift_from(const Vec3& from, const Vec3& t) const;
 };
 
 MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::Matrix3d& R);
