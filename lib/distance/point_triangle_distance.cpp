@@ -219,10 +219,15 @@ double point_triangle_distance_upper_near(const Vec3& p, const Vec3& a, const Ve
 }
 
 double closest_point_error(const Vec3& a, const Vec3& b, const Vec3& c) {
-  // At most ~6 roundings per coordinate of magnitude <= |a| + |b - a| + |c - a| <= 5 M: below
-  // 35 u M per coordinate, 61 u M in norm (u = 2^-53); 1e-13 M covers it with margin.
+  // q = fl(fl(a + fl(beta fl(b - a))) + fl(gamma fl(c - a))), each rounding at most v = 2u relative
+  // in any rounding mode (u = 2^-53); beta, gamma in [0, 1], so |b - a|, |c - a| <= 2M and the
+  // partial sums a + beta (b - a) and q lie in the triangle (<= M) per coordinate: each product is
+  // within 4.0002 v M, the first sum within 5.0003 v M, q within 10.001 v M = 20.002 u M of the
+  // exact point per coordinate, 34.7 u M = 3.9e-15 M in norm. 2e-14 M covers it five times (it
+  // was 1e-13 M until session 69: at 10^7 from the origin that alone was 10^-6, wider than the
+  // default tolerance of a unit part there, and the certificates split to their cell budget).
   const double m = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});
-  return 1e-13 * m + 1e-300;
+  return 2e-14 * m + 1e-300;
 }
 
 Vec3 min_norm_combination(const std::vector<Vec3>& g, std::vector<double>& lambda, int iterations, double gap) {

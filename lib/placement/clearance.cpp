@@ -45,12 +45,14 @@ inline double relaxed_threshold(double upper, double tol, double rel, double tar
   return upper - std::max(tol, rel * (upper - target));
 }
 
-// How far p0 + b e1 + g e2 (e1 = p1 - p0, e2 = p2 - p0, weights in [0, 1]), computed in doubles,
-// lies from the exact point of the placed triangle: each coordinate takes a few roundings, each at
-// most u times a magnitude below |p0| + |p1 - p0| + |p2 - p0|; 1e-14 covers them (u = 1.1e-16) with
-// margin.
+// How far p0 + b e1 + g e2 (e1 = p1 - p0, e2 = p2 - p0 computed, weights in [0, 1]), computed in
+// doubles, lies from the exact point of the placed triangle: per coordinate within 20.002 u M of it
+// (M the corners' largest coordinate, at most S = |p0| + |e1| + |e2| in max norm; the count of
+// closest_point_error, distance/point_triangle_distance.cpp, each rounding at most 2u in any mode,
+// u = 2^-53), i.e. 2.3e-15 S; 4e-15 S per coordinate covers it 1.8 times (1e-14 S until session 69:
+// the certificates' width at 10^7 from the origin).
 inline double combination_rounding(const Vec3& p0, const Vec3& e1, const Vec3& e2) {
-  return 1e-14 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) * kSqrt3Up;
+  return 4e-15 * (p0.cwiseAbs().maxCoeff() + e1.cwiseAbs().maxCoeff() + e2.cwiseAbs().maxCoeff()) * kSqrt3Up;
 }
 
 // The interval of c computed for the placed doubles, widened to hold for the exact transform and
@@ -172,6 +174,9 @@ struct Cell {
   // Its separating plane's gather found more than kMaxSeparatingCandidates triangles within its
   // reach: its children's candidate list, over a larger ball about the same centre, would too.
   bool crowded = false;
+  // Smaller than its own rounding (evaluate_face): splitting it cannot narrow the interval, so the
+  // search stops when it leads (ClearanceResult::rounding_floor).
+  bool floored = false;
 };
 
 // Dyadic barycentric coordinates (beta, gamma) of a face cell's three corners.
@@ -306,6 +311,10 @@ class BranchAndBound {
       const Cell c = heap_.front();
       if (c.lower >= threshold()) break;
       if (r.cells >= max_cells) break;
+      if (c.floored && !c.stale) {
+        r.rounding_floor = true;
+        break;
+      }
       pop();
       ++r.cells;
       if (c.stale) {  // evaluate it at this pose before splitting it
@@ -640,6 +649,10 @@ class BranchAndBound {
     const auto& v = geo.v;
     const Vec3& m = geo.m;
     const double r = geo.r, eta = geo.eta, eta_m = geo.eta_m;
+    // Its bounds carry eta_m and F's near-point errors (about 2e-14 of the coordinates' magnitude,
+    // closest_point_error) whatever its size: a cell below them is as tight as it will get. Only
+    // where the tolerance is near the doubles' resolution (a part far from the origin).
+    c.floored = r <= eta_m + 2.5e-14 * m.cwiseAbs().maxCoeff();
     ++queries_;
     // (Its centre's s could lower the upper end only below upper_.)
     int known_side = 0;

@@ -112,6 +112,9 @@ struct ClearanceResult {
   Interval clearance;
   bool tolerance_reached = true;
   bool separated = false;  // decided by the distance path (surfaces disjoint, mover outside)
+  // The search stopped short of the tolerance at a cell smaller than its own rounding: the width
+  // the doubles allow at these coordinates (a part far from the origin; doc/poses.md).
+  bool rounding_floor = false;
   double transform_error = 0.0;
   std::uint64_t pair_tests = 0, cells = 0, distance_queries = 0;
   std::uint64_t far_cells = 0;  // cells set aside by a lower bound of their centre's distance alone

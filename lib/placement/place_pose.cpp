@@ -468,6 +468,12 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   constexpr std::uint64_t kMinSegmentBudget = 256;
   constexpr double kSegmentRetryGap = 0.5;
   bool last_loose = false;
+  // Certificates that ran out of cells short of their tolerance. Past kMaxExhausted the advance
+  // stops and the pose is reported uncertified ("tolerance-not-reached"): a width the cells cannot
+  // beat is almost always rounding (a part far from the origin, a tolerance near the doubles'
+  // resolution there; doc/poses.md), and every further step would cost the whole cell budget.
+  constexpr int kMaxExhausted = 3;
+  int exhausted = 0;
   // The state a certificate leaves for the next one of the advance.
   const auto adopt = [&](const ClearanceResult& r) {
     if (r.argmin_face >= 0)  // the next, nearby pose starts from this minimum
@@ -491,6 +497,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     const bool cold = !frontier.valid;
     const ClearanceResult r = certify_clearance(*setup.fixed, *setup.mover, setup.components, frame.orientation, t, copt);
     out.clearance_cells += r.cells;
+    if (!r.tolerance_reached && (r.rounding_floor || r.cells >= copt.max_cells)) ++exhausted;
     if (memo && cold && !r.separated && memo->cold_cells == 0) memo->cold_cells = std::max<std::uint64_t>(r.cells, 1);
     adopt(r);
     return r;
@@ -622,7 +629,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     double segments_stopped_gap = 0.0;
     bool segments_retried = false;
     double last_slope = 1.0;   // the previous step's two-step secant slope
-    while (!within(c.clearance) && out.steps < options.max_steps) {
+    while (!within(c.clearance) && out.steps < options.max_steps && exhausted < kMaxExhausted) {
       // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
       // margin; the rounding of t by the absolute one): stepping by c_lo - target cannot pass the
       // first crossing.

@@ -267,6 +267,10 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // of their centre's distance alone (1): intervals and polishing steps, rarely poses, may differ
   // within the tolerance from earlier binaries', whose journals have no such key.
   run_key["far_cells"] = 1;
+  // Every certificate since 2026-12-03 (session 69) with tighter rounding bounds for near points and
+  // placed cell corners, stopping at a cell smaller than its own rounding (1): intervals and
+  // polishing steps, rarely poses, may differ within the tolerance from earlier binaries'.
+  run_key["rounding_bounds"] = 1;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 
@@ -547,6 +551,10 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   result.seconds_offsets = seconds_offsets;
   result.seconds_poses = seconds_poses;
   result.seconds_total = total.seconds();
+  const Aabb box = sdf.bbox();
+  result.note = tolerance_not_reached_note(
+      shard_rows, tol, diag, std::max(box.lo.cwiseAbs().maxCoeff(), box.hi.cwiseAbs().maxCoeff()),
+      "their certificates reached the branch and bound's work limit");
   return result;
 }
 

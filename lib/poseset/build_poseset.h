@@ -46,6 +46,7 @@ struct PoseSetResult {
   double tolerance = 0.0, diagonal = 0.0;
   Interval max_penetration;
   double seconds_offsets = 0.0, seconds_poses = 0.0, seconds_total = 0.0;
+  std::string note;  // why poses are tolerance-not-reached (tolerance_not_reached_note); empty if none
 };
 
 // InputError naming the option (levels, shard, sampling names): call before loading meshes.

@@ -1,4 +1,5 @@
 #include "poseset/certify_run.h"
+#include "poseset/level_summary.h"
 
 #include <algorithm>
 #include <atomic>
@@ -170,11 +171,13 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
     result.levels[l].clearance_min = HUGE_VAL;
     result.levels[l].clearance_max = -HUGE_VAL;
   }
+  std::vector<PoseRow> parsed;
+  parsed.reserve(rows_by_id.size());
   write_file_atomically(out_dir + "/poses.csv", [&](std::ostream& out) {
     out << kPoseCsvHeader << "\n";
     for (const auto& [id, line] : rows_by_id) {
       out << line;
-      const PoseRow r = parse_pose_row(line, journal.path());
+      const PoseRow& r = parsed.emplace_back(parse_pose_row(line, journal.path()));
       CertifyLevelCounts& lc = result.levels[static_cast<std::size_t>(r.level)];
       ++lc.poses;
       const bool certified = r.status == PoseStatus::Certified;
@@ -190,6 +193,11 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   // poses.csv is in place: an interrupt before poseset.json is removes it (the journal stays).
   std::optional<RemovedIfInterrupted> pair(std::in_place, out_dir + "/poses.csv");
   result.poses = rows_by_id.size();
+  const Aabb box = sdf.bbox();
+  result.note = tolerance_not_reached_note(
+      parsed, result.tolerance, result.diagonal, std::max(box.lo.cwiseAbs().maxCoeff(), box.hi.cwiseAbs().maxCoeff()),
+      "the branch and bound reached its work limit (--max-cells), or a pose lies so far out that rounding alone "
+      "widens its interval");
 
   nlohmann::json ps;
   ps["format"] = "cdbench-poseset";

@@ -41,6 +41,7 @@ struct CertifyRunResult {
   Interval max_penetration;
   std::vector<CertifyLevelCounts> levels;
   double seconds_max_penetration = 0.0, seconds_poses = 0.0, seconds_total = 0.0;
+  std::string note;  // why poses are tolerance-not-reached (tolerance_not_reached_note); empty if none
 };
 
 // Writes out_dir/poses.csv and out_dir/poseset.json (atomically; the journal is removed after).

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "util/number_format.h"
+
 namespace cdbench {
 
 std::vector<LevelSummary> summarize_levels(const std::vector<PoseRow>& rows, std::size_t levels, double tol) {
@@ -32,6 +34,30 @@ void set_level_counts(nlohmann::json& e, const LevelSummary& x) {
   e["no_contact"] = x.no_contact;
   e["raw_placement_error"] = {{"max", x.raw_error_max}, {"mean", placed > 0 ? x.raw_error_sum / placed : 0.0}};
   e["mean_polish_steps"] = placed > 0 ? x.steps_sum / placed : 0.0;
+}
+
+std::string tolerance_not_reached_note(const std::vector<PoseRow>& rows, double tolerance, double diagonal,
+                                       double magnitude, const std::string& otherwise) {
+  std::size_t n = 0;
+  double widest = 0.0;
+  for (const PoseRow& r : rows) {
+    if (r.status != PoseStatus::ToleranceNotReached) continue;
+    ++n;
+    if (r.clearance_hi - r.clearance_lo > widest) widest = r.clearance_hi - r.clearance_lo;
+  }
+  if (n == 0) return "";
+  std::string note = std::to_string(n) + (n == 1 ? " pose is" : " poses are") +
+                     " uncertified:tolerance-not-reached (rigorous intervals up to " + number_text(widest, 3) +
+                     " wide, the tolerance " + number_text(tolerance, 3) + "): ";
+  const double rounding = kRoundingPerMagnitude * magnitude;
+  if (!(rounding >= 0.125 * tolerance) || !(diagonal > 0.0)) return note + otherwise;
+  // A tolerance twice what was reached or the rounding, rounded up to one digit.
+  const double wanted = 2.0 * std::max(widest, rounding) / diagonal;
+  const double unit = std::pow(10.0, std::floor(std::log10(wanted)));
+  return note + "the fixed mesh's coordinates reach " + number_text(magnitude, 3) + ", " +
+         number_text(magnitude / diagonal, 2) + " times its diagonal, where the doubles' rounding alone is about " +
+         number_text(rounding, 2) + " of every interval; translate the meshes towards the origin, or ask for " +
+         "--tolerance " + number_text(std::ceil(wanted / unit * (1.0 - 1e-12)) * unit, 2) + " or more";
 }
 
 }  // namespace cdbench

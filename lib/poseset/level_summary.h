@@ -2,6 +2,7 @@
 // Per-level counts of a pose set (for poseset.json and the printed table), from its rows.
 #include <cstddef>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "poseset/pose_csv.h"
@@ -20,5 +21,16 @@ std::vector<LevelSummary> summarize_levels(const std::vector<PoseRow>& rows, std
 // Sets a poseset.json level entry's counts from its summary: poses, certified, on_target,
 // no_contact, raw_placement_error {max, mean} and mean_polish_steps (means over placed poses).
 void set_level_counts(nlohmann::json& level, const LevelSummary& summary);
+
+// What a user should read about poses left `uncertified:tolerance-not-reached` (their intervals are
+// rigorous, only wider): how many, their widest interval against the tolerance, and, where the
+// doubles' rounding at the fixed mesh's coordinates is a fair part of the tolerance (about
+// kRoundingPerMagnitude of its largest coordinate `magnitude` in every interval, measured on
+// tetrahedra 10^7-10^8 from the origin: doc/poses.md, "Far from the origin"), that the mesh lies
+// too far out for that tolerance and what to ask for instead; elsewhere `otherwise` (the work
+// limit's hint). Empty when no row has that status.
+inline constexpr double kRoundingPerMagnitude = 5e-14;
+std::string tolerance_not_reached_note(const std::vector<PoseRow>& rows, double tolerance, double diagonal,
+                                       double magnitude, const std::string& otherwise);
 
 }  // namespace cdbench

@@ -68,9 +68,7 @@ int run_certify_command(const CertifyCliOptions& opt) {
             << r.seconds_max_penetration << " s, poses " << r.seconds_poses << " s)\n";
   std::cout << "pose set:        " << opt.out << "/poses.csv, " << opt.out << "/poseset.json\n";
   if (r.certified < r.poses) {
-    std::cerr << "cdbench: error: " << (r.poses - r.certified)
-              << " poses reached the work limit before the tolerance (status uncertified:tolerance-not-reached; "
-                 "their intervals are rigorous but wider; raise --max-cells)\n";
+    std::cerr << "cdbench: error: " << r.note << "\n";
     return kExitInvalidMesh;
   }
   return kExitOk;

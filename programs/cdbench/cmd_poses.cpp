@@ -94,6 +94,7 @@ int run_poses(PosesCliOptions opt) {
             << r.seconds_offsets << " s, poses " << r.seconds_poses << " s, " << rate << " poses/s)" << std::defaultfloat
             << "\n";
   std::cout << "pose set:        " << rq.out << "/poses.csv, " << rq.out << "/poseset.json\n";
+  if (!r.note.empty()) std::cerr << "cdbench poses: note: " << r.note << "\n";
   return kExitOk;
 }
 

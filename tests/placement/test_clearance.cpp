@@ -258,6 +258,44 @@ TEST(Clearance, AgreesWithDenseSampling) {
   EXPECT_GT(penetrating, 2);
 }
 
+// Far from the origin the doubles' rounding is a fair part of a tight tolerance (doc/poses.md, "Far
+// from the origin"): at 2^24 a certificate still reaches 2e-6 (it could not before session 69, whose
+// near-point and combination bounds are 5x and 2.5x tighter), agreeing with dense sampling; at 2^27
+// the rounding alone is wider than 1e-6, and the search stops at a cell below its own rounding
+// instead of splitting to its cell budget, its interval still rigorous.
+TEST(Clearance, FarFromTheOriginReachesWhatRoundingAllows) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const double far : {0x1p24, 0x1p27}) {
+    TriangleMesh torus = make_torus(1.0, 0.4, 24, 12);
+    for (Vec3& v : torus.vertices) v += Vec3(far, -far, far);
+    Case c(torus, make_icosphere(0.5, 1));
+    const double tol = far < 0x1p25 ? 2e-6 : 1e-6;
+    int penetrating = 0;
+    for (int k = 0; k < 12; ++k) {
+      const Eigen::Matrix3d R = random_rotation(rng);
+      const Vec3 t = Vec3(far, -far, far) + Vec3(1.6 * u(rng), 1.6 * u(rng), 0.9 * u(rng));
+      const ClearanceResult r = c.run(R, t, tol);
+      const MoverOrientation o = make_mover_orientation(c.mover, R);
+      const Interval ref = sampled_enclosure(c.fixed, o.placed(t), c.mover.faces, 12);
+      SCOPED_TRACE(::testing::Message() << std::setprecision(17) << "far " << far << " t = (" << t.transpose() << ")");
+      EXPECT_LE(r.clearance.lo, ref.hi) << r.clearance.lo << " " << r.clearance.hi << " vs " << ref.lo << " " << ref.hi;
+      EXPECT_GE(r.clearance.hi, ref.lo) << r.clearance.lo << " " << r.clearance.hi << " vs " << ref.lo << " " << ref.hi;
+      if (r.separated) continue;
+      ++penetrating;
+      if (far < 0x1p25) {
+        EXPECT_TRUE(reaches_tolerance(r, tol)) << r.clearance.width() << " wide after " << r.cells << " cells";
+        EXPECT_FALSE(r.rounding_floor);
+      } else {
+        EXPECT_FALSE(r.tolerance_reached);
+        EXPECT_TRUE(r.rounding_floor);
+        EXPECT_LT(r.cells, 100000u);  // far below the budget of 400,000 it would otherwise spend
+      }
+    }
+    EXPECT_GT(penetrating, 3);
+  }
+}
+
 // A pose's cold certificate, and the same pose warm-started from a nearby pose's frontier, both
 // checked against dense sampling (`samples` points per edge): both are returned.
 std::array<ClearanceResult, 2> expect_cold_and_warm_agree(Case& c, const Eigen::Matrix3d& R, const Vec3& t, double tol,

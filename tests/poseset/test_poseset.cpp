@@ -14,6 +14,7 @@
 #include "mesh/write_mesh.h"
 #include "poseset/build_poseset.h"
 #include "poseset/journal.h"
+#include "poseset/level_summary.h"
 #include "poseset/merge_shards.h"
 #include "poseset/pose_csv.h"
 #include "poseset/poseset_manifest.h"
@@ -203,6 +204,30 @@ TEST(PoseCsv, StatusesRoundTripAndUnknownOnesAreNamed) {
   }
   EXPECT_NE(error_of([] { parse_pose_status("uncertified:tired", "f:4"); }).find("f:4: unknown status 'uncertified:tired'"),
             std::string::npos);
+}
+
+// Poses left tolerance-not-reached are explained: how many and how wide; far from the origin (the
+// doubles' rounding an eighth of the tolerance or more), the coordinates and a tolerance that would
+// do (twice the widest interval or the rounding, 1.5e-6 here, one digit, rounded up); elsewhere the
+// caller's hint.
+TEST(LevelSummary, ToleranceNotReachedNoteNamesTheRoundingFarFromTheOrigin) {
+  std::vector<PoseRow> rows(3);
+  for (PoseRow& r : rows) r.status = PoseStatus::Certified;
+  EXPECT_EQ(tolerance_not_reached_note(rows, 1e-6, 1.0, 3e7, "limit"), "");
+  rows[1].status = rows[2].status = PoseStatus::ToleranceNotReached;
+  rows[1].clearance_lo = -0.1;
+  rows[1].clearance_hi = -0.1 + 1.2e-6;
+  rows[2].clearance_lo = -0.2;
+  rows[2].clearance_hi = -0.2 + 0.9e-6;
+  const std::string far = tolerance_not_reached_note(rows, 1e-6, 1.0, 3e7, "limit");
+  EXPECT_EQ(far.rfind("2 poses are uncertified:tolerance-not-reached (rigorous intervals up to 1.2e-06 wide", 0), 0u)
+      << far;
+  EXPECT_NE(far.find("reach 3e+07"), std::string::npos) << far;
+  EXPECT_NE(far.find("--tolerance 3e-06 or more"), std::string::npos) << far;
+  EXPECT_EQ(far.find("limit"), std::string::npos) << far;
+  const std::string near = tolerance_not_reached_note(rows, 1e-6, 1.0, 100.0, "limit");
+  EXPECT_EQ(near.substr(near.size() - 5), "limit") << near;
+  EXPECT_EQ(near.find("origin"), std::string::npos) << near;
 }
 
 TEST(PoseSetManifest, NamesTheMissingKey) {
