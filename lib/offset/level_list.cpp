@@ -99,7 +99,9 @@ void check_distinct_distances(const std::vector<LevelSpec>& levels, const std::v
     throw InputError("--levels: levels '" + levels[a].text + "' and '" + levels[b].text + "' both lie at d = " +
                      number_text(distances[a] + 0.0) +  // + 0.0: -0 reads as 0
                      (unscaled && distances[a] == 0.0
-                          ? " (percentages of the maximum penetration, whose certified lower end is 0 here)"
+                          ? " (percentages of the maximum penetration, whose certified lower end is 0 here: the "
+                            "solid is thinner than the tolerance resolves; ask for a smaller --tolerance, or give "
+                            "absolute levels)"
                           : "") +
                      "; levels must lie at distinct distances");
   }
@@ -113,6 +115,22 @@ std::string max_penetration_scale_note(const std::vector<LevelSpec>& levels, dou
   return "the maximum penetration's search stopped at its memory bound (width asked: " + number_text(asked_width, 3) +
          " x diagonal): percentage levels are of its lower end " + number_text(lo) + ", and M may be up to " +
          number_text(hi / lo, 3) + " times that; absolute levels do not depend on M";
+}
+
+std::string percentage_resolution_note(const std::vector<LevelSpec>& levels, const std::vector<double>& distances,
+                                       double tol, double diagonal) {
+  std::ptrdiff_t nearest = -1;
+  for (std::size_t l = 0; l < levels.size(); ++l)
+    if (levels[l].percent && levels[l].value != 0.0 &&
+        (nearest < 0 || std::abs(distances[l]) < std::abs(distances[static_cast<std::size_t>(nearest)])))
+      nearest = static_cast<std::ptrdiff_t>(l);
+  if (nearest < 0) return "";
+  const double d = std::abs(distances[static_cast<std::size_t>(nearest)]);
+  if (!(tol > 0.5 * d) || !(d > 0.0) || !(diagonal > 0.0)) return "";
+  return "level '" + levels[static_cast<std::size_t>(nearest)].text + "' lies " + number_text(d, 3) +
+         " from the surface, within twice the tolerance " + number_text(tol, 3) +
+         ": the solid is thin for this tolerance and such poses are hardly told from the surface's; --tolerance " +
+         number_text(0.1 * d / diagonal, 1) + " resolves it to a tenth";
 }
 
 void check_level_reach(const LevelSpec& level, double d, double diagonal) {

@@ -45,6 +45,13 @@ double max_penetration_tolerance_for(const std::vector<LevelSpec>& levels, doubl
 std::string max_penetration_scale_note(const std::vector<LevelSpec>& levels, double lo, double hi,
                                        bool tolerance_reached, double asked_width);
 
+// A note for percentage levels that the tolerance does not resolve: the nearest such level to the
+// surface lies within twice the tolerance `tol` of it (a solid thinner than the tolerance, e.g. a
+// sheet 1e-6 of its diagonal thick), so its poses are hardly told from the surface's; names the
+// level and the relative --tolerance (`diagonal`) that would resolve it to a tenth. Empty otherwise.
+std::string percentage_resolution_note(const std::vector<LevelSpec>& levels, const std::vector<double>& distances,
+                                       double tol, double diagonal);
+
 // How far from the surface a pose set's level may lie: |d| <= kMaxLevelDiagonals x diagonal.
 // Farther away every triangle pair is at nearly the same distance and a certificate costs ever more
 // (knot1, two poses: d = 1e5 (68,000 diagonals) 0.1 s, 1e6 4 s, 1e7 34 s, 1e12 not done in 2

@@ -182,6 +182,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   }
 
   check_distinct_distances(specs, targets);
+  const std::string resolution_note = percentage_resolution_note(specs, targets, tol, diag);
+  if (!resolution_note.empty()) std::cerr << "cdbench poses: note: " << resolution_note << std::endl;
 
   // Run identity: a resumed run must be the same run.
   nlohmann::json run_key = {{"fixed_sha256", fixed_sha},

@@ -74,6 +74,7 @@ TEST(LevelList, LevelsAtOneDistanceAreRefusedByName) {
   const std::string unscaled = message("5%,-20%,0", 0.0);
   EXPECT_NE(unscaled.find("levels '5%' and '-20%' both lie at d = 0"), std::string::npos) << unscaled;
   EXPECT_NE(unscaled.find("certified lower end is 0"), std::string::npos) << unscaled;
+  EXPECT_NE(unscaled.find("ask for a smaller --tolerance"), std::string::npos) << unscaled;
 }
 
 TEST(LevelList, MaxPenetrationScaleNoteOnlyWhenAPercentageDependsOnAWideM) {
@@ -82,6 +83,21 @@ TEST(LevelList, MaxPenetrationScaleNoteOnlyWhenAPercentageDependsOnAWideM) {
   EXPECT_NE(note.find("up to 3.96 times"), std::string::npos) << note;
   EXPECT_EQ(max_penetration_scale_note(parse_level_list("-20%,0"), 1.43e-4, 5.66e-4, true, 5e-6), "");
   EXPECT_EQ(max_penetration_scale_note(parse_level_list("-0.001,0,0%"), 1.43e-4, 5.66e-4, false, 5e-6), "");
+}
+
+// A percentage level within twice the tolerance of the surface (a solid thinner than the tolerance)
+// is named with a tolerance that resolves it to a tenth; absolute levels and resolved ones are not.
+TEST(LevelList, PercentageResolutionNoteForSolidsThinnerThanTheTolerance) {
+  const std::vector<LevelSpec> l = parse_level_list("-20%,0,5%");
+  const double m = 5e-6;  // a sheet 1e-5 thick, diagonal 1.4
+  std::vector<double> d;
+  for (const LevelSpec& x : l) d.push_back(level_distance(x, m));
+  const std::string note = percentage_resolution_note(l, d, 1.4e-6, 1.4);
+  EXPECT_NE(note.find("level '5%' lies 2.5e-07 from the surface"), std::string::npos) << note;
+  EXPECT_NE(note.find("--tolerance 2e-08 resolves it"), std::string::npos) << note;
+  EXPECT_EQ(percentage_resolution_note(l, d, 1e-7, 1.4), "");  // 2.5e-7 > 2 x 1e-7
+  const std::vector<LevelSpec> a = parse_level_list("-1e-6,0,1e-7");
+  EXPECT_EQ(percentage_resolution_note(a, {-1e-6, 0.0, 1e-7}, 1.4e-6, 1.4), "");
 }
 
 TEST(LevelList, ErrorsNameTheItem) {
