@@ -553,10 +553,8 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   result.seconds_offsets = seconds_offsets;
   result.seconds_poses = seconds_poses;
   result.seconds_total = total.seconds();
-  const Aabb box = sdf.bbox();
-  result.note = tolerance_not_reached_note(
-      shard_rows, tol, diag, std::max(box.lo.cwiseAbs().maxCoeff(), box.hi.cwiseAbs().maxCoeff()),
-      "their certificates reached the branch and bound's work limit");
+  result.note = tolerance_not_reached_note(shard_rows, tol, diag, sdf.bbox(),
+                                           "their certificates reached the branch and bound's work limit");
   return result;
 }
 

@@ -193,9 +193,8 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   // poses.csv is in place: an interrupt before poseset.json is removes it (the journal stays).
   std::optional<RemovedIfInterrupted> pair(std::in_place, out_dir + "/poses.csv");
   result.poses = rows_by_id.size();
-  const Aabb box = sdf.bbox();
   result.note = tolerance_not_reached_note(
-      parsed, result.tolerance, result.diagonal, std::max(box.lo.cwiseAbs().maxCoeff(), box.hi.cwiseAbs().maxCoeff()),
+      parsed, result.tolerance, result.diagonal, sdf.bbox(),
       "the branch and bound reached its work limit (--max-cells), or a pose lies so far out that rounding alone "
       "widens its interval");
 

@@ -37,7 +37,7 @@ void set_level_counts(nlohmann::json& e, const LevelSummary& x) {
 }
 
 std::string tolerance_not_reached_note(const std::vector<PoseRow>& rows, double tolerance, double diagonal,
-                                       double magnitude, const std::string& otherwise) {
+                                       const Aabb& fixed_box, const std::string& otherwise) {
   std::size_t n = 0;
   double widest = 0.0;
   for (const PoseRow& r : rows) {
@@ -49,6 +49,7 @@ std::string tolerance_not_reached_note(const std::vector<PoseRow>& rows, double 
   std::string note = std::to_string(n) + (n == 1 ? " pose is" : " poses are") +
                      " uncertified:tolerance-not-reached (rigorous intervals up to " + number_text(widest, 3) +
                      " wide, the tolerance " + number_text(tolerance, 3) + "): ";
+  const double magnitude = std::max(fixed_box.lo.cwiseAbs().maxCoeff(), fixed_box.hi.cwiseAbs().maxCoeff());
   const double rounding = kRoundingPerMagnitude * magnitude;
   if (!(rounding >= 0.125 * tolerance) || !(diagonal > 0.0)) return note + otherwise;
   // A tolerance twice what was reached or the rounding, rounded up to one digit.

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/aabb.h"
 #include "poseset/pose_csv.h"
 
 namespace cdbench {
@@ -25,12 +26,12 @@ void set_level_counts(nlohmann::json& level, const LevelSummary& summary);
 // What a user should read about poses left `uncertified:tolerance-not-reached` (their intervals are
 // rigorous, only wider): how many, their widest interval against the tolerance, and, where the
 // doubles' rounding at the fixed mesh's coordinates is a fair part of the tolerance (about
-// kRoundingPerMagnitude of its largest coordinate `magnitude` in every interval, measured on
+// kRoundingPerMagnitude of the largest coordinate of its box `fixed_box` in every interval, measured on
 // tetrahedra 10^7-10^8 from the origin: doc/poses.md, "Far from the origin"), that the mesh lies
 // too far out for that tolerance and what to ask for instead; elsewhere `otherwise` (the work
 // limit's hint). Empty when no row has that status.
 inline constexpr double kRoundingPerMagnitude = 5e-14;
 std::string tolerance_not_reached_note(const std::vector<PoseRow>& rows, double tolerance, double diagonal,
-                                       double magnitude, const std::string& otherwise);
+                                       const Aabb& fixed_box, const std::string& otherwise);
 
 }  // namespace cdbench

@@ -213,19 +213,25 @@ TEST(PoseCsv, StatusesRoundTripAndUnknownOnesAreNamed) {
 TEST(LevelSummary, ToleranceNotReachedNoteNamesTheRoundingFarFromTheOrigin) {
   std::vector<PoseRow> rows(3);
   for (PoseRow& r : rows) r.status = PoseStatus::Certified;
-  EXPECT_EQ(tolerance_not_reached_note(rows, 1e-6, 1.0, 3e7, "limit"), "");
+  // Unit-sized boxes whose largest coordinate is 3e7 (x, far out) and 100.
+  Aabb far_box, near_box;
+  far_box.lo = Vec3(3e7 - 1.0, 2.0, -1.0);
+  far_box.hi = Vec3(3e7, 3.0, 0.0);
+  near_box.lo = Vec3(99.0, 0.0, 0.0);
+  near_box.hi = Vec3(100.0, 1.0, 1.0);
+  EXPECT_EQ(tolerance_not_reached_note(rows, 1e-6, 1.0, far_box, "limit"), "");
   rows[1].status = rows[2].status = PoseStatus::ToleranceNotReached;
   rows[1].clearance_lo = -0.1;
   rows[1].clearance_hi = -0.1 + 1.2e-6;
   rows[2].clearance_lo = -0.2;
   rows[2].clearance_hi = -0.2 + 0.9e-6;
-  const std::string far = tolerance_not_reached_note(rows, 1e-6, 1.0, 3e7, "limit");
+  const std::string far = tolerance_not_reached_note(rows, 1e-6, 1.0, far_box, "limit");
   EXPECT_EQ(far.rfind("2 poses are uncertified:tolerance-not-reached (rigorous intervals up to 1.2e-06 wide", 0), 0u)
       << far;
   EXPECT_NE(far.find("reach 3e+07"), std::string::npos) << far;
   EXPECT_NE(far.find("--tolerance 3e-06 or more"), std::string::npos) << far;
   EXPECT_EQ(far.find("limit"), std::string::npos) << far;
-  const std::string near = tolerance_not_reached_note(rows, 1e-6, 1.0, 100.0, "limit");
+  const std::string near = tolerance_not_reached_note(rows, 1e-6, 1.0, near_box, "limit");
   EXPECT_EQ(near.substr(near.size() - 5), "limit") << near;
   EXPECT_EQ(near.find("origin"), std::string::npos) << near;
 }
