@@ -204,9 +204,10 @@ Vec3 point_of_triangle_near(const Vec3& p, const Vec3& a, const Vec3& b, const V
   int f;
   std::array<double, 2> bary;
   closest_point(p, a, b, c, f, bary);
-  // NaN-safe clamps: beta in [0, 1], then gamma in [0, 1 - beta] with 1 - beta rounded down.
+  // NaN-safe clamps: beta in [0, 1], then gamma in [0, 1 - beta] with 1 - beta rounded down (inline:
+  // std::nextafter's library call was 1.6 % of a penetrating level's instructions).
   const double beta = bary[0] >= 0.0 ? std::min(bary[0], 1.0) : 0.0;
-  double gamma = bary[1] >= 0.0 ? std::min(bary[1], std::nextafter(1.0 - beta, -1.0)) : 0.0;
+  double gamma = bary[1] >= 0.0 ? std::min(bary[1], round_down(1.0 - beta)) : 0.0;
   if (!(gamma >= 0.0)) gamma = 0.0;
   return a + beta * (b - a) + gamma * (c - a);
 }

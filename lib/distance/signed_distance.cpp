@@ -310,7 +310,7 @@ struct TriangleWithinPolicy {
     const Vec3 &a = mesh.vertices[g[0]], &b = mesh.vertices[g[1]], &c = mesh.vertices[g[2]];
     const auto& v = nb.v;
     // (Strictly beyond: one at exactly reach is listed.)
-    if (nb.cheaply_beyond(planes[j], a, b, c, std::nextafter(reach_sq, kInf))) return;
+    if (nb.cheaply_beyond(planes[j], a, b, c, round_up(reach_sq))) return;
     Vec3 p, q;
     if (triangle_triangle_closest_points(a, b, c, v[0], v[1], v[2], &p, &q) > 0.0) {
       const double gap = triangle_distance_lower_bound(a, b, c, v[0], v[1], v[2], q - p);
