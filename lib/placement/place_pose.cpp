@@ -127,6 +127,36 @@ double median_edge_length(const TriangleMesh& m) {
   return in_bucket[rank];
 }
 
+// The advance's poses since its start or last jump, for the slope of c on a slide (a heuristic: it
+// only aims steps). The secants over one or two steps that gate the two-sided and segment steps are
+// mostly the noise of loose certificates there (up to 3/8 of the gap wide, while a step closes a
+// few per cent of it: spool with pinion moving, slopes 0.02-0.1 read as 0 to 0.6). Back to the
+// latest pose whose gap was kSpanGaps times the present one, c has fallen about three gaps against
+// about a gap of certificate widths.
+class SlideHistory {
+ public:
+  void clear() { poses_.clear(); }
+  void add(double lambda, double gap, double mid_gap) { poses_.push_back({lambda, gap, mid_gap}); }
+  // The secant of c's midpoints from that pose to this one (lambda, gap = c_lo - target, mid_gap =
+  // c_mid - target), at least 0; -1 when none of the last kMaxBack poses had such a gap.
+  double slope(double lambda, double gap, double mid_gap) const {
+    const std::size_t stop = poses_.size() > kMaxBack ? poses_.size() - kMaxBack : 0;
+    for (std::size_t j = poses_.size(); j-- > stop;)
+      if (poses_[j].gap >= kSpanGaps * gap && poses_[j].lambda > lambda)
+        return std::max(0.0, (poses_[j].mid_gap - mid_gap) / (poses_[j].lambda - lambda));
+    return -1.0;
+  }
+  // 4: measured against 3 and 8 (doc/performance.md, "Slopes over a span").
+  static constexpr double kSpanGaps = 4.0;
+  static constexpr std::size_t kMaxBack = 128;
+
+ private:
+  struct Pose {
+    double lambda, gap, mid_gap;
+  };
+  std::vector<Pose> poses_;
+};
+
 // Where a pose may jump across a plateau (PoseOptions::deep_cover): the level's cover, asked once
 // per pose; where that ran out of its budget, the zone's octree about the mover's path, as often as
 // its budget allows, and where its contact was not worth a jump, that octree on long plateaus.
@@ -456,14 +486,17 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // the rest within 0.1 %; 3, 6 and 8 measured too: doc/performance.md, "Segments tried again").
   constexpr double kWarmJumpTargets = 4.0;
   // Steps proved over a segment (below; doc/poses.md, "Steps proved over a segment"): tried on a
-  // steady slide, where the secant slope of c over the last two steps stays within [1/64, 1/8] and
-  // within a factor of 2 of the previous step's (rotor's plateaus, flat or falling in bursts,
-  // seldom qualify); aimed at 0.8 of the way to the crossing the slope predicts, at most 64 gaps;
+  // slide, where the slope of c over a span of poses (SlideHistory) is at most 1/8 or, without
+  // such a span, the secant over the last two steps stays within [1/64, 1/8] and within a factor
+  // of 2 of the previous step's (rotor's plateaus, flat or falling in bursts, seldom qualify);
+  // aimed at 0.8 of the way to the crossing the slope predicts, at most 64 gaps;
   // a try may evaluate as many cells as the two-sided steps it replaces would re-evaluate (k gaps:
   // about k/2 steps of this certificate's cells, twice over), at least 256. Measured on spool's
   // and rotor's -20 % poses, with pinion moving too (doc/performance.md, "Steps proved over a
   // segment").
   constexpr double kSegmentSlopeMin = 1.0 / 64, kSegmentSlopeMax = 1.0 / 8, kSegmentAim = 0.8;
+  // A span's slope below this aims as if it were this (at most kMaxSegmentGaps anyway).
+  constexpr double kSegmentSlopeFloor = 1.0 / 1024;
   constexpr double kMaxSegmentGaps = 64.0;
   constexpr std::uint64_t kMinSegmentBudget = 256;
   constexpr double kSegmentRetryGap = 0.5;
@@ -629,6 +662,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     double segments_stopped_gap = 0.0;
     bool segments_retried = false;
     double last_slope = 1.0;   // the previous step's two-step secant slope
+    SlideHistory history;
     while (!within(c.clearance) && out.steps < options.max_steps && exhausted < kMaxExhausted) {
       // The clearance is 1-Lipschitz in lambda (|d| = 1 up to rounding, covered by the relative
       // margin; the rounding of t by the absolute one): stepping by c_lo - target cannot pass the
@@ -738,6 +772,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           if (!(lk > -lambda_far)) return missed();  // the line never meets the zone
           if (lk < worth) {
             jump_to(lk);
+            history.clear();
             have_prev = false;
             have_prev2 = false;
             flat_steps = near_flat = 0;
@@ -756,6 +791,15 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       const bool in_band = slope2 >= kSegmentSlopeMin && slope2 <= kSegmentSlopeMax;
       const bool steady = in_band && slope2 <= 2.0 * last_slope && last_slope <= 2.0 * slope2;
       last_slope = slope2;
+      // Where a span resolves it, its slope aims both kinds of long step and gates the segments
+      // (spool with pinion moving: 4.6 % fewer instructions, doc/performance.md, "Slopes over a
+      // span"); elsewhere the secants above, as before.
+      const double span_slope = history.slope(out.lambda, gap, mid - target);
+      history.add(out.lambda, gap, mid - target);
+      const bool spanned = span_slope >= 0.0;
+      const double segment_slope = spanned ? std::max(span_slope, kSegmentSlopeFloor) : slope2;
+      const bool segment_due =
+          spanned ? span_slope > 0.0 && span_slope <= kSegmentSlopeMax : steady;
       // A segment that ran out of its budget was mostly aimed across the crossing (a slope
       // underestimated by loose certificates); once the gap has fallen to kSegmentRetryGap of what
       // it was then, the crossing is nearer and the slope better known: segments are tried again,
@@ -765,10 +809,10 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         segments_pay = true;
         segments_retried = true;
       }
-      if (options.segment_steps && segments_pay && target < 0.0 && steady && frontier.valid) {
+      if (options.segment_steps && segments_pay && target < 0.0 && segment_due && frontier.valid) {
         // A steady slide: a step of many gaps, proved over the whole segment from this
         // certificate's frontier (check_segment_above), then certified at its end as any step.
-        double k = std::min(kMaxSegmentGaps, kSegmentAim / slope2);
+        double k = std::min(kMaxSegmentGaps, kSegmentAim / segment_slope);
         while (k >= 3.0) {
           const double h = std::min(k * gap, out.lambda + lambda_far);  // not beyond the far side
           if (!(h > 1.2 * step)) break;  // no longer than a plain step there
@@ -802,7 +846,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         // c >= max(c(l) - (l - x), c(l - h) - (x - l + h)) > target when the two gaps add up to
         // more than h (same margins as one step, for both ends).
         // The aim: h where the two gaps, predicted with the slope, add up to h / 0.9.
-        const double h = 0.9 * 2.0 * gap / (1.0 + slope);
+        const double h = 0.9 * 2.0 * gap / (1.0 + (spanned ? span_slope : slope));
         if (h > 1.2 * step && out.lambda - h >= -lambda_far) {
           const double slack2 = pose_rounding_slack(frame, std::abs(out.lambda) + h);
           const ClearanceResult c2 = certify(out.lambda - h, true);

@@ -421,7 +421,7 @@ TEST(DeepJumps, HeldQueryContinuesToTheFreshAnswer) {
 // has one, and octree (second); both certified, on target and at the same first crossing.
 constexpr double kPlateTolerance = 1e-7;
 std::pair<PoseOutcome, PoseOutcome> with_and_without_jumps(const Scene& w, const ApproachSetup& setup, const Vec3& dir,
-                                                           double target) {
+                                                           double target, bool segment_steps = true) {
   constexpr double max_penetration = 0.4;  // the block's
   const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
   const LevelDeepZone zone = make_level_deep_zone(w.fixed, target, max_penetration, true, 40);
@@ -430,6 +430,7 @@ std::pair<PoseOutcome, PoseOutcome> with_and_without_jumps(const Scene& w, const
   PoseOptions base;
   base.tolerance = kPlateTolerance;
   base.start = PoseStart::Surface;
+  base.segment_steps = segment_steps;
   PoseOptions none = base;
   none.deep_zone_cubes = 0;
   std::pair<PoseOutcome, PoseOutcome> r{place_pose(setup, frame, &w.surface, dir, target, none),
@@ -444,7 +445,7 @@ std::pair<PoseOutcome, PoseOutcome> with_and_without_jumps(const Scene& w, const
 // The sphere through the plate's mid-plane (c = -0.02 on the plate) towards the block: it jumps.
 // Another plate or bar, or the sphere's lowest point at z = lowest.
 std::pair<PoseOutcome, PoseOutcome> across_the_plate(double target, const TriangleMesh& fixed = plate_and_block(),
-                                                     double lowest = -1.0) {
+                                                     double lowest = -1.0, bool segment_steps = true) {
   const Scene w(fixed, make_icosphere(0.1, 1));
   ApproachSetup setup = w.attached();
   setup.fixed_ref = Vec3(0, 0, 0);
@@ -453,7 +454,7 @@ std::pair<PoseOutcome, PoseOutcome> across_the_plate(double target, const Triang
     for (const Vec3& v : w.mover.vertices) low = std::min(low, v[2] - setup.mover_ref[2]);
     setup.fixed_ref[2] = lowest - low;
   }
-  const auto r = with_and_without_jumps(w, setup, Vec3(-1, 0, 0), target);
+  const auto r = with_and_without_jumps(w, setup, Vec3(-1, 0, 0), target, segment_steps);
   EXPECT_LT(r.first.lambda, -1.1);  // in the block
   EXPECT_GE(r.second.cover_jumps, 1);
   EXPECT_GT(r.second.zone_cubes, 0u);
@@ -487,10 +488,13 @@ TEST(DeepJumps, LongPlateauNearTheTargetJumps) {
 // -0.0945) until the block. The cover's cubes (up to about half |target| across) that hold the rod
 // hold the sphere's lowest point too, so its contact lies behind the pose; the octree about the
 // path, with leaves sized by the gap, still crosses the plateau (anchor with spool as the mover at
-// -35 %: 3,507 steps on one approach before the octree was asked there too).
+// -35 %: 3,507 steps on one approach before the octree was asked there too). Without steps over a
+// segment: since session 70 their slope over a span (back to the fall before the plateau) finds
+// this flat plateau and they cross it on their own in 72 steps; the jump is for plateaus where
+// their proofs fail (segments across thin blades, rotor).
 TEST(DeepJumps, PlateauBesideAThinZoneJumpsWithTheOctree) {
   ASSERT_TRUE(deep_cover_wanted(-0.095, 0.4));
-  const auto [plain, jumped] = across_the_plate(-0.095, plate_and_block(0.1, 0.1), 0.0055);
+  const auto [plain, jumped] = across_the_plate(-0.095, plate_and_block(0.1, 0.1), 0.0055, false);
   EXPECT_GT(plain.steps, 500) << "the plateau this test is about";
   EXPECT_LT(jumped.steps + 300, plain.steps) << "plain " << plain.steps << " jumped " << jumped.steps;
 }
