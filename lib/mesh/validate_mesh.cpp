@@ -5,7 +5,6 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Interval_nt.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Surface_mesh.h>
 
@@ -17,6 +16,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "mesh/self_intersections.h"
 #include "mesh/weld.h"
 #include "util/timer.h"
 #include "util/union_find.h"
@@ -524,7 +524,7 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
     }
   }
 
-  // 8. Self-intersections (exact) and outward orientation, on a CGAL surface mesh.
+  // 8. Self-intersections (exact; mesh/self_intersections.h) and outward orientation.
   const bool polygon_mesh = manifold && !report.has("non-orientable") && !mesh.faces.empty();
   if (!polygon_mesh) {
     report.notices.push_back("self-intersections were not checked: the faces do not form a manifold surface");
@@ -535,7 +535,7 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
       report.notices.push_back("self-intersections were not checked: faces with repeated corners");
       return out;
     }
-  // Made only when needed: the self-intersection test, or the orientation of several shells.
+  // Made only when needed: the orientation of several shells.
   SurfaceMesh sm;
   bool sm_built = false;
   const auto build_surface_mesh = [&]() -> bool {
@@ -545,19 +545,12 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
     return sm_built;
   };
   if (options.check_self_intersections && !report.has("degenerate-face")) {
-    if (!build_surface_mesh()) {
-      report.notices.push_back("self-intersections were not checked: CGAL rejected the face structure");
-      return out;
-    }
     Timer timer;
-    std::vector<std::pair<SurfaceMesh::Face_index, SurfaceMesh::Face_index>> pairs;
-    PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs = self_intersecting_faces(mesh);
     report.seconds_self_intersections = timer.seconds();
     report.self_intersections_checked = true;
     if (!pairs.empty()) {
-      std::vector<std::pair<std::size_t, std::size_t>> ids;
-      for (const auto& [a, b] : pairs) ids.emplace_back(std::min<std::size_t>(a, b), std::max<std::size_t>(a, b));
-      std::sort(ids.begin(), ids.end());  // parallel output order varies: report the smallest pair
+      std::vector<std::pair<std::size_t, std::size_t>> ids(pairs.begin(), pairs.end());  // sorted
       const auto [a, b] = ids.front();
       add_problem(report, "self-intersection", ids.size(),
                   std::to_string(ids.size()) + " pairs of faces intersect (exact test), e.g. faces " + std::to_string(a) +

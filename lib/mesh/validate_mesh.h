@@ -54,7 +54,7 @@ struct ValidateOptions {
 };
 
 // Welds vertices at equal positions (a notice with the count), triangulates polygons, drops unreferenced vertices, and checks: degenerate faces (exact),
-// boundary edges, non-manifold edges and vertices, orientability, self-intersections (exact, CGAL),
+// boundary edges, non-manifold edges and vertices, orientability, self-intersections (exact: mesh/self_intersections.h),
 // and outward orientation (reversed automatically when closed and valid, with a notice).
 // By value: a caller done with its soup moves it in (832K polygons are 832K allocations to copy).
 ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options = {});
