@@ -10,7 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
+
+#include "util/large_pages.h"
 
 namespace cdbench {
 namespace {
@@ -18,11 +19,7 @@ namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 K::Point_3 P(const Vec3& v) { return K::Point_3(v.x(), v.y(), v.z()); }
 
-struct Box {
-  double lo[3], hi[3];
-};
-
-bool overlap(const Box& a, const Box& b) {
+bool overlap(const Aabb& a, const Aabb& b) {
   for (int k = 0; k < 3; ++k)
     if (a.hi[k] < b.lo[k] || b.hi[k] < a.lo[k]) return false;
   return true;
@@ -44,8 +41,8 @@ struct Grid {
     if (t >= static_cast<double>(cells[k] - 1)) return cells[k] - 1;
     return static_cast<std::uint32_t>(t);
   }
-  // The cells a box spans (saturating far above any budget).
-  std::uint64_t span(const Box& b) const {
+  // The cells a box spans (at most 2^60).
+  std::uint64_t span(const Aabb& b) const {
     std::uint64_t n = 1;
     for (int k = 0; k < 3; ++k) n *= cell(b.hi[k], k) - cell(b.lo[k], k) + 1;
     return n;
@@ -57,44 +54,33 @@ struct Grid {
 
 // Cells of about twice the median face's largest extent; coarser while the faces' cells (their
 // listings) would exceed kListingsPerFace per face (long faces of CAD parts span many cells).
-Grid make_grid(const Box* boxes, std::size_t n) {
-  Grid g;
-  Box all;
-  for (int k = 0; k < 3; ++k) all.lo[k] = std::numeric_limits<double>::infinity(), all.hi[k] = -all.lo[k];
-  all = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, n), all,
-      [&](const tbb::blocked_range<std::size_t>& r, Box b) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i)
-          for (int k = 0; k < 3; ++k) b.lo[k] = std::min(b.lo[k], boxes[i].lo[k]), b.hi[k] = std::max(b.hi[k], boxes[i].hi[k]);
+Grid make_grid(const std::vector<Aabb, LargePageAllocator<Aabb>>& boxes) {
+  const std::size_t n = boxes.size();
+  const Aabb all = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n), Aabb(),
+      [&](const tbb::blocked_range<std::size_t>& r, Aabb b) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) b.extend(boxes[i]);
         return b;
       },
-      [](Box a, const Box& b) {
-        for (int k = 0; k < 3; ++k) a.lo[k] = std::min(a.lo[k], b.lo[k]), a.hi[k] = std::max(a.hi[k], b.hi[k]);
+      [](Aabb a, const Aabb& b) {
+        a.extend(b);
         return a;
       });
-  const double* lo = all.lo;
-  const double* hi = all.hi;
   // The median of a sample (every step-th face) sizes the cells: only the work depends on it.
   const std::size_t step = std::max<std::size_t>(1, n / 65536);
   std::vector<double> extent;
-  for (std::size_t i = 0; i < n; i += step) {
-    const Box& b = boxes[i];
-    extent.push_back(std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]}));
-  }
+  for (std::size_t i = 0; i < n; i += step) extent.push_back(boxes[i].extent().maxCoeff());
   const auto mid = extent.begin() + static_cast<std::ptrdiff_t>(extent.size() / 2);
   std::nth_element(extent.begin(), mid, extent.end());
-  double longest = 0.0;
-  for (int k = 0; k < 3; ++k) longest = std::max(longest, hi[k] - lo[k]);
-  double h = std::max({2.0 * *mid, longest / (Grid::kMaxCells - 1), std::numeric_limits<double>::min()});
+  double h = std::max({2.0 * *mid, all.extent().maxCoeff() / (Grid::kMaxCells - 1), std::numeric_limits<double>::min()});
   constexpr std::uint64_t kListingsPerFace = 8;
   const std::uint64_t budget = kListingsPerFace * n + 4096;
+  Grid g;
+  for (int k = 0; k < 3; ++k) g.origin[k] = all.lo[k];
   for (;;) {
-    for (int k = 0; k < 3; ++k) {
-      g.origin[k] = lo[k];
-      g.inv = 1.0 / h;
-      const double n = std::ceil((hi[k] - lo[k]) * g.inv) + 1.0;
-      g.cells[k] = static_cast<std::uint32_t>(std::min<double>(n, Grid::kMaxCells));
-    }
+    g.inv = 1.0 / h;
+    for (int k = 0; k < 3; ++k)
+      g.cells[k] = static_cast<std::uint32_t>(std::min<double>(std::ceil(all.extent()[k] * g.inv) + 1.0, Grid::kMaxCells));
     const std::uint64_t listings = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, n), std::uint64_t(0),
         [&](const tbb::blocked_range<std::size_t>& r, std::uint64_t s) {
@@ -137,23 +123,15 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> self_intersecting_faces(con
   using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
   const std::size_t n = mesh.faces.size();
   if (n < 2) return {};
-  // Arrays left uninitialised: their pages are first touched by the parallel loops that fill them
-  // (zeroing them first faulted them in on one thread).
-  const std::unique_ptr<Box[]> boxes(new Box[n]);
+  // Large arrays with their pages first touched on all threads (util/large_pages.h).
+  std::vector<Aabb, LargePageAllocator<Aabb>> boxes(n);
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-    Box& b = boxes[i];
-    for (int k = 0; k < 3; ++k) {
-      const double x = mesh.vertices[mesh.faces[i][0]][k], y = mesh.vertices[mesh.faces[i][1]][k],
-                   z = mesh.vertices[mesh.faces[i][2]][k];
-      b.lo[k] = std::min({x, y, z});
-      b.hi[k] = std::max({x, y, z});
-    }
+    boxes[i] = bounding_box(3, [&](int k) { return mesh.vertices[mesh.faces[i][k]]; });
   });
-  const Grid grid = make_grid(boxes.get(), n);
+  const Grid grid = make_grid(boxes);
 
   // Every face listed in each cell its box spans, sorted by cell.
-  const std::unique_ptr<std::uint64_t[]> first(new std::uint64_t[n + 1]);
-  first[0] = 0;
+  std::vector<std::uint64_t, LargePageAllocator<std::uint64_t>> first(n + 1, 0);
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { first[i + 1] = grid.span(boxes[i]); });
   for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
   struct Listing {
@@ -161,9 +139,9 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> self_intersecting_faces(con
     std::uint32_t face;
   };
   const std::size_t count = first[n];
-  const std::unique_ptr<Listing[]> listings(new Listing[count]);
+  std::vector<Listing, LargePageAllocator<Listing>> listings(count);
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-    const Box& b = boxes[i];
+    const Aabb& b = boxes[i];
     std::uint64_t at = first[i];
     const auto face = static_cast<std::uint32_t>(i);
     for (std::uint32_t x = grid.cell(b.lo[0], 0); x <= grid.cell(b.hi[0], 0); ++x)
@@ -171,7 +149,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> self_intersecting_faces(con
         for (std::uint32_t z = grid.cell(b.lo[2], 2); z <= grid.cell(b.hi[2], 2); ++z)
           listings[at++] = {Grid::key(x, y, z), face};
   });
-  tbb::parallel_sort(listings.get(), listings.get() + count, [](const Listing& p, const Listing& q) {
+  tbb::parallel_sort(listings.begin(), listings.end(), [](const Listing& p, const Listing& q) {
     return p.key != q.key ? p.key < q.key : p.face < q.face;
   });
   std::vector<std::size_t> starts;  // of the cells with two faces or more
@@ -194,7 +172,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> self_intersecting_faces(con
                                      static_cast<std::uint32_t>(key >> Grid::kBits) & (Grid::kMaxCells * 2 - 1),
                                      static_cast<std::uint32_t>(key) & (Grid::kMaxCells * 2 - 1)};
       const auto visit = [&](std::uint32_t f, std::uint32_t g) {
-        const Box &a = boxes[f], &b = boxes[g];
+        const Aabb &a = boxes[f], &b = boxes[g];
         if (!overlap(a, b)) return;
         // Once: in the cell of the overlap's least corner.
         for (int k = 0; k < 3; ++k)

@@ -535,15 +535,6 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
       report.notices.push_back("self-intersections were not checked: faces with repeated corners");
       return out;
     }
-  // Made only when needed: the orientation of several shells.
-  SurfaceMesh sm;
-  bool sm_built = false;
-  const auto build_surface_mesh = [&]() -> bool {
-    if (sm_built) return true;
-    sm_built = report.closed && build_closed_surface_mesh(mesh, adjacency, sm);
-    if (!sm_built) sm_built = build_surface_mesh_by_faces(mesh, sm);
-    return sm_built;
-  };
   if (options.check_self_intersections && !report.has("degenerate-face")) {
     Timer timer;
     const std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs = self_intersecting_faces(mesh);
@@ -578,7 +569,10 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
         volume = -volume;
       }
     } else {
-      if (!build_surface_mesh()) throw std::logic_error("validate_mesh: a valid closed mesh CGAL cannot represent");
+      // CGAL's surface mesh, made only here (several shells, or an enclosure that straddles 0).
+      SurfaceMesh sm;
+      if (!build_closed_surface_mesh(mesh, adjacency, sm) && !build_surface_mesh_by_faces(mesh, sm))
+        throw std::logic_error("validate_mesh: a valid closed mesh CGAL cannot represent");
       PMP::orient_to_bound_a_volume(sm);
       for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
         const SurfaceMesh::Face_index fi(static_cast<SurfaceMesh::size_type>(i));
