@@ -1,7 +1,10 @@
 #include "distance/support_planes.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -12,71 +15,133 @@
 
 namespace cdbench {
 
+namespace {
+
+// One face's scan: its plane and the largest offset (rounded up) of F's vertices beyond it, or
+// +inf once one lies more than `slack` beyond. The vertex at `refuter` is tried first and, on a
+// refutation, replaced by the refuting one: neighbouring faces of a non-convex part are mostly
+// refuted by the same vertices. `work` gains the vertex tests.
+struct FaceScan {
+  enum Kind : std::uint8_t { Degenerate, Refuted, Supports, Unscanned } kind = Unscanned;
+  double e = 0.0;
+};
+
+FaceScan scan_face(const std::vector<Vec3>& V, const TrianglePlane& pl, double slack, std::size_t& refuter,
+                   std::uint64_t& work) {
+  FaceScan r;
+  double e = -std::numeric_limits<double>::infinity();
+  const std::size_t nv = V.size();
+  for (std::size_t i = 0; i < nv; ++i) {
+    const std::size_t k = (refuter + i) % nv;
+    const PlaneOffset o = plane_offset(pl.n, pl.d, V[k]);  // exact n.v - d <= value + error
+    e = std::max(e, round_up(o.value + o.error));
+    if (e > slack) {
+      refuter = k;
+      work += i + 1;
+      r.kind = FaceScan::Refuted;
+      return r;
+    }
+  }
+  work += nv;
+  r.kind = e <= slack ? FaceScan::Supports : FaceScan::Refuted;
+  r.e = e;
+  return r;
+}
+
+}  // namespace
+
 SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, double relative_slack) {
   SupportPlanes S;
   if (F.faces.empty()) return S;
   const double diagonal = F.bbox().diagonal();
   const double slack = relative_slack * diagonal;
-  std::vector<SupportPlane> found;  // in face order
-  std::vector<std::int64_t> found_of(F.faces.size(), -1);  // each face's entry of `found`, if any
-  bool all = true;
-  double work = 0.0;
-  // The vertex that refuted the previous face's plane is tried first: neighbouring faces of a
-  // non-convex part are mostly refuted by the same vertices.
-  std::size_t refuter = 0;
-  // Planes found supporting, by their normal and offset rounded to 1e-9: a face on the plane of
-  // one found before (a planar face of many triangles, a tube's end) maps to it unscanned. Its
-  // bound is that plane's, valid as any supporting plane's; near its own within the rounding.
-  std::map<std::array<long long, 4>, std::size_t> seen;
+  const std::size_t n = F.faces.size();
+  // Planes by their normal and offset rounded to 1e-9: a face on the plane of one found before (a
+  // planar face of many triangles, a tube's end) maps to it unscanned. Its bound is that plane's,
+  // valid as any supporting plane's; near its own within the rounding.
   const auto key_of = [&](const TrianglePlane& pl) {
     const double q = 1e9, dq = 1e9 / (1.0 + diagonal);
     return std::array<long long, 4>{std::llround(pl.n[0] * q), std::llround(pl.n[1] * q), std::llround(pl.n[2] * q),
                                     std::llround(pl.d * dq)};
   };
-  for (std::uint32_t fi = 0; fi < F.faces.size(); ++fi) {
-    const Face& f = F.faces[fi];
-    const TrianglePlane pl = make_triangle_plane(F.vertices[f[0]], F.vertices[f[1]], F.vertices[f[2]]);
-    if (!std::isfinite(pl.eps)) {
+  const auto finite_key = [&](const TrianglePlane& pl) { return std::abs(pl.d) < 1e6 * (1.0 + diagonal); };
+  const auto near = [&](const TrianglePlane& pl, const Vec3& qn, double qd) {
+    return (pl.n - qn).cwiseAbs().maxCoeff() <= 1e-9 && std::abs(pl.d - qd) <= 1e-9 * (1.0 + diagonal);
+  };
+  std::vector<TrianglePlane> plane(n);
+  std::vector<FaceScan> scan(n);
+  // The scans run in fixed blocks of faces, in parallel, each block with its own refuter and its
+  // own map of planes found (the work, and so whether the budget holds, is the same for any number
+  // of threads). A block stops once the work of all (flushed now and then) passes the budget: the
+  // set is then empty whatever the other blocks find.
+  constexpr std::size_t kBlock = 2048;
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  std::atomic<std::uint64_t> total_work{0};
+  const std::uint64_t budget = max_work >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max()
+                                                  : static_cast<std::uint64_t>(std::max(0.0, max_work));
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+    std::size_t refuter = 0;
+    std::uint64_t work = 0;
+    std::map<std::array<long long, 4>, std::uint32_t> seen;  // a key's first supporting face in the block
+    const std::size_t end = std::min(n, (b + 1) * kBlock);
+    for (std::size_t fi = b * kBlock; fi < end; ++fi) {
+      if (total_work.load(std::memory_order_relaxed) > budget) return;
+      const Face& f = F.faces[fi];
+      TrianglePlane& pl = plane[fi];
+      pl = make_triangle_plane(F.vertices[f[0]], F.vertices[f[1]], F.vertices[f[2]]);
+      if (!std::isfinite(pl.eps)) {
+        scan[fi].kind = FaceScan::Degenerate;
+        continue;
+      }
+      if (finite_key(pl)) {
+        const auto it = seen.find(key_of(pl));
+        if (it != seen.end() && near(pl, plane[it->second].n, plane[it->second].d)) continue;  // Unscanned
+      }
+      const std::uint64_t before = work;
+      scan[fi] = scan_face(F.vertices, pl, slack, refuter, work);
+      if (scan[fi].kind == FaceScan::Supports && finite_key(pl))
+        seen.emplace(key_of(pl), static_cast<std::uint32_t>(fi));
+      total_work.fetch_add(work - before, std::memory_order_relaxed);
+    }
+  });
+  if (total_work.load() > budget) return SupportPlanes();
+  // In face order, as one scan would: a face whose key matches a plane found before maps to it; any
+  // other takes its own scan's result (a face its block left unscanned, matching a plane of the
+  // block that itself mapped to an earlier block's, is scanned here: rare).
+  std::vector<SupportPlane> found;  // in face order
+  std::vector<std::int64_t> found_of(n, -1);  // each face's entry of `found`, if any
+  std::map<std::array<long long, 4>, std::size_t> seen;
+  bool all = true;
+  std::uint64_t work = total_work.load();
+  std::size_t refuter = 0;
+  for (std::size_t fi = 0; fi < n; ++fi) {
+    const TrianglePlane& pl = plane[fi];
+    if (scan[fi].kind == FaceScan::Degenerate) {
       all = false;
       continue;
     }
-    const bool finite_key = std::abs(pl.d) < 1e6 * (1.0 + diagonal);
-    if (finite_key) {
+    if (finite_key(pl)) {
       const auto it = seen.find(key_of(pl));
-      if (it != seen.end()) {
-        const SupportPlane& q = found[it->second];
-        if ((pl.n - q.n).cwiseAbs().maxCoeff() <= 1e-9 && std::abs(pl.d - q.d) <= 1e-9 * (1.0 + diagonal)) {
-          found_of[fi] = static_cast<std::int64_t>(it->second);
-          continue;
-        }
+      if (it != seen.end() && near(pl, found[it->second].n, found[it->second].d)) {
+        found_of[fi] = static_cast<std::int64_t>(it->second);
+        continue;
       }
     }
-    double e = -std::numeric_limits<double>::infinity();
-    const std::size_t nv = F.vertices.size();
-    for (std::size_t i = 0; i < nv; ++i) {
-      const std::size_t k = (refuter + i) % nv;
-      const PlaneOffset o = plane_offset(pl.n, pl.d, F.vertices[k]);  // exact n.v - d <= value + error
-      e = std::max(e, round_up(o.value + o.error));
-      if (e > slack) {
-        refuter = k;
-        work += static_cast<double>(i + 1);
-        break;
-      }
+    if (scan[fi].kind == FaceScan::Unscanned) {
+      scan[fi] = scan_face(F.vertices, pl, slack, refuter, work);
+      if (work > budget) return SupportPlanes();
     }
-    if (!(e <= slack)) {
+    if (scan[fi].kind != FaceScan::Supports) {
       all = false;
-      if (work > max_work) return SupportPlanes();
       continue;
     }
-    work += static_cast<double>(nv);
-    if (work > max_work) return SupportPlanes();
     SupportPlane p;
     p.n = pl.n;
     p.d = pl.d;
-    p.e = e;
+    p.e = scan[fi].e;
     p.norm_lo = norm3_lower(pl.n.squaredNorm());
     p.norm_up = norm3_upper(pl.n.squaredNorm());
-    if (finite_key) seen.emplace(key_of(pl), found.size());
+    if (finite_key(pl)) seen.emplace(key_of(pl), found.size());
     found_of[fi] = static_cast<std::int64_t>(found.size());
     found.push_back(p);
   }

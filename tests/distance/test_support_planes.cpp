@@ -3,6 +3,7 @@
 // bound holds along the whole line (against certified signed distances at dense samples), is tight
 // inside a convex F, and is not tight where a control says it should not be.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -354,6 +355,81 @@ TEST(SupportPlanes, SeedsChangeOnlyTheWork) {
     EXPECT_GT(carried.n, 0);
     for (int j = 0; j < carried.n; ++j) EXPECT_LT(carried.idx[j], S.planes().size());
   }
+}
+
+// A box of 6,912 triangles (each side a 24 x 24 grid) beside a sphere, faces shuffled: the scans
+// run in blocks of faces, in parallel, so coplanar faces fall in many blocks. The set is the same
+// on one thread and on all; it has 5 of the box's planes and the sphere's supporting faces; a face
+// maps to a plane of its own (within the merging tolerance) exactly when no vertex lies beyond it.
+TEST(SupportPlanes, SameSetOnAnyThreadCountFromBlocksOfFaces) {
+  TriangleMesh box;
+  const int N = 24;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const std::uint32_t base = static_cast<std::uint32_t>(box.vertices.size());
+      for (int i = 0; i <= N; ++i)
+        for (int j = 0; j <= N; ++j) {
+          Vec3 p;
+          p[axis] = side;
+          p[(axis + 1) % 3] = static_cast<double>(i) / N;
+          p[(axis + 2) % 3] = static_cast<double>(j) / N;
+          box.vertices.push_back(p);
+        }
+      const auto at = [&](int i, int j) { return base + static_cast<std::uint32_t>(i * (N + 1) + j); };
+      for (int i = 0; i < N; ++i)
+        for (int j = 0; j < N; ++j) {
+          // Outward on side 1, flipped on side 0 (only the planes matter here, not the orientation).
+          if (side == 1) {
+            box.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+            box.faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+          } else {
+            box.faces.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+            box.faces.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+          }
+        }
+    }
+  TriangleMesh F = merge_meshes(box, make_icosphere(0.4, 3, Vec3(2.0, 0.5, 0.5)));
+  std::mt19937_64 rng(7);
+  std::shuffle(F.faces.begin(), F.faces.end(), rng);
+  SupportPlanes one, all;
+  tbb::task_arena(1).execute([&] { one = SupportPlanes::build(F); });
+  all = SupportPlanes::build(F);
+  ASSERT_FALSE(one.empty());
+  EXPECT_FALSE(one.convex());
+  ASSERT_EQ(one.planes().size(), all.planes().size());
+  for (std::size_t k = 0; k < one.planes().size(); ++k) {
+    const SupportPlane &a = one.planes()[k], &b = all.planes()[k];
+    EXPECT_TRUE(a.n == b.n && a.d == b.d && a.e == b.e) << "plane " << k;
+  }
+  expect_supporting(F, one);
+  const double slack = 1e-9 * F.bbox().diagonal();
+  std::size_t box_planes = 0, sphere_planes = 0;
+  for (const SupportPlane& p : one.planes())
+    ((p.n.cwiseAbs().array() > 0.0).count() == 1 ? box_planes : sphere_planes) += 1;
+  EXPECT_EQ(box_planes, 5u);  // not x = 1: the sphere lies beyond it
+  EXPECT_GT(sphere_planes, 0u);
+  for (std::uint32_t f = 0; f < F.faces.size(); ++f) {
+    ASSERT_EQ(one.plane_of(f), all.plane_of(f)) << "face " << f;
+    const TrianglePlane pl =
+        make_triangle_plane(F.vertices[F.faces[f][0]], F.vertices[F.faces[f][1]], F.vertices[F.faces[f][2]]);
+    double beyond = -HUGE_VAL;  // the farthest vertex beyond the face's plane, rounded down
+    for (const Vec3& v : F.vertices) {
+      const PlaneOffset o = plane_offset(pl.n, pl.d, v);
+      beyond = std::max(beyond, o.value - o.error);
+    }
+    if (one.plane_of(f) < 0) {
+      EXPECT_GT(beyond, slack) << "face " << f << " has no plane but supports F";
+    } else {
+      const SupportPlane& q = one.planes()[static_cast<std::size_t>(one.plane_of(f))];
+      EXPECT_LE((q.n - pl.n).cwiseAbs().maxCoeff(), 2e-9) << "face " << f;
+      EXPECT_LE(beyond, q.e + 1e-8) << "face " << f;
+    }
+  }
+  // The budget: beyond it, the same (empty) answer on any number of threads.
+  tbb::task_arena(1).execute([&] { one = SupportPlanes::build(F, 1e5); });
+  all = SupportPlanes::build(F, 1e5);
+  EXPECT_TRUE(one.empty());
+  EXPECT_TRUE(all.empty());
 }
 
 TEST(SupportPlanes, HalvedRateFailsTheCheck) {
