@@ -12,6 +12,7 @@
 #include "core/interval.h"
 #include "distance/depth_bound.h"
 #include "distance/point_triangle_distance.h"
+#include "util/large_pages.h"
 
 namespace cdbench {
 
@@ -68,8 +69,8 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
   const auto near = [&](const TrianglePlane& pl, const Vec3& qn, double qd) {
     return (pl.n - qn).cwiseAbs().maxCoeff() <= 1e-9 && std::abs(pl.d - qd) <= 1e-9 * (1.0 + diagonal);
   };
-  std::vector<TrianglePlane> plane(n);
-  std::vector<FaceScan> scan(n);
+  // Value-initialised on every thread when large (a million faces: 16 MB).
+  std::vector<FaceScan, LargePageAllocator<FaceScan>> scan(n);
   // The scans run in fixed blocks of faces, in parallel, each block with its own refuter and its
   // own map of planes found (the work, and so whether the budget holds, is the same for any number
   // of threads). A block stops once the work of all (flushed now and then) passes the budget: the
@@ -82,25 +83,24 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
     std::size_t refuter = 0;
     std::uint64_t work = 0;
-    std::map<std::array<long long, 4>, std::uint32_t> seen;  // a key's first supporting face in the block
+    std::map<std::array<long long, 4>, std::pair<Vec3, double>> seen;  // a key's first supporting plane
     const std::size_t end = std::min(n, (b + 1) * kBlock);
     for (std::size_t fi = b * kBlock; fi < end; ++fi) {
       if (total_work.load(std::memory_order_relaxed) > budget) return;
       const Face& f = F.faces[fi];
-      TrianglePlane& pl = plane[fi];
-      pl = make_triangle_plane(F.vertices[f[0]], F.vertices[f[1]], F.vertices[f[2]]);
+      const TrianglePlane pl = make_triangle_plane(F.vertices[f[0]], F.vertices[f[1]], F.vertices[f[2]]);
       if (!std::isfinite(pl.eps)) {
         scan[fi].kind = FaceScan::Degenerate;
         continue;
       }
       if (finite_key(pl)) {
         const auto it = seen.find(key_of(pl));
-        if (it != seen.end() && near(pl, plane[it->second].n, plane[it->second].d)) continue;  // Unscanned
+        if (it != seen.end() && near(pl, it->second.first, it->second.second)) continue;  // Unscanned
       }
       const std::uint64_t before = work;
       scan[fi] = scan_face(F.vertices, pl, slack, refuter, work);
       if (scan[fi].kind == FaceScan::Supports && finite_key(pl))
-        seen.emplace(key_of(pl), static_cast<std::uint32_t>(fi));
+        seen.emplace(key_of(pl), std::make_pair(pl.n, pl.d));
       total_work.fetch_add(work - before, std::memory_order_relaxed);
     }
   });
@@ -115,11 +115,12 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
   std::uint64_t work = total_work.load();
   std::size_t refuter = 0;
   for (std::size_t fi = 0; fi < n; ++fi) {
-    const TrianglePlane& pl = plane[fi];
     if (scan[fi].kind == FaceScan::Degenerate) {
       all = false;
       continue;
     }
+    const Face& f = F.faces[fi];
+    const TrianglePlane pl = make_triangle_plane(F.vertices[f[0]], F.vertices[f[1]], F.vertices[f[2]]);
     if (finite_key(pl)) {
       const auto it = seen.find(key_of(pl));
       if (it != seen.end() && near(pl, found[it->second].n, found[it->second].d)) {

@@ -4,12 +4,19 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/PLY.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
+#include <cerrno>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 #include "mesh/file_structure.h"
@@ -52,7 +59,8 @@ MeshFormat mesh_format_from_path(const std::string& path) {
 namespace {
 
 // PLY through CGAL, after the structural pre-check.
-PolygonSoup read_ply_with_cgal(const std::string& bytes, const std::string& name) {
+PolygonSoup read_ply_with_cgal(std::string_view view, const std::string& name) {
+  const std::string bytes(view);  // CGAL reads from a stream
   check_mesh_file_structure(bytes, MeshFormat::Ply, name);
   std::vector<Kernel::Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
@@ -81,7 +89,7 @@ PolygonSoup read_ply_with_cgal(const std::string& bytes, const std::string& name
 
 }  // namespace
 
-PolygonSoup read_polygon_soup_from_bytes(const std::string& bytes, const std::string& name) {
+PolygonSoup read_polygon_soup_from_bytes(std::string_view bytes, const std::string& name) {
   const MeshFormat format = mesh_format_from_path(name);
   if (bytes.empty()) throw InputError(name + ": the file is empty");
   PolygonSoup soup;
@@ -127,16 +135,35 @@ PolygonSoup read_polygon_soup(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the file (missing or unreadable)");
-  // Read in one piece into a string of the file's size (a stream buffer copied it twice).
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  in.seekg(0, std::ios::beg);
-  if (size < 0 || !in) throw InputError(path + ": cannot determine the file's size");
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  in.read(bytes.data(), size);
-  if (in.gcount() != size) throw InputError(path + ": read error (the file changed or could not be read whole)");
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw InputError(path + ": cannot open the file (missing or unreadable)");
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || st.st_size < 0) {
+    ::close(fd);
+    throw InputError(path + ": cannot determine the file's size");
+  }
+  // Read whole into an uninitialised buffer, in chunks on all threads: the copies and the pages'
+  // first touch (a 42 MB file: 0.18 s on one thread, half of it clearing a string first) are shared.
+  const std::size_t size = static_cast<std::size_t>(st.st_size);
+  std::unique_ptr<char[]> buffer(new char[std::max<std::size_t>(size, 1)]);
+  constexpr std::size_t kChunk = std::size_t(4) << 20;
+  std::atomic<bool> short_read{false};
+  tbb::parallel_for(std::size_t{0}, (size + kChunk - 1) / kChunk, [&](std::size_t c) {
+    std::size_t at = c * kChunk;
+    const std::size_t end = std::min(size, at + kChunk);
+    while (at < end && !short_read.load(std::memory_order_relaxed)) {
+      const ssize_t got = ::pread(fd, buffer.get() + at, end - at, static_cast<off_t>(at));
+      if (got < 0 && errno == EINTR) continue;
+      if (got <= 0) short_read = true;  // an error, or the file shrank
+      else at += static_cast<std::size_t>(got);
+    }
+  });
+  char extra;
+  const bool grew = !short_read && ::pread(fd, &extra, 1, static_cast<off_t>(size)) > 0;
+  ::close(fd);
+  if (short_read || grew)
+    throw InputError(path + ": read error (the file changed or could not be read whole)");
+  const std::string_view bytes(buffer.get(), size);
   return read_polygon_soup_from_bytes(bytes, path);
 }
 

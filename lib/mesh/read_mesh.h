@@ -6,6 +6,7 @@
 // first walked structurally by our own pre-check (counts against the file size, list lengths
 // against the bytes or tokens that follow, binary floats finite) and only then parsed by CGAL.
 #include <string>
+#include <string_view>
 
 #include "core/triangle_mesh.h"
 
@@ -26,6 +27,6 @@ PolygonSoup read_polygon_soup(const std::string& path);
 TriangleMesh read_triangle_mesh(const std::string& path);
 
 // Same as read_polygon_soup, from the file's bytes (the name is used for the format and in messages).
-PolygonSoup read_polygon_soup_from_bytes(const std::string& bytes, const std::string& name);
+PolygonSoup read_polygon_soup_from_bytes(std::string_view bytes, const std::string& name);
 
 }  // namespace cdbench

@@ -80,7 +80,7 @@ bool parse_int(std::string_view t, long long& v) {
 // `start` is number `number`); '\r' is whitespace for the tokenizer.
 class Lines {
  public:
-  Lines(const std::string& bytes, std::size_t start, std::size_t stop = std::string::npos, std::size_t number = 0)
+  Lines(std::string_view bytes, std::size_t start, std::size_t stop = std::string::npos, std::size_t number = 0)
       : s_(bytes), pos_(start), stop_(std::min(stop, bytes.size())), number_(number) {}
   bool next(std::string_view& line) {
     if (pos_ >= stop_) return false;
@@ -95,7 +95,7 @@ class Lines {
   std::size_t position() const { return std::min(pos_, stop_); }  // the start of the next line
 
  private:
-  const std::string& s_;
+  std::string_view s_;
   std::size_t pos_;
   std::size_t stop_;
   std::size_t number_ = 0;
@@ -103,7 +103,7 @@ class Lines {
 
 }  // namespace
 
-std::size_t check_text_encoding(const std::string& bytes, const std::string& name) {
+std::size_t check_text_encoding(std::string_view bytes, const std::string& name) {
   const auto starts = [&](std::initializer_list<unsigned char> prefix) {
     if (bytes.size() < prefix.size()) return false;
     std::size_t i = 0;
@@ -130,7 +130,7 @@ std::size_t check_text_encoding(const std::string& bytes, const std::string& nam
   return skip;
 }
 
-PolygonSoup read_obj(const std::string& bytes, const std::string& name) {
+PolygonSoup read_obj(std::string_view bytes, const std::string& name) {
   Lines lines(bytes, check_text_encoding(bytes, name));
   PolygonSoup soup;
   struct Skipped {
@@ -259,7 +259,7 @@ bool next_tokens(Lines& lines, std::vector<std::string_view>& tok) {
 
 }  // namespace
 
-PolygonSoup read_off(const std::string& bytes, const std::string& name) {
+PolygonSoup read_off(std::string_view bytes, const std::string& name) {
   Lines lines(bytes, check_text_encoding(bytes, name));
   std::vector<std::string_view> t;
   if (!next_tokens(lines, t)) fail(name, "no OFF header (the file holds only blanks or comments)");
@@ -371,7 +371,7 @@ std::string triangle_at(std::size_t i) {
   return "triangle " + std::to_string(i) + " (byte " + std::to_string(84 + 50 * i) + ")";
 }
 
-PolygonSoup read_binary_stl(const std::string& bytes, const std::string& name, std::uint32_t n) {
+PolygonSoup read_binary_stl(std::string_view bytes, const std::string& name, std::uint32_t n) {
   PolygonSoup soup;
   soup.points.reserve(3ull * n);
   soup.polygons.reserve(n);
@@ -395,7 +395,7 @@ PolygonSoup read_binary_stl(const std::string& bytes, const std::string& name, s
 // ASCII STL as a stream of tokens that knows their lines.
 class Tokens {
  public:
-  Tokens(const std::string& bytes, std::size_t start) : lines_(bytes, start) {}
+  Tokens(std::string_view bytes, std::size_t start) : lines_(bytes, start) {}
   bool next(std::string_view& t) {
     while (k_ >= tok_.size()) {
       if (!lines_.next(line_)) return false;
@@ -416,7 +416,7 @@ class Tokens {
   std::size_t k_ = 0;
 };
 
-PolygonSoup read_ascii_stl(const std::string& bytes, const std::string& name, std::size_t start) {
+PolygonSoup read_ascii_stl(std::string_view bytes, const std::string& name, std::size_t start) {
   Tokens in(bytes, start);
   PolygonSoup soup;
   std::string_view t;
@@ -475,7 +475,7 @@ PolygonSoup read_ascii_stl(const std::string& bytes, const std::string& name, st
 
 }  // namespace
 
-PolygonSoup read_stl(const std::string& bytes, const std::string& name) {
+PolygonSoup read_stl(std::string_view bytes, const std::string& name) {
   const std::size_t size = bytes.size();
   std::uint32_t n = 0;
   if (size >= 84) std::memcpy(&n, bytes.data() + 80, 4);  // STL is little-endian; so are our targets

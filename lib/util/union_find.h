@@ -3,6 +3,9 @@
 // on the order of unions (deterministic component numbering), which also makes unions from several
 // threads at once safe to offer: roots are only ever linked under smaller roots (by compare-and-
 // swap), so the sets and their roots are the same whatever the interleaving.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
@@ -12,8 +15,18 @@ namespace cdbench {
 
 class UnionFind {
  public:
+  // Large sets are initialised on every thread (the pages' first touch; 2.5 million corners of an
+  // 832K-face mesh: 20 MB).
   explicit UnionFind(std::size_t n) : n_(n), parent_(new std::atomic<std::size_t>[n]) {
-    for (std::size_t i = 0; i < n; ++i) parent_[i].store(i, std::memory_order_relaxed);
+    const auto init = [this](std::size_t lo, std::size_t hi) {
+      for (std::size_t i = lo; i < hi; ++i) parent_[i].store(i, std::memory_order_relaxed);
+    };
+    if (n < (std::size_t(1) << 18)) {
+      init(0, n);
+      return;
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::size_t(1) << 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) { init(r.begin(), r.end()); });
   }
   std::size_t size() const { return n_; }
 

@@ -37,6 +37,13 @@ TEST(Validate, TwoComponentsAreAllowedAndReported) {
   EXPECT_EQ(v.report.genus, 0);
   ASSERT_FALSE(v.report.notices.empty());
   EXPECT_NE(v.report.notices[0].find("2 connected components"), std::string::npos);
+  // The genus sums over the components (each counted on its own Euler characteristic): a torus and
+  // two tori beside a sphere.
+  const TriangleMesh torus = make_torus(2.0, 0.5, 48, 24);
+  EXPECT_EQ(validate_mesh(merge_meshes(make_icosphere(1.0, 2, Vec3(9, 0, 0)), torus)).report.genus, 1);
+  TriangleMesh moved = torus;
+  for (Vec3& p : moved.vertices) p += Vec3(0, 0, 4);
+  EXPECT_EQ(validate_mesh(merge_meshes(merge_meshes(make_icosphere(1.0, 2, Vec3(9, 0, 0)), torus), moved)).report.genus, 2);
 }
 
 TEST(Validate, InwardMeshIsReversedWithANotice) {
