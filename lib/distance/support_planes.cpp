@@ -18,15 +18,16 @@ namespace cdbench {
 
 namespace {
 
-// One face's scan: its plane and the largest offset (rounded up) of F's vertices beyond it, or
-// +inf once one lies more than `slack` beyond. The vertex at `refuter` is tried first and, on a
-// refutation, replaced by the refuting one: neighbouring faces of a non-convex part are mostly
-// refuted by the same vertices. `work` gains the vertex tests.
+// One face's scan: whether its plane supports F within `slack` and, if so, the largest offset e
+// (rounded up) of F's vertices beyond it.
 struct FaceScan {
   enum Kind : std::uint8_t { Degenerate, Refuted, Supports, Unscanned } kind = Unscanned;
   double e = 0.0;
 };
 
+// The vertex at `refuter` is tried first and, on a refutation, replaced by the refuting one:
+// neighbouring faces of a non-convex part are mostly refuted by the same vertices. `work` gains
+// the vertex tests.
 FaceScan scan_face(const std::vector<Vec3>& V, const TrianglePlane& pl, double slack, std::size_t& refuter,
                    std::uint64_t& work) {
   FaceScan r;
@@ -69,7 +70,7 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
   const auto near = [&](const TrianglePlane& pl, const Vec3& qn, double qd) {
     return (pl.n - qn).cwiseAbs().maxCoeff() <= 1e-9 && std::abs(pl.d - qd) <= 1e-9 * (1.0 + diagonal);
   };
-  // Value-initialised on every thread when large (a million faces: 16 MB).
+  // Its pages first touched on every thread when large (a million faces: 16 MB).
   std::vector<FaceScan, LargePageAllocator<FaceScan>> scan(n);
   // The scans run in fixed blocks of faces, in parallel, each block with its own refuter and its
   // own map of planes found (the work, and so whether the budget holds, is the same for any number

@@ -11,8 +11,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cerrno>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
