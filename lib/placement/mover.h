@@ -44,7 +44,8 @@ struct MoverOrientation {
 
 MoverOrientation make_mover_orientation(const TriangleMesh& mover, const Eigen::Matrix3d& R);
 // The same in two steps (rotated vertices first, then the box tree), for callers that build other
-// trees from the rotated vertices at the same time.
+// trees from the rotated vertices at the same time (or refit a tree of their own shape instead:
+// make_orientation_frame).
 MoverOrientation rotate_mover(const TriangleMesh& mover, const Eigen::Matrix3d& R);
 void build_mover_boxes(MoverOrientation& o);
 

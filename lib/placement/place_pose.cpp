@@ -387,14 +387,28 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
   return s;
 }
 
+namespace {
+constexpr std::size_t kRefitBoxesFaces = std::size_t(1) << 18;
+}  // namespace
+
 OrientationFrame make_orientation_frame(const ApproachSetup& setup, const Eigen::Matrix3d& R) {
   OrientationFrame f;
   const Vec3 rc = R * setup.mover_ref;
   f.t0 = setup.fixed_ref - rc;
-  // The box tree (built; it also builds in parallel when large) and the sweep tree (carried from the
-  // mover's own, O(nodes)) at once.
+  // The box tree and the sweep tree at once. The sweep tree is carried from the mover's own
+  // (O(nodes)). The box tree is built anew (median splits of the rotated centroids) for movers of
+  // up to kRefitBoxesFaces faces; larger ones get their own sweep tree's shape refitted to the
+  // rotated vertices (O(nodes), on all threads): at 832,000 faces a build was half of a frame's
+  // cost, while the refitted boxes, a little looser, cost 2-3 % more pose work at 52,000 faces
+  // (doc/performance.md, "An orientation's frame").
   f.orientation = rotate_mover(*setup.mover, R);
-  tbb::parallel_invoke([&] { build_mover_boxes(f.orientation); },
+  tbb::parallel_invoke([&] {
+                         if (setup.mover_sweep && setup.mover->faces.size() >= kRefitBoxesFaces)
+                           f.orientation.boxes = refit_triangle_boxes(setup.mover_sweep->tree, f.orientation.rotated,
+                                                                      *f.orientation.faces);
+                         else
+                           build_mover_boxes(f.orientation);
+                       },
                        [&] {
                          f.swept = setup.mover_sweep
                                        ? placed_sweep_mesh(*setup.mover_sweep, R, f.t0, f.orientation.placed(f.t0),

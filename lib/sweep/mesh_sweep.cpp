@@ -383,16 +383,7 @@ SweepMesh placed_sweep_mesh(const SweepMesh& own, const Eigen::Matrix3d& R, cons
       }
     }
   });
-  // Each internal node's box: the union of its children's (children follow their parent in the
-  // node array).
-  for (std::size_t k = r.tree.nodes.size(); k-- > 0;) {
-    auto& b = r.tree.nodes[k];
-    if (b.count > 0) continue;
-    Aabb box;
-    box.extend(r.tree.nodes[b.first].bv.box);
-    box.extend(r.tree.nodes[b.first + 1].bv.box);
-    b.bv.box = box;
-  }
+  unite_internal_boxes(r.tree.nodes, [](auto& node) -> Aabb& { return node.bv.box; });
   return r;
 }
 

@@ -246,6 +246,51 @@ struct NearestBox {
   }
 };
 
+// A box tree refitted to other vertices (the mover's own tree over its rotated vertices): the
+// topology's shape and order, and every node's box exactly the box of its subtree's triangles'
+// corners (a brute-force walk), the same on one thread as on all (the top is united in parallel).
+TEST(Bvh, RefittedBoxesAreExactlyTheSubtreesBoxes) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Eigen::Vector3d> vertices(60000);
+  for (auto& v : vertices) v = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  std::uniform_int_distribution<int> pick(0, static_cast<int>(vertices.size()) - 1);
+  std::vector<std::array<int, 3>> triangles(90000);  // the build's top is split in parallel
+  for (auto& t : triangles) t = {pick(rng), pick(rng), pick(rng)};
+  const auto fit = [](int n, const auto& p) { return bounding_box(n, p); };
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  std::vector<Eigen::Vector3d> rotated(vertices.size());
+  for (std::size_t k = 0; k < vertices.size(); ++k) rotated[k] = R * vertices[k];
+  for (std::uint32_t leaf_size : {1u, 3u}) {
+    const Bvh<Aabb> topology = build_triangle_bvh<Aabb>(vertices, triangles, fit, BvhBuildOptions{leaf_size});
+    const Bvh<Aabb> refit = refit_triangle_boxes(topology, rotated, triangles);
+    Bvh<Aabb> serial;
+    tbb::task_arena one(1);
+    one.execute([&] { serial = refit_triangle_boxes(topology, rotated, triangles); });
+    ASSERT_EQ(refit.nodes.size(), topology.nodes.size());
+    EXPECT_EQ(refit.order, topology.order);
+    // Each node's box from scratch: the corners of every triangle in its subtree.
+    std::vector<Aabb> expected(topology.nodes.size());
+    for (std::size_t k = topology.nodes.size(); k-- > 0;) {
+      const auto& node = topology.nodes[k];
+      if (node.count > 0) {
+        for (std::uint32_t i = 0; i < node.count; ++i)
+          for (int c : triangles[topology.order[node.first + i]]) expected[k].extend(rotated[c]);
+      } else {
+        ASSERT_GT(node.first, k);  // children follow their parent, so they are done first
+        expected[k].extend(expected[node.first]);
+        expected[k].extend(expected[node.first + 1]);
+      }
+    }
+    for (std::size_t k = 0; k < topology.nodes.size(); ++k) {
+      ASSERT_EQ(refit.nodes[k].first, topology.nodes[k].first) << k;
+      ASSERT_EQ(refit.nodes[k].count, topology.nodes[k].count) << k;
+      ASSERT_TRUE(refit.nodes[k].bv.lo == expected[k].lo && refit.nodes[k].bv.hi == expected[k].hi) << k;
+      ASSERT_TRUE(serial.nodes[k].bv.lo == expected[k].lo && serial.nodes[k].bv.hi == expected[k].hi) << k;
+    }
+  }
+}
+
 TEST(Bvh, NearestFirstTraversalMatchesBruteForceAndPrunes) {
   const RandomBoxes rb(2000, 11);
   const Bvh<Aabb> bvh = rb.build(1);
