@@ -517,6 +517,47 @@ TEST(PlacePose, LongFacesKeepTheSweepTrees) {
   EXPECT_FALSE(make_approach_setup(sphere_sd, sphere).keep_sweep_trees);
 }
 
+// A mover of at least 2^18 faces gets, per orientation, its own sweep tree's shape as the box
+// tree, refitted to the rotated vertices (make_orientation_frame): the same nodes and order, every
+// leaf's box exactly its triangle's rotated corners', every parent's box the union of its
+// children's; and poses placed from that frame are certified on target.
+TEST(PlacePose, LargeMoversGetTheirOwnTreeRefitted) {
+  const TriangleMesh sphere = make_icosphere(1.0, 2);
+  const SignedDistance fixed(sphere);
+  const TriangleMesh mover = make_icosphere(0.3, 7);  // 327,680 faces
+  ASSERT_GE(mover.faces.size(), std::size_t(1) << 18);
+  const ApproachSetup setup = make_approach_setup(fixed, mover);
+  const SweepMesh level0 = make_sweep_mesh(sphere.vertices, sphere.faces);
+  std::mt19937_64 rng(3);
+  const OrientationFrame frame = make_orientation_frame(setup, random_rotation(rng));
+  const Bvh<Aabb>& boxes = frame.orientation.boxes;
+  const auto& own = setup.mover_sweep->tree;
+  ASSERT_EQ(boxes.nodes.size(), own.nodes.size());
+  ASSERT_EQ(boxes.order, own.order);
+  for (std::size_t k = 0; k < boxes.nodes.size(); ++k) {
+    const auto& n = boxes.nodes[k];
+    ASSERT_EQ(n.first, own.nodes[k].first);
+    ASSERT_EQ(n.count, own.nodes[k].count);
+    Aabb expected;
+    if (n.count > 0) {
+      for (std::uint32_t i = 0; i < n.count; ++i)
+        for (std::uint32_t v : mover.faces[boxes.order[n.first + i]]) expected.extend(frame.orientation.rotated[v]);
+    } else {
+      expected.extend(boxes.nodes[n.first].bv);
+      expected.extend(boxes.nodes[n.first + 1].bv);
+    }
+    ASSERT_TRUE(n.bv.lo == expected.lo && n.bv.hi == expected.hi) << k;
+  }
+  PoseOptions opt;
+  opt.tolerance = 1e-6;
+  for (double target : {0.0, 0.05, -0.1}) {
+    const PoseOutcome p = place_pose(setup, frame, &level0, random_direction(rng), target, opt);
+    ASSERT_TRUE(p.contact);
+    EXPECT_TRUE(p.certified);
+    EXPECT_TRUE(p.on_target) << target << ": [" << p.clearance.lo << ", " << p.clearance.hi << "]";
+  }
+}
+
 TEST(PlacePose, PolishedPosesHitTheTarget) {
   const TriangleMesh sphere = make_icosphere(1.0, 2);
   const SignedDistance fixed(sphere);
