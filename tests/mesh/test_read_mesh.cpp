@@ -137,6 +137,22 @@ TEST(ReadMesh, OffErrorsNameTheLineInALargeFile) {
       << message(text_of(short_file));
 }
 
+// A NUL byte in a large file (searched in 4 MB chunks on all threads) is reported at its first
+// position, also when a later chunk holds another, and a file without one is read.
+TEST(ReadMesh, FirstNulByteOfALargeFileIsNamed) {
+  std::string text = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  text.resize(40u << 20, ' ');  // trailing blanks: still a good file
+  EXPECT_EQ(read_polygon_soup_from_bytes(text, "big.off").polygons.size(), 1u);
+  for (std::size_t first : {std::size_t(9) << 20, (std::size_t(13) << 20) + 17, (std::size_t(40) << 20) - 1}) {
+    std::string bad = text;
+    bad[first] = '\0';
+    if (first + (5u << 20) < bad.size()) bad[first + (5u << 20)] = '\0';  // another, chunks later
+    bad[bad.size() - 1] = '\0';
+    const std::string m = reading_error(bad, "big.off");
+    EXPECT_NE(m.find("byte " + std::to_string(first) + " is a NUL byte"), std::string::npos) << m;
+  }
+}
+
 // Our OFF reader against an independent parse (a stream read token by token, the way CGAL's
 // reader reads) on every OFF file of CGAL's data: the same coordinates bit for bit, the same faces.
 TEST(ReadMesh, OffReaderAgreesWithAStreamParseOnCgalData) {
