@@ -387,9 +387,7 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
   return s;
 }
 
-namespace {
-constexpr std::size_t kRefitBoxesFaces = std::size_t(1) << 18;
-}  // namespace
+bool refits_mover_boxes(const TriangleMesh& mover) { return mover.faces.size() >= (std::size_t(1) << 18); }
 
 OrientationFrame make_orientation_frame(const ApproachSetup& setup, const Eigen::Matrix3d& R) {
   OrientationFrame f;
@@ -397,13 +395,13 @@ OrientationFrame make_orientation_frame(const ApproachSetup& setup, const Eigen:
   f.t0 = setup.fixed_ref - rc;
   // The box tree and the sweep tree at once. The sweep tree is carried from the mover's own
   // (O(nodes)). The box tree is built anew (median splits of the rotated centroids) for movers of
-  // up to kRefitBoxesFaces faces; larger ones get their own sweep tree's shape refitted to the
+  // fewer than 2^18 faces; larger ones get their own sweep tree's shape refitted to the
   // rotated vertices (O(nodes), on all threads): at 832,000 faces a build was half of a frame's
   // cost, while the refitted boxes, a little looser, cost 2-3 % more pose work at 52,000 faces
   // (doc/performance.md, "An orientation's frame").
   f.orientation = rotate_mover(*setup.mover, R);
   tbb::parallel_invoke([&] {
-                         if (setup.mover_sweep && setup.mover->faces.size() >= kRefitBoxesFaces)
+                         if (setup.mover_sweep && refits_mover_boxes(*setup.mover))
                            f.orientation.boxes = refit_triangle_boxes(setup.mover_sweep->tree, f.orientation.rotated,
                                                                       *f.orientation.faces);
                          else

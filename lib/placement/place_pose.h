@@ -74,6 +74,9 @@ struct OrientationFrame {
   SweepMesh swept;         // the mover at fl(fl(R x) + t0), with its sphere tree
 };
 OrientationFrame make_orientation_frame(const ApproachSetup& setup, const Eigen::Matrix3d& R);
+// Whether a frame's box tree is the mover's own tree's shape refitted to the rotated vertices
+// (movers of at least 2^18 faces) rather than built from them (make_orientation_frame).
+bool refits_mover_boxes(const TriangleMesh& mover);
 
 // The translation of the pose lambda along d: fl(t0 + fl(lambda d)) per coordinate.
 Vec3 pose_translation(const OrientationFrame& frame, const Vec3& dir, double lambda);

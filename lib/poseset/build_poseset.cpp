@@ -274,6 +274,10 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // placed cell corners, stopping at a cell smaller than its own rounding (1): intervals and
   // polishing steps, rarely poses, may differ within the tolerance from earlier binaries'.
   run_key["rounding_bounds"] = 1;
+  // Movers of at least 2^18 faces since session 73: each orientation's box tree is the mover's own
+  // tree's shape refitted (1), so poses may differ within the tolerance from earlier binaries';
+  // absent for smaller movers, whose poses are unchanged.
+  if (refits_mover_boxes(mover)) run_key["refitted_mover_boxes"] = 1;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 
