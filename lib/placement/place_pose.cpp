@@ -501,7 +501,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // slide, where the slope of c over a span of poses (SlideHistory) is at most 1/8 or, without
   // such a span, the secant over the last two steps stays within [1/64, 1/8] and within a factor
   // of 2 of the previous step's (rotor's plateaus, flat or falling in bursts, seldom qualify);
-  // aimed at 0.8 of the way to the crossing the slope predicts, at most 64 gaps;
+  // aimed at 0.8 of the way to the crossing the slope predicts, at most 512 gaps (64 until session
+  // 73: a near-target slide of rotor at -17 % took 44 segments of 64 gaps in one pose, 452 ms);
   // a try may evaluate as many cells as the two-sided steps it replaces would re-evaluate (k gaps:
   // about k/2 steps of this certificate's cells, twice over), at least 256. Measured on spool's
   // and rotor's -20 % poses, with pinion moving too (doc/performance.md, "Steps proved over a
@@ -509,7 +510,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   constexpr double kSegmentSlopeMin = 1.0 / 64, kSegmentSlopeMax = 1.0 / 8, kSegmentAim = 0.8;
   // A span's slope below this aims as if it were this (at most kMaxSegmentGaps anyway).
   constexpr double kSegmentSlopeFloor = 1.0 / 1024;
-  constexpr double kMaxSegmentGaps = 64.0;
+  constexpr double kMaxSegmentGaps = 512.0;
   constexpr std::uint64_t kMinSegmentBudget = 256;
   constexpr double kSegmentRetryGap = 0.5;
   bool last_loose = false;

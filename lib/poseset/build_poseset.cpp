@@ -261,11 +261,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // near-point ends, session 56, 9; segments tried again once the gap has halved after one ran out
   // of its budget, session 58, 10; cells bounded by the planes of nearby faces that support F, for
   // any F, and faces on a supporting plane found before mapped to it unscanned, session 65, 11;
-  // long steps aimed, and segments gated, by the slope of c over a span of poses, session 70, 12):
+  // long steps aimed, and segments gated, by the slope of c over a span of poses, session 70, 12;
+  // segments of up to 512 gaps instead of 64, session 73, 13):
   // their intervals, and so the polished poses, may differ within the tolerance from earlier
   // binaries'. Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
-    run_key["penetrating_certificates"] = 12;
+    run_key["penetrating_certificates"] = 13;
   // Every certificate since 2026-11-29 (session 37) sets cells far outside F aside by a lower bound
   // of their centre's distance alone (1): intervals and polishing steps, rarely poses, may differ
   // within the tolerance from earlier binaries', whose journals have no such key.
