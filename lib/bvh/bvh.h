@@ -261,22 +261,32 @@ Bvh<BV> build_triangle_bvh(const std::vector<Eigen::Vector3d>& vertices, const T
       options);
 }
 
+// The box of a leaf's triangles' corners (exact: min and max do not round).
+template <class Node, class Triangles>
+Aabb leaf_triangles_box(const Node& leaf, const std::vector<std::uint32_t>& order, const Triangles& triangles,
+                        const std::vector<Eigen::Vector3d>& vertices) {
+  Aabb box;
+  for (std::uint32_t i = 0; i < leaf.count; ++i)
+    for (int c = 0; c < 3; ++c) box.extend(vertices[triangles[order[leaf.first + i]][c]]);
+  return box;
+}
+
 namespace detail {
 
 // Each internal node's box below node k: the union of its children's (leaves' boxes set before).
-// min and max do not round, so the boxes do not depend on the order they are formed in: the top
-// of the tree is done on all threads (a balanced median tree is about log2(n) deep).
+// min and max do not round, so the boxes do not depend on the order they are formed in: nodes
+// above `parallel_depth` have their two subtrees done on two tasks.
 template <class NodeArray, class BoxOf>
-void unite_child_boxes(NodeArray& nodes, std::uint32_t k, int depth, const BoxOf& box_of) {
+void unite_child_boxes(NodeArray& nodes, std::uint32_t k, int depth, int parallel_depth, const BoxOf& box_of) {
   auto& node = nodes[k];
   if (node.count > 0) return;
   const std::uint32_t left = node.first;
-  if (depth < 12) {
-    tbb::parallel_invoke([&] { unite_child_boxes(nodes, left, depth + 1, box_of); },
-                         [&] { unite_child_boxes(nodes, left + 1, depth + 1, box_of); });
+  if (depth < parallel_depth) {
+    tbb::parallel_invoke([&] { unite_child_boxes(nodes, left, depth + 1, parallel_depth, box_of); },
+                         [&] { unite_child_boxes(nodes, left + 1, depth + 1, parallel_depth, box_of); });
   } else {
-    unite_child_boxes(nodes, left, depth + 1, box_of);
-    unite_child_boxes(nodes, left + 1, depth + 1, box_of);
+    unite_child_boxes(nodes, left, depth + 1, parallel_depth, box_of);
+    unite_child_boxes(nodes, left + 1, depth + 1, parallel_depth, box_of);
   }
   Aabb b = box_of(nodes[left]);
   b.extend(box_of(nodes[left + 1]));
@@ -285,10 +295,16 @@ void unite_child_boxes(NodeArray& nodes, std::uint32_t k, int depth, const BoxOf
 
 }  // namespace detail
 
-// Sets every internal node's box to the union of its children's, the leaves' boxes being set.
+// Sets every internal node's box to the union of its children's, the leaves' boxes being set. In
+// a balanced median tree a node at depth d heads about nodes / 2^d nodes: tasks are split while
+// that is at least 2^14 (at most 4,096 tasks), so small trees (every frame of a small mover) are
+// united on one thread without task overhead.
 template <class NodeArray, class BoxOf>
 void unite_internal_boxes(NodeArray& nodes, const BoxOf& box_of) {
-  if (!nodes.empty()) detail::unite_child_boxes(nodes, 0, 0, box_of);
+  if (nodes.empty()) return;
+  int parallel_depth = 0;
+  while (parallel_depth < 12 && (nodes.size() >> (parallel_depth + 14)) > 0) ++parallel_depth;
+  detail::unite_child_boxes(nodes, 0, 0, parallel_depth, box_of);
 }
 
 // A box tree of `topology`'s shape (its nodes' children, its leaves, its order) over triangles of
@@ -307,11 +323,7 @@ Bvh<Aabb> refit_triangle_boxes(const Bvh<BV>& topology, const std::vector<Eigen:
       auto& b = r.nodes[k];
       b.first = a.first;
       b.count = a.count;
-      if (a.count == 0) continue;
-      Aabb box;
-      for (std::uint32_t i = 0; i < a.count; ++i)
-        for (int c = 0; c < 3; ++c) box.extend(vertices[triangles[r.order[a.first + i]][c]]);
-      b.bv = box;
+      if (a.count > 0) b.bv = leaf_triangles_box(a, r.order, triangles, vertices);
     }
   });
   unite_internal_boxes(r.nodes, [](auto& node) -> Aabb& { return node.bv; });

@@ -375,12 +375,7 @@ SweepMesh placed_sweep_mesh(const SweepMesh& own, const Eigen::Matrix3d& R, cons
         w.obb.pad = outward(nR * u.obb.pad + err + place_error(absR, u.obb.center, t) + 1e-14 * u.obb.half.sum());
       }
       // The boxes, tight: each leaf's from its triangles' placed vertices.
-      if (b.count > 0) {
-        Aabb box;
-        for (std::uint32_t i = 0; i < b.count; ++i)
-          for (std::uint32_t v : r.faces[r.tree.order[b.first + i]]) box.extend(r.vertices[v]);
-        b.bv.box = box;
-      }
+      if (b.count > 0) b.bv.box = leaf_triangles_box(b, r.tree.order, r.faces, r.vertices);
     }
   });
   unite_internal_boxes(r.tree.nodes, [](auto& node) -> Aabb& { return node.bv.box; });
