@@ -142,20 +142,40 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   std::filesystem::create_directories(opt.out, ec);
   if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");
 
-  // The files' hashes (serial: 0.04 s for a 42 MB file) while the distance's tree is built.
+  // Work that does not depend on the levels' distances runs beside what does, so that many
+  // threads are not left to one phase's serial parts: the files' hashes (serial: 0.04 s for a
+  // 42 MB file) and F's sweep mesh (its tree's top is split on one thread) while the distance's tree
+  // is built; the pose stage's setup (the mover's sweep mesh when it is not F, F's supporting
+  // planes, the mover's components) while the maximum penetration is certified. (armadillo, the
+  // issue's 512-pose request: 0.15 s of the setup's 0.5 s on one thread ran beside; doc/performance.md.)
   std::string fixed_sha, mover_sha;
   std::optional<SignedDistance> sdf_holder;
+  std::shared_ptr<const SweepMesh> surface;
   tbb::parallel_invoke(
       [&] {
         fixed_sha = sha256_file(opt.fixed.path);
         mover_sha = mover_is_fixed ? fixed_sha : sha256_file(opt.mover.path);
       },
-      [&] { sdf_holder.emplace(fixed_mesh); });
+      [&] { sdf_holder.emplace(fixed_mesh); },
+      // F's own sweep mesh: the first contact of surface starts, and (with the mover's) the trees
+      // of the separated advance and of the pair-distance path.
+      [&] { surface = std::make_shared<const SweepMesh>(make_sweep_mesh(fixed_mesh.vertices, fixed_mesh.faces)); });
   const SignedDistance& sdf = *sdf_holder;
   const double diag = sdf.bbox().diagonal();
   double seconds_mp = 0.0;
   const double mp_tol = max_penetration_tolerance_for(specs, opt.tolerance, opt.max_penetration_tolerance);
-  const MaxPenetrationResult mp = timed_max_penetration(sdf, mp_tol, &seconds_mp);
+  std::optional<MaxPenetrationResult> mp_holder;
+  std::optional<ApproachSetup> setup_holder;
+  tbb::parallel_invoke([&] { mp_holder.emplace(timed_max_penetration(sdf, mp_tol, &seconds_mp)); },
+                       [&] {
+                         // The same tree serves as the mover's own when the mover is the fixed mesh
+                         // (the default).
+                         const bool same_mesh = mover.vertices == fixed_mesh.vertices && mover.faces == fixed_mesh.faces;
+                         setup_holder.emplace(make_approach_setup(sdf, mover, same_mesh ? surface : nullptr));
+                         attach_surface_sweep(*setup_holder, *surface);
+                       });
+  const MaxPenetrationResult& mp = *mp_holder;
+  ApproachSetup& setup = *setup_holder;
   const bool polish = !opt.no_polish;
   const double tol = opt.tolerance * diag;
 
@@ -329,9 +349,6 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     }
     // Empty: no point that deep (or far) exists on this side; its rows say so.
   }
-  // F's own sweep mesh: the first contact of surface starts, and (with the mover's) the trees of the
-  // separated advance and of the pair-distance path.
-  const auto surface = std::make_shared<const SweepMesh>(make_sweep_mesh(fixed_mesh.vertices, fixed_mesh.faces));
   // The surface a level's poses are swept against (none for a far start).
   const auto swept_surface = [&](std::size_t l) -> const SweepMesh* {
     return start[l] == PoseStart::Surface ? surface.get() : level_mesh[l].get();
@@ -345,10 +362,6 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   const std::uint64_t first = approaches * shard.index / shard.count;
   const std::uint64_t last = approaches * (shard.index + 1) / shard.count;
 
-  // The same tree serves as the mover's own when the mover is the fixed mesh (the default).
-  const bool same_mesh = mover.vertices == fixed_mesh.vertices && mover.faces == fixed_mesh.faces;
-  ApproachSetup setup = make_approach_setup(sdf, mover, same_mesh ? surface : nullptr);
-  attach_surface_sweep(setup, *surface);
   PoseOptions po;
   po.tolerance = tol;
   po.polish = polish;
