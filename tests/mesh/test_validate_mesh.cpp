@@ -4,6 +4,7 @@
 #include <tbb/task_arena.h>
 
 #include "mesh/alpha_wrap.h"
+#include "mesh/self_intersections.h"
 #include "mesh/shapes.h"
 #include "mesh/validate_mesh.h"
 
@@ -119,6 +120,37 @@ TEST(Validate, NestedSphereWithoutSelfIntersectionIsDetectedAsSelfIntersectingWh
     }
   }
   EXPECT_TRUE(validate_mesh(make_icosphere(1.0, 2)).report.intersecting_faces.empty());
+}
+
+// The self-intersection test runs beside the edge, fan and orientation steps (validate_mesh): with
+// every third face of two crossing spheres reversed (the orientation step flips them back while the
+// test runs), the pairs are those of the test on the validated mesh, on one thread and on all.
+// A mesh whose edges are not manifold reports no self-intersection (it is not checked there),
+// although its faces cross.
+TEST(Validate, SelfIntersectionsBesideTheOtherStepsAreThoseOfTheFinalMesh) {
+  TriangleMesh m = merge_meshes(make_icosphere(1.0, 3), make_icosphere(1.0, 3, Vec3(0.7, 0.2, 0.1)));
+  for (std::size_t i = 0; i < m.faces.size(); i += 3) std::swap(m.faces[i][1], m.faces[i][2]);
+  ValidatedMesh one;
+  tbb::task_arena(1).execute([&] { one = validate_mesh(m); });
+  const ValidatedMesh all = validate_mesh(m);
+  ASSERT_TRUE(all.report.self_intersections_checked);
+  ASSERT_FALSE(all.report.intersecting_faces.empty());
+  const auto expected = self_intersecting_faces(all.mesh);
+  ASSERT_EQ(all.report.intersecting_faces.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(all.report.intersecting_faces[i].first, expected[i].first);
+    EXPECT_EQ(all.report.intersecting_faces[i].second, expected[i].second);
+  }
+  EXPECT_EQ(one.report.intersecting_faces, all.report.intersecting_faces);
+  EXPECT_EQ(one.mesh.faces, all.mesh.faces);
+
+  TriangleMesh pinched = merge_meshes(make_icosphere(1.0, 2), make_icosphere(1.0, 2, Vec3(0.7, 0, 0)));
+  pinched.faces.push_back(pinched.faces.front());  // an edge of three faces (and a repeated face)
+  const ValidatedMesh p = validate_mesh(pinched);
+  EXPECT_TRUE(p.report.has("non-manifold-edge"));
+  EXPECT_FALSE(p.report.self_intersections_checked);
+  EXPECT_FALSE(p.report.has("self-intersection"));
+  EXPECT_TRUE(p.report.intersecting_faces.empty());
 }
 
 TEST(AlphaWrap, OpenSurfaceBecomesAValidSolid) {
