@@ -257,7 +257,11 @@ class DeepZoneJumps {
   // A plateau within a tenth of |target| above it asks after kNearPlateauSteps (place_pose;
   // doc/performance.md, "Shallow levels"). 4 since session 57 (8 before; doc/performance.md,
   // "Where a jumped pose's time goes": thin parts 4-8 % fewer instructions, armadillo 1.4 % more).
-  static constexpr int kPlateauSteps = 4, kNearPlateauSteps = 64, kUnhelpfulCoverSteps = 16;
+  // kNearPlateauSteps 20 since session 75 (64 before): rotor's levels just shallower than a fifth
+  // of M slide 0.05-0.08 |target| above it for 60 steps and more before one jump ends them (rotor
+  // -17 %: 17.4 -> 8.7x FCL); 16 and below cost spool and cactus 8-70 % (doc/performance.md,
+  // "Near-target plateaus asked sooner").
+  static constexpr int kPlateauSteps = 4, kNearPlateauSteps = 20, kUnhelpfulCoverSteps = 16;
   // Thin machined parts' plateaus (rotor -20 %, alone or with pinion moving) at their fourth
   // step: c fell by at most 1/16 of the advance over the run or over its last two steps, mostly
   // both (some plateaus begin with the end of a fall); glancing slides (a sheet bracket, thin
@@ -535,7 +539,13 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     // touching pose (or starts from an offset at the target), deep inside.
     copt.try_distance_path = target >= 0.0 && !(r.clearance.hi < 0.0);
   };
-  const auto certify = [&](double lambda, bool loose) {
+  // maybe_apart: a pose that may lie outside F although the target is < 0 (a deep-zone jump's
+  // landing: the cubes of a cover reach up to their diagonal, |target|, beyond the zone, so the
+  // mover may land still outside F; a restart far away). The pair-distance path is tried first
+  // there: the branch and bound resolves the smooth minimum of a distance slowly (dino at -12 %:
+  // 284,142 cells for one landing, and the warm starts from that frontier ran out of cells).
+  const auto certify = [&](double lambda, bool loose, bool maybe_apart = false) {
+    if (maybe_apart) copt.try_distance_path = true;
     copt.relative_tolerance = loose ? kStepRelativeTolerance : 0.0;
     copt.target = target;
     last_loose = loose;
@@ -612,7 +622,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     if (!within(c.clearance) && !(c.clearance.lo > target)) {
       // Neither on target nor provably before the crossing: start far away.
       out.lambda = lambda_far;
-      c = certify(out.lambda, false);
+      c = certify(out.lambda, false, true);
     }
     if (memo && memo->last && memo->last->lambda < out.lambda && memo->last->certificate.clearance.lo > target &&
         !within(c.clearance)) {
@@ -650,7 +660,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // heuristic; either certificate is rigorous.
       if (lambda0 - lk > kWarmJumpTargets * std::abs(target)) frontier.valid = false;
       out.lambda = lk;
-      c = certify(out.lambda, false);
+      c = certify(out.lambda, false, true);
       if (!within(c.clearance) && !(c.clearance.lo > target)) {
         out.lambda = lambda0;
         c = c0;
@@ -752,7 +762,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       flat_steps = slope < 0.5 && mid - target > 0.1 * std::abs(target) ? flat_steps + 1 : 0;
       if (flat_steps == 1) flat_from[0] = prev_lambda, flat_from[1] = prev_mid;
       // Flat within a tenth of |target| too: asked only once that has lasted kNearPlateauSteps
-      // (a long plateau just above the target: repaired thin shells' poses of 1,300-1,900 steps).
+      // (a long plateau just above the target: repaired thin shells' poses of 1,300-1,900 steps;
+      // rotor's blades at levels just shallower than a fifth of M).
       near_flat = slope < 0.5 ? near_flat + 1 : 0;
       // A plateau keeps its gap; a slide (c falling at a few per cent of the advance, each
       // two-sided step closing a part of the gap) shrinks it step by step towards its crossing:

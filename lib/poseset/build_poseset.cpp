@@ -261,13 +261,14 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     run_key["shallow_zone_jumps"] = 4;
   // Plateaus within a tenth of |target| above it ask the zone too once 64 steps long (session 48:
   // 1; since session 57 steps over which the gap has not fallen to an eighth, and a jump of at
-  // most 2 |target| keeps the certificate's frontier: 2; since session 58 a jump of at most 4 |target|:
-  // 3), and the octree walks the mover's oriented boxes (session 49: 1; since session 50 a split cube's
-  // children classified at once, counted against the budget together: 2; since session 52 the
-  // test before a split without the clipped extents, so other cubes split: 3): every polished
-  // penetrating level; absent otherwise.
+  // most 2 |target| keeps the certificate's frontier: 2; since session 58 a jump of at most 4
+  // |target|: 3; after 20 such steps instead of 64 since session 75: 4), and the octree walks the
+  // mover's oriented boxes (session 49: 1; since session 50 a split cube's children classified at
+  // once, counted against the budget together: 2; since session 52 the test before a split
+  // without the clipped extents, so other cubes split: 3): every polished penetrating level;
+  // absent otherwise.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo != nullptr; })) {
-    run_key["near_target_jumps"] = 3;
+    run_key["near_target_jumps"] = 4;
     run_key["oriented_zone_octree"] = 3;
   }
   // Penetrating levels' certificates since 2026-11-28 (session 34: no pair-distance path, leaves
@@ -282,11 +283,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // of its budget, session 58, 10; cells bounded by the planes of nearby faces that support F, for
   // any F, and faces on a supporting plane found before mapped to it unscanned, session 65, 11;
   // long steps aimed, and segments gated, by the slope of c over a span of poses, session 70, 12;
-  // segments of up to 512 gaps instead of 64, session 73, 13):
+  // segments of up to 512 gaps instead of 64, session 73, 13; a deep-zone jump's landing and a
+  // restart far away certified by the pair-distance path first, session 75, 14):
   // their intervals, and so the polished poses, may differ within the tolerance from earlier
   // binaries'. Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
-    run_key["penetrating_certificates"] = 13;
+    run_key["penetrating_certificates"] = 14;
   // Every certificate since 2026-11-29 (session 37) sets cells far outside F aside by a lower bound
   // of their centre's distance alone (1): intervals and polishing steps, rarely poses, may differ
   // within the tolerance from earlier binaries', whose journals have no such key.

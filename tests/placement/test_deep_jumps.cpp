@@ -519,5 +519,40 @@ TEST(DeepJumps, SlideAsksNoQueryBeforeItsWorkPays) {
   }
 }
 
+
+// A pose certified where it may lie outside F although the target is below 0 (a jump's landing,
+// a restart far away) gets the pair-distance path: there the branch and bound resolves the smooth
+// minimum of a distance slowly (dino at -12 %: a landing of 284,142 cells, then warm starts from
+// that frontier out of cells, the pose uncertified). Here an offset start whose contact lies past
+// the crossing (a ball deep inside F stands for a wrong offset) restarts far away: the same pose
+// as the surface start, and the far certificate costs no cells.
+TEST(DeepJumps, PosesThatMayLieApartAreCertifiedByTheDistancePath) {
+  const Scene w(make_icosphere(1.0, 3), make_icosphere(0.3, 2));
+  const SweepMesh deep_ball = [] {
+    const TriangleMesh b = make_icosphere(0.2, 1);
+    return make_sweep_mesh(b.vertices, b.faces);
+  }();
+  const ApproachSetup setup = w.attached();
+  std::mt19937_64 rng(5);
+  const double target = -0.1;
+  for (int k = 0; k < 6; ++k) {
+    const OrientationFrame frame = make_orientation_frame(setup, random_rotation(rng));
+    const Vec3 dir = random_direction(rng);
+    PoseOptions opt;
+    opt.tolerance = 1e-7;
+    opt.start = PoseStart::Surface;
+    const PoseOutcome surface = place_pose(setup, frame, &w.surface, dir, target, opt);
+    opt.start = PoseStart::Offset;
+    const PoseOutcome restarted = place_pose(setup, frame, &deep_ball, dir, target, opt);
+    ASSERT_TRUE(surface.certified && surface.on_target) << k;
+    ASSERT_TRUE(restarted.certified && restarted.on_target) << k << " " << restarted.reason;
+    EXPECT_LT(restarted.raw_clearance.hi, target) << k << ": the start this test is about";
+    EXPECT_NEAR(restarted.lambda, surface.lambda, 4 * opt.tolerance) << k;
+    // The far pose by the distance path (no cells), then the steps into F as the surface start's.
+    EXPECT_LT(restarted.clearance_cells, 2 * surface.clearance_cells + 200)
+        << k << ": surface " << surface.clearance_cells << " restarted " << restarted.clearance_cells;
+  }
+}
+
 }  // namespace
 }  // namespace cdbench
