@@ -191,17 +191,20 @@ class DeepZoneJumps {
         // A contact not worth a jump: the cover's cubes (up to about half |target| across) already
         // hold the mover, beside a zone thinner than they are (anchor with spool moving, -35 %: a
         // plateau 1e-3 |target| above a thin rod of zone, 3,507 steps). The octree about the path,
-        // whose leaves follow the gap, may still cross it; asked on a long plateau only.
-        if (lk < worth) use_octree_ = false;
-        else cover_unhelpful_ = true;
+        // whose leaves follow the gap, may still cross it; asked on a long plateau only. Likewise
+        // after a jump (since session 75): the cubes may stop the mover a plateau before the zone,
+        // or beside a line that never reaches it (pinion through spool at -25 %: 120 steps at
+        // 0.1-0.14 |target| above the target, then out of F's far side: `no-contact`).
+        cover_asked_ = true;
         return lk;
       }
       use_cover_ = false;
     }
     if (!use_octree_) return kNaN;
-    // The cover ran out of its budget: the zone's octree about the mover's path. The mover's
-    // surface is at least the gap from the zone here (c is 1-Lipschitz in space), and a kept cube
-    // reaches at most twice its half-diagonal beyond it: with leaves of a quarter of the gap the
+    // The cover ran out of its budget, or was asked already: the zone's octree about the mover's
+    // path. The mover's surface is at least the gap from the zone here (c is 1-Lipschitz in
+    // space), and a kept cube reaches at most twice its half-diagonal beyond it: with leaves of a
+    // quarter of the gap the
     // search clears this pose and stops where the mover comes within about half the gap of the
     // zone. A cube with clips (DeepClip) is held to the zone's part of it, tight where F is flat
     // across it, so its leaves are three gaps: on thin machined parts' plateaus the search then
@@ -220,9 +223,9 @@ class DeepZoneJumps {
     // a thin wall, a query costs more than it saves (doc/performance.md, "Shallow levels" and
     // "Oriented boxes in the zone's octree").
     if (!has_cover_ && flat < kPlateauSteps) return kNaN;
-    // After a cover that did not help, only from kUnhelpfulCoverSteps flat steps: on armadillo's
-    // -25 % poses queries after 4 jumped a few gaps on short flat stretches at 16 % more time.
-    if (cover_unhelpful_ && flat < kUnhelpfulCoverSteps) return kNaN;
+    // After the cover, only from kUnhelpfulCoverSteps flat steps: on armadillo's -25 % poses
+    // queries after 4 jumped a few gaps on short flat stretches at 16 % more time.
+    if (cover_asked_ && flat < kUnhelpfulCoverSteps) return kNaN;
     const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_,
                                                          flat >= kPlateauSteps && flat_slope <= kPlateauSlope);
     if (budget == 0) return kNaN;
@@ -275,7 +278,7 @@ class DeepZoneJumps {
   bool use_cover_;        // not asked yet in this pose
   DeepCubeMemo* memo_;
   bool use_octree_;
-  bool cover_unhelpful_ = false;  // its contact was not worth a jump
+  bool cover_asked_ = false;  // the cover's contact was asked in this pose (jumped to or not)
   std::uint64_t tried_ = 0;  // the budget of the octree's last query that ran out (0: none yet)
   HeldZoneQuery clipped_query_, fine_query_;  // queries that ran out, to be continued
 };

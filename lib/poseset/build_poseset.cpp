@@ -247,12 +247,14 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // continued by the next try since session 36: 6; with a query's floor of 20,000 cubes from 4
   // flat steps instead of 8 since session 57: 7; with the octree asked on a long plateau after a
   // cover contact not worth a jump since session 59: 8; the floor only where c fell by at most
-  // 1/16 of the advance over the flat steps or the last two, since session 65: 9): their poses
+  // 1/16 of the advance over the flat steps or the last two, since session 65: 9; the octree asked
+  // on a plateau of 16 flat steps after a jump to the cover's contact too, since session 75: 10):
+  // their poses
   // may differ within the tolerance from earlier binaries', whose journals must therefore not be
   // resumed or merged with them. Absent otherwise, so that other
   // runs still resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
-    run_key["deep_zone_jumps"] = 9;
+    run_key["deep_zone_jumps"] = 10;
   // Penetrating levels shallower than a fifth of M (no cover) jump to the octree's contact too since
   // session 48 after 32 flat steps (1), since session 49 after 8 (2), since session 57 after 4 (3),
   // since session 65 only where c fell by at most 1/16 of the advance over them or the last two (4);

@@ -554,5 +554,42 @@ TEST(DeepJumps, PosesThatMayLieApartAreCertifiedByTheDistancePath) {
   }
 }
 
+
+// After a jump to the cover's contact the octree about the path is still asked on a long plateau:
+// the cover's cubes (up to |target|/2 across) stop the mover where it only passes beside the zone.
+// A sphere slides along the side of a long block, 0.04 into it, never 0.05 deep (the zone ends
+// 0.01 short of its lowest point, within the cover's cubes): the cover's contact is at the block's
+// end (a jump across the gap after the plate), then c stays about 0.01 above the target along the
+// block until the sphere leaves it and the line ends `no-contact`. The octree proves that after 16
+// flat steps (19 steps in all); the cover alone took the whole block in two-gap steps (68).
+TEST(DeepJumps, AfterACoverJumpTheOctreeEndsAPlateauBesideTheZone) {
+  const double target = -0.05;
+  const Scene w(merge_meshes(make_box(Vec3(0, -0.5, -0.02), Vec3(1, 0.5, 0.02)),
+                             make_box(Vec3(1.2, -0.5, -0.12), Vec3(3.5, 0.5, 0.12))),
+                make_icosphere(0.1, 1));
+  ApproachSetup setup = w.attached();
+  setup.fixed_ref = Vec3(0, 0.56, 0);  // the sphere's centre at (-lambda, 0.56, 0)
+  const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
+  const LazyDeepCover cover(w.fixed, target, deep_cover_options(target));
+  PoseOptions opt;
+  opt.tolerance = 1e-7;
+  opt.start = PoseStart::Surface;
+  opt.deep_cover = &cover;
+  PoseOptions cover_only = opt;
+  cover_only.deep_zone_cubes = 0;
+  const Vec3 dir(-1, 0, 0);
+  const PoseOutcome a = place_pose(setup, frame, &w.surface, dir, target, cover_only);
+  const PoseOutcome b = place_pose(setup, frame, &w.surface, dir, target, opt);
+  ASSERT_NE(cover.peek(), nullptr);
+  ASSERT_TRUE(cover.peek()->complete);
+  EXPECT_FALSE(a.contact) << a.reason;
+  EXPECT_FALSE(b.contact) << b.reason;
+  EXPECT_EQ(a.reason, "no-contact");
+  EXPECT_EQ(b.reason, "no-contact");
+  EXPECT_GE(a.cover_jumps, 1) << "the jump this test is about";
+  EXPECT_GT(b.zone_cubes, 0u);
+  EXPECT_LT(b.steps + 20, a.steps) << "cover only " << a.steps << " with the octree " << b.steps;
+}
+
 }  // namespace
 }  // namespace cdbench
