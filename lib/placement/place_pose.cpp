@@ -202,30 +202,29 @@ class DeepZoneJumps {
     }
     if (!use_octree_) return kNaN;
     // The cover ran out of its budget, or was asked already: the zone's octree about the mover's
-    // path. The mover's surface is at least the gap from the zone here (c is 1-Lipschitz in
-    // space), and a kept cube reaches at most twice its half-diagonal beyond it: with leaves of a
-    // quarter of the gap the
-    // search clears this pose and stops where the mover comes within about half the gap of the
-    // zone. A cube with clips (DeepClip) is held to the zone's part of it, tight where F is flat
-    // across it, so its leaves are three gaps: on thin machined parts' plateaus the search then
-    // stops about where the mover really comes near the zone at a fraction of the cubes
+    // path. The mover's surface is at least the gap from the zone here (c is 1-Lipschitz in space),
+    // and a kept cube reaches at most twice its half-diagonal beyond it: with leaves of a quarter
+    // of the gap the search clears this pose and stops where the mover comes within about half the
+    // gap of the zone. A cube with clips (DeepClip) is held to the zone's part of it, tight where F
+    // is flat across it, so its leaves are three gaps: on thin machined parts' plateaus the search
+    // then stops about where the mover really comes near the zone at a fraction of the cubes
     // (doc/performance.md, "Clipped cubes"). Its budget is the pose's own work so far
-    // (PoseOptions::deep_zone_cubes_per_cell), tried again once that has doubled: a query that
-    // runs out costs at most a few times the advance it could have spared. A pose flat for
-    // kPlateauSteps steps is on a plateau that pays for a query before that
-    // (PoseOptions::deep_zone_min_cubes), if c fell by at most kPlateauSlope of the advance over
-    // them or over the last two: c falling faster is a slide that meets the zone a few gaps on
-    // (about gap / slope), while the query refines the zone about the whole stretch of the mover
-    // within a gap of it (an L-shaped sheet bracket: 20,000 cubes a pose to jump two gaps;
-    // doc/performance.md, "Slides are not plateaus").
+    // (PoseOptions::deep_zone_cubes_per_cell), tried again once that has doubled: a query that runs
+    // out costs at most a few times the advance it could have spared. A pose flat for kPlateauSteps
+    // steps is on a plateau that pays for a query before that (PoseOptions::deep_zone_min_cubes),
+    // if c fell by at most kPlateauSlope of the advance over them or over the last two: c falling
+    // faster is a slide that meets the zone a few gaps on (about gap / slope), while the query
+    // refines the zone about the whole stretch of the mover within a gap of it (an L-shaped sheet
+    // bracket: 20,000 cubes a pose to jump two gaps; doc/performance.md, "Slides are not
+    // plateaus").
     // A level without a cover (shallower than a fifth of M) asks only once on a plateau: there
     // jumps save thin shells thousands of steps, while before it, and where the zone is a sheet in
     // a thin wall, a query costs more than it saves (doc/performance.md, "Shallow levels" and
     // "Oriented boxes in the zone's octree").
     if (!has_cover_ && flat < kPlateauSteps) return kNaN;
-    // After the cover, only from kUnhelpfulCoverSteps flat steps: on armadillo's -25 % poses
-    // queries after 4 jumped a few gaps on short flat stretches at 16 % more time.
-    if (cover_asked_ && flat < kUnhelpfulCoverSteps) return kNaN;
+    // After the cover, only from kAfterCoverSteps flat steps: on armadillo's -25 % poses queries
+    // after 4 jumped a few gaps on short flat stretches at 16 % more time.
+    if (cover_asked_ && flat < kAfterCoverSteps) return kNaN;
     const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_,
                                                          flat >= kPlateauSteps && flat_slope <= kPlateauSlope);
     if (budget == 0) return kNaN;
@@ -264,7 +263,7 @@ class DeepZoneJumps {
   // of M slide 0.05-0.08 |target| above it for 60 steps and more before one jump ends them (rotor
   // -17 %: 17.4 -> 8.7x FCL); 16 and below cost spool and cactus 8-70 % (doc/performance.md,
   // "Near-target plateaus asked sooner").
-  static constexpr int kPlateauSteps = 4, kNearPlateauSteps = 20, kUnhelpfulCoverSteps = 16;
+  static constexpr int kPlateauSteps = 4, kNearPlateauSteps = 20, kAfterCoverSteps = 16;
   // Thin machined parts' plateaus (rotor -20 %, alone or with pinion moving) at their fourth
   // step: c fell by at most 1/16 of the advance over the run or over its last two steps, mostly
   // both (some plateaus begin with the end of a fall); glancing slides (a sheet bracket, thin
@@ -543,10 +542,11 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     copt.try_distance_path = target >= 0.0 && !(r.clearance.hi < 0.0);
   };
   // maybe_apart: a pose that may lie outside F although the target is < 0 (a deep-zone jump's
-  // landing: the cubes of a cover reach up to their diagonal, |target|, beyond the zone, so the
-  // mover may land still outside F; a restart far away). The pair-distance path is tried first
-  // there: the branch and bound resolves the smooth minimum of a distance slowly (dino at -12 %:
-  // 284,142 cells for one landing, and the warm starts from that frontier ran out of cells).
+  // landing: a cover's cubes reach up to |target| beyond the zone, the octree's clipped leaves up
+  // to about three gaps, so the mover may land still outside F; a restart far away). The
+  // pair-distance path is tried first there: the branch and bound resolves the smooth minimum of a
+  // distance slowly (dino at -12 %: 284,142 cells for one landing, and the warm starts from that
+  // frontier ran out of cells).
   const auto certify = [&](double lambda, bool loose, bool maybe_apart = false) {
     if (maybe_apart) copt.try_distance_path = true;
     copt.relative_tolerance = loose ? kStepRelativeTolerance : 0.0;

@@ -249,10 +249,9 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // cover contact not worth a jump since session 59: 8; the floor only where c fell by at most
   // 1/16 of the advance over the flat steps or the last two, since session 65: 9; the octree asked
   // on a plateau of 16 flat steps after a jump to the cover's contact too, since session 75: 10):
-  // their poses
-  // may differ within the tolerance from earlier binaries', whose journals must therefore not be
-  // resumed or merged with them. Absent otherwise, so that other
-  // runs still resume.
+  // their poses may differ within the tolerance from earlier binaries', whose journals must
+  // therefore not be resumed or merged with them. Absent otherwise, so that other runs still
+  // resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
     run_key["deep_zone_jumps"] = 10;
   // Penetrating levels shallower than a fifth of M (no cover) jump to the octree's contact too since

@@ -519,7 +519,6 @@ TEST(DeepJumps, SlideAsksNoQueryBeforeItsWorkPays) {
   }
 }
 
-
 // A pose certified where it may lie outside F although the target is below 0 (a jump's landing,
 // a restart far away) gets the pair-distance path: there the branch and bound resolves the smooth
 // minimum of a distance slowly (dino at -12 %: a landing of 284,142 cells, then warm starts from
@@ -553,7 +552,6 @@ TEST(DeepJumps, PosesThatMayLieApartAreCertifiedByTheDistancePath) {
         << k << ": surface " << surface.clearance_cells << " restarted " << restarted.clearance_cells;
   }
 }
-
 
 // After a jump to the cover's contact the octree about the path is still asked on a long plateau:
 // the cover's cubes (up to |target|/2 across) stop the mover where it only passes beside the zone.
