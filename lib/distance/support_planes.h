@@ -35,10 +35,12 @@ class SupportPlanes {
  public:
   SupportPlanes() = default;
   // The planes of F's faces that support F within `relative_slack` times its bounding-box diagonal
-  // (near-duplicates merged). Each face's plane is tested against F's vertices until one lies
-  // beyond it (an O(F V) scan at worst, quick for faces that do not support F): when that has cost
-  // more than max_work vertex tests, and for a mesh no face of which supports it, the set is empty
-  // (only speed depends on it: every use has another bound).
+  // (near-duplicates merged). Each face's plane is tested against F's vertices, by a box tree over
+  // them, until one lies beyond it (a supporting face visits the vertices near its plane and the
+  // nodes above them; a face that does not support F mostly stops at the vertex that refuted the
+  // face before): when that has cost more than max_work vertex tests and node bounds, and for a
+  // mesh no face of which supports it, the set is empty (only speed depends on it: every use has
+  // another bound).
   static SupportPlanes build(const TriangleMesh& F, double max_work = 2e7, double relative_slack = 1e-9);
   const std::vector<SupportPlane>& planes() const { return planes_; }
   bool empty() const { return planes_.empty(); }

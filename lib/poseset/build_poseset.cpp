@@ -298,6 +298,11 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // placed cell corners, stopping at a cell smaller than its own rounding (1): intervals and
   // polishing steps, rarely poses, may differ within the tolerance from earlier binaries'.
   run_key["rounding_bounds"] = 1;
+  // Every run since session 76 finds F's supporting planes by a tree over its vertices within a
+  // budget that grows with F (1): the same planes where the scan of every vertex stayed within its
+  // budget, planes where it did not (bunny00, refined_elephant, armadillo x16, finely faceted
+  // tubes), whose certificates and poses may then differ within the tolerance.
+  run_key["hull_plane_search"] = 1;
   // Movers of at least 2^18 faces since session 73: each orientation's box tree is the mover's own
   // tree's shape refitted (1), so poses may differ within the tolerance from earlier binaries';
   // absent for smaller movers, whose poses are unchanged.

@@ -426,10 +426,48 @@ TEST(SupportPlanes, SameSetOnAnyThreadCountFromBlocksOfFaces) {
     }
   }
   // The budget: beyond it, the same (empty) answer on any number of threads.
-  tbb::task_arena(1).execute([&] { one = SupportPlanes::build(F, 1e5); });
-  all = SupportPlanes::build(F, 1e5);
+  tbb::task_arena(1).execute([&] { one = SupportPlanes::build(F, 1e3); });
+  all = SupportPlanes::build(F, 1e3);
   EXPECT_TRUE(one.empty());
   EXPECT_TRUE(all.empty());
+}
+
+// The planes are searched by a box tree over F's vertices: each plane's e is exactly what a scan
+// of every vertex gives (the largest rounded-up offset), and a face has a plane exactly when a scan
+// finds no vertex beyond it. A 2,500-sided thin tube's 2,502 planes are found within the default
+// budget (a scan of every vertex passed it: 2,500 outer faces x 10,000 vertices).
+TEST(SupportPlanes, TreeSearchGivesAScansPlanesAndOffsets) {
+  std::mt19937_64 rng(11);
+  TriangleMesh bumpy = make_icosphere(1.0, 3);
+  std::uniform_real_distribution<double> u(0.97, 1.03);
+  for (Vec3& v : bumpy.vertices) v *= u(rng);
+  const TriangleMesh meshes[] = {make_tube(0.98, 1.0, 4.0, 2500), make_torus(1.0, 0.35, 24, 12), bumpy,
+                                 make_icosphere(1.0, 2, Vec3(1e5, -2e5, 3e5))};
+  for (const TriangleMesh& F : meshes) {
+    const SupportPlanes S = SupportPlanes::build(F);
+    ASSERT_FALSE(S.empty()) << F.faces.size() << " faces";
+    for (const SupportPlane& p : S.planes()) {
+      double e = -HUGE_VAL;
+      for (const Vec3& v : F.vertices) {
+        const PlaneOffset o = plane_offset(p.n, p.d, v);
+        e = std::max(e, round_up(o.value + o.error));
+      }
+      ASSERT_EQ(p.e, e) << std::setprecision(17) << "n " << p.n.transpose() << " d " << p.d;
+    }
+    const double slack = 1e-9 * F.bbox().diagonal();
+    const std::uint32_t stride = F.faces.size() > 5000 ? 7 : 1;  // the tube: every 7th face
+    for (std::uint32_t f = 0; f < F.faces.size(); f += stride) {
+      const TrianglePlane pl =
+          make_triangle_plane(F.vertices[F.faces[f][0]], F.vertices[F.faces[f][1]], F.vertices[F.faces[f][2]]);
+      double e = -HUGE_VAL;
+      for (const Vec3& v : F.vertices) {
+        const PlaneOffset o = plane_offset(pl.n, pl.d, v);
+        e = std::max(e, round_up(o.value + o.error));
+      }
+      ASSERT_EQ(S.plane_of(f) >= 0, e <= slack) << "face " << f << " of " << F.faces.size();
+    }
+  }
+  EXPECT_EQ(SupportPlanes::build(meshes[0]).planes().size(), 2502u);
 }
 
 TEST(SupportPlanes, HalvedRateFailsTheCheck) {
