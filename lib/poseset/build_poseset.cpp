@@ -303,6 +303,10 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // budget, planes where it did not (bunny00, refined_elephant, armadillo x16, finely faceted
   // tubes), whose certificates and poses may then differ within the tolerance.
   run_key["hull_plane_search"] = 1;
+  // Every certificate since session 76 stops measuring a cell's distance to F beyond 1.125 times a
+  // positive threshold (1): the same cells set aside, so the same poses wherever compared; keyed
+  // because a cell's lower bound, kept in a warm start's frontier, may differ.
+  run_key["capped_cell_distances"] = 1;
   // Movers of at least 2^18 faces since session 73: each orientation's box tree is the mover's own
   // tree's shape refitted (1), so poses may differ within the tolerance from earlier binaries';
   // absent for smaller movers, whose poses are unchanged.
