@@ -84,6 +84,10 @@ struct DistancePolicy {
   std::uint32_t best_f = 0, best_m = 0;
   bool intersect = false;
   std::uint64_t tests = 0;
+  // Fast mode, ClearanceOptions::pair_budget: past this many pairs the path stops, undecided, and
+  // the branch and bound, which decides every case, takes over.
+  std::uint64_t give_up_after = std::numeric_limits<std::uint64_t>::max();
+  bool gave_up = false;
 
   double bound(const Aabb& f, const Aabb& m) const { return squared_distance_lower_bound(f, moved(m, t)); }
   // Sweep trees (ClearanceOptions::sweep_trees): the mover's volumes hold its points at mover_t;
@@ -118,7 +122,10 @@ struct DistancePolicy {
   double prune_bound() const { return fast ? threshold_sq : best_hi_sq; }
   bool split_first(const Aabb& f, const Aabb& m) const { return f.extent().squaredNorm() >= m.extent().squaredNorm(); }
   void leaf(std::uint32_t fi, std::uint32_t mi) {
-    ++tests;
+    if (++tests > give_up_after && fast) {
+      gave_up = true;
+      return;
+    }
     const Face& a = F.faces[fi];
     const Face& b = faces[mi];
     const Vec3 &A0 = F.vertices[a[0]], &A1 = F.vertices[a[1]], &A2 = F.vertices[a[2]];
@@ -146,7 +153,7 @@ struct DistancePolicy {
     }
     best_hi_sq = std::min(best_hi_sq, rigorous(A0, A1, A2, B0, B1, B2).hi);
   }
-  bool done() const { return intersect; }
+  bool done() const { return intersect || gave_up; }
   // The certified enclosure of one pair (exact intersection test included), taken into the lower end.
   Interval rigorous(const Vec3& A0, const Vec3& A1, const Vec3& A2, const Vec3& B0, const Vec3& B1, const Vec3& B2) {
     const Interval d2 = triangle_triangle_squared_distance(A0, A1, A2, B0, B1, B2);
@@ -1392,6 +1399,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   dist.margin_sq = (1e-10 * scale) * (1e-10 * scale);
   dist.rel = options.relative_tolerance;
   dist.target = options.target;
+  if (options.pair_budget > 0) dist.give_up_after = options.pair_budget;
   if (options.try_distance_path) {
     if (options.hint_pair_fixed >= 0 && options.hint_pair_mover >= 0 &&
         static_cast<std::size_t>(options.hint_pair_fixed) < fixed.mesh().faces.size() &&
@@ -1400,7 +1408,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     if (!dist.done()) pair_traversal(dist);
   }
   r.pair_tests = dist.tests;
-  if (!dist.intersect && dist.best_est_sq < kInf) {
+  if (!dist.intersect && !dist.gave_up && dist.best_est_sq < kInf) {
     r.nearest_pair_fixed = dist.best_f;
     r.nearest_pair_mover = dist.best_m;
     // Rigorous upper end from the best pair. Pruned pairs lie beyond the final threshold (it only
@@ -1423,7 +1431,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
       dist.intersect = rigorous.intersect;
     }
   }
-  bool all_outside = options.try_distance_path && !dist.intersect && dist.min_lo_sq > 0.0;
+  bool all_outside = options.try_distance_path && !dist.intersect && !dist.gave_up && dist.min_lo_sq > 0.0;
   if (all_outside)
     for (std::uint32_t v : components)
       if (fixed.side(P[v]) < 0) all_outside = false;

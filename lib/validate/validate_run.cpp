@@ -190,6 +190,13 @@ ValidateResult run_validate(const ValidateRequest& rq) {
   ClearanceOptions co;
   co.tolerance = res.tolerance;
   co.max_cells = rq.max_cells;
+  // As `cdbench certify`: the pair-distance path within 16 pairs a triangle, F's supporting planes
+  // (speed only).
+  co.pair_budget = 16 * static_cast<std::uint64_t>(sdf.mesh().faces.size() + rq.mover->faces.size());
+  const std::shared_ptr<const SupportPlanes> hull = hull_planes_for(sdf.mesh());
+  const std::shared_ptr<const SupportPlanes> support = support_planes_for(hull, *rq.mover);
+  co.support = support.get();
+  co.hull = hull.get();
   std::vector<std::atomic<std::uint64_t>> level_ns(L);
   std::atomic<std::uint64_t> sweep_ns{0};
   const double slack = 1e-9 * res.diagonal;

@@ -405,6 +405,49 @@ TEST(Clearance, HullPlanesCertifyAFacetedTubeWithFewerCells) {
   EXPECT_LT(10 * with, 9 * without) << "with the planes " << with << " cells, without " << without;
 }
 
+// The pair-distance path's budget (ClearanceOptions::pair_budget): past it the branch and bound
+// decides. Apart, crossing and touching-close poses of two faceted tubes with a budget of one pair:
+// every certificate reaches the tolerance, none is decided by the distance path, and each interval
+// meets the unbudgeted one and the dense-sampling enclosure (all hold the same c); a budget the
+// path stays within changes nothing.
+TEST(Clearance, PairBudgetHandsOverToTheBranchAndBound) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Case c(make_tube(0.95, 1.0, 0.6, 48), make_tube(0.95, 1.0, 0.6, 48));
+  const int poses = test_scale::cases(6);
+  int apart = 0, crossing = 0;
+  for (int k = 0; k < poses; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const Vec3 d = random_direction(rng);
+    const double shift = k % 2 == 0 ? 2.2 : 1.7 + 0.2 * u(rng);  // even: apart (the tubes' spheres)
+    const Vec3 t = shift * d;
+    const MoverOrientation o = make_mover_orientation(c.mover, R);
+    ClearanceOptions opt;
+    opt.tolerance = 1e-6;
+    const ClearanceResult a = certify_clearance(c.fixed, c.mover, c.comps, o, t, opt);
+    opt.pair_budget = a.pair_tests + 1;
+    const ClearanceResult same = certify_clearance(c.fixed, c.mover, c.comps, o, t, opt);
+    opt.pair_budget = 1;
+    const ClearanceResult b = certify_clearance(c.fixed, c.mover, c.comps, o, t, opt);
+    const Interval ref = sampled_enclosure(c.fixed, o.placed(t), c.mover.faces, 12);
+    SCOPED_TRACE(::testing::Message() << std::setprecision(17) << "case " << k << " t = (" << t.x() << ", " << t.y()
+                                      << ", " << t.z() << "), pair tests " << a.pair_tests);
+    ASSERT_TRUE(a.tolerance_reached && b.tolerance_reached);
+    EXPECT_EQ(same.clearance.lo, a.clearance.lo);
+    EXPECT_EQ(same.clearance.hi, a.clearance.hi);
+    EXPECT_FALSE(b.separated);
+    EXPECT_LE(b.pair_tests, 2u);
+    EXPECT_LE(b.clearance.lo, a.clearance.hi);
+    EXPECT_GE(b.clearance.hi, a.clearance.lo);
+    EXPECT_LE(b.clearance.lo, ref.hi);
+    EXPECT_GE(b.clearance.hi, ref.lo);
+    EXPECT_LE(b.clearance.width(), 1e-6 * 1.001);
+    (a.separated ? apart : crossing) += 1;
+  }
+  EXPECT_GT(apart, 0);
+  EXPECT_GT(crossing, 0);
+}
+
 // A branch and bound warm-started from the previous pose's frontier (shifted bounds, and the cells'
 // translated depth bounds) must give a rigorous certificate too: along approaches into a torus,
 // chained warm certificates agree with cold ones and with the dense-sampling enclosure; steps must
