@@ -129,6 +129,7 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
   std::atomic<std::uint64_t> total_work{0};
   const std::uint64_t budget = max_work >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max()
                                                   : static_cast<std::uint64_t>(std::max(0.0, max_work));
+  std::vector<std::vector<std::array<long long, 4>>> block_keys(blocks);  // each block's `seen` keys
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
     std::size_t refuter = 0;
     std::uint64_t work = 0;
@@ -152,6 +153,7 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
         seen.emplace(key_of(pl), std::make_pair(pl.n, pl.d));
       total_work.fetch_add(work - before, std::memory_order_relaxed);
     }
+    for (const auto& entry : seen) block_keys[b].push_back(entry.first);
   });
   if (total_work.load() > budget) return SupportPlanes();
   // In face order, as one scan would: a face whose key matches a plane found before maps to it; any
@@ -159,18 +161,15 @@ SupportPlanes SupportPlanes::build(const TriangleMesh& F, double max_work, doubl
   // block that itself mapped to an earlier block's, is scanned here: rare).
   // Only faces whose key is some supporting (or unscanned) face's can map to a plane: the others'
   // outcome is their own scan's (refuted), so they are set apart on all threads first (armadillo
-  // x16: 832,000 faces looked up one by one took 0.13 s).
+  // x16: 832,000 faces looked up one by one took 0.13 s). Those keys are the blocks' `seen` maps'
+  // (a supporting face's key is entered there, an unscanned face's was found there).
   std::vector<std::array<long long, 4>> keys;  // of the faces that may support F
-  for (std::size_t fi = 0; fi < n; ++fi) {
-    if (scan[fi].kind != FaceScan::Supports && scan[fi].kind != FaceScan::Unscanned) continue;
-    const Face& f = F.faces[fi];
-    const TrianglePlane pl = make_triangle_plane(F.vertices[f[0]], F.vertices[f[1]], F.vertices[f[2]]);
-    if (finite_key(pl)) keys.push_back(key_of(pl));
-  }
+  for (const auto& k : block_keys) keys.insert(keys.end(), k.begin(), k.end());
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   std::vector<std::uint8_t> may_map(n, 0);  // a refuted face whose key is among them
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+  if (!keys.empty())
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t fi = r.begin(); fi < r.end(); ++fi) {
       if (scan[fi].kind != FaceScan::Refuted) continue;
       const Face& f = F.faces[fi];

@@ -1455,6 +1455,10 @@ bool reaches_tolerance(const ClearanceResult& c, double tolerance) {
          hi - lo <= (tolerance + 4.0 * c.transform_error) * (1.0 + 1e-12);
 }
 
+std::uint64_t unknown_pose_pair_budget(const TriangleMesh& fixed, const TriangleMesh& mover) {
+  return 16 * static_cast<std::uint64_t>(fixed.faces.size() + mover.faces.size());
+}
+
 std::shared_ptr<const SupportPlanes> hull_planes_for(const TriangleMesh& fixed) {
   // The default budget (2e7 vertex tests and node bounds) or 64 a face, whichever is larger: the
   // search by the vertices' tree costs about 18 a face on armadillo x16 (832,000 faces).

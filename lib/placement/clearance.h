@@ -131,6 +131,11 @@ struct ClearanceResult {
   std::int64_t nearest_pair_fixed = -1, nearest_pair_mover = -1;
 };
 
+// ClearanceOptions::pair_budget for poses of unknown status (`cdbench certify`, `cdbench
+// validate`): 16 triangle pairs a triangle of the two meshes. Apart poses of CGAL's solids need far
+// fewer (bunny00 at +4 %: at most 35,000 of 2.4 million); two finely faceted tubes 5-43 million.
+std::uint64_t unknown_pose_pair_budget(const TriangleMesh& fixed, const TriangleMesh& mover);
+
 // Whether a certificate of a given pose settles its clearance to `tolerance`: the search reached
 // it and the interval is finite and at most that wide, up to the transform's widening. The branch
 // and bound stops there; the distance path of separated poses is tight up to rounding, which far

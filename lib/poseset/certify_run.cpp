@@ -126,9 +126,7 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   ClearanceOptions co;
   co.tolerance = result.tolerance;
   co.max_cells = rq.max_cells;
-  // 16 pairs a triangle of the two meshes: apart poses of the 77 solids of CGAL's data need far
-  // fewer (doc/validate-your-library.md, "Widths").
-  co.pair_budget = 16 * static_cast<std::uint64_t>(sdf.mesh().faces.size() + rq.mover->faces.size());
+  co.pair_budget = unknown_pose_pair_budget(sdf.mesh(), *rq.mover);  // validate-your-library.md, "Widths"
   // A convex F's planes certify penetrating poses at once (tried first; separated ones go on).
   const std::shared_ptr<const SupportPlanes> hull = hull_planes_for(sdf.mesh());
   const std::shared_ptr<const SupportPlanes> support = support_planes_for(hull, *rq.mover);

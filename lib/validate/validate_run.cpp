@@ -192,7 +192,7 @@ ValidateResult run_validate(const ValidateRequest& rq) {
   co.max_cells = rq.max_cells;
   // As `cdbench certify`: the pair-distance path within 16 pairs a triangle, F's supporting planes
   // (speed only).
-  co.pair_budget = 16 * static_cast<std::uint64_t>(sdf.mesh().faces.size() + rq.mover->faces.size());
+  co.pair_budget = unknown_pose_pair_budget(sdf.mesh(), *rq.mover);
   const std::shared_ptr<const SupportPlanes> hull = hull_planes_for(sdf.mesh());
   const std::shared_ptr<const SupportPlanes> support = support_planes_for(hull, *rq.mover);
   co.support = support.get();

@@ -432,6 +432,16 @@ TEST(SupportPlanes, SameSetOnAnyThreadCountFromBlocksOfFaces) {
   EXPECT_TRUE(all.empty());
 }
 
+// What a scan of every vertex gives as a plane's e: the largest rounded-up offset.
+double scanned_offset(const TriangleMesh& F, const Vec3& n, double d) {
+  double e = -HUGE_VAL;
+  for (const Vec3& v : F.vertices) {
+    const PlaneOffset o = plane_offset(n, d, v);
+    e = std::max(e, round_up(o.value + o.error));
+  }
+  return e;
+}
+
 // The planes are searched by a box tree over F's vertices: each plane's e is exactly what a scan
 // of every vertex gives (the largest rounded-up offset), and a face has a plane exactly when a scan
 // finds no vertex beyond it. A 2,500-sided thin tube's 2,502 planes are found within the default
@@ -446,25 +456,14 @@ TEST(SupportPlanes, TreeSearchGivesAScansPlanesAndOffsets) {
   for (const TriangleMesh& F : meshes) {
     const SupportPlanes S = SupportPlanes::build(F);
     ASSERT_FALSE(S.empty()) << F.faces.size() << " faces";
-    for (const SupportPlane& p : S.planes()) {
-      double e = -HUGE_VAL;
-      for (const Vec3& v : F.vertices) {
-        const PlaneOffset o = plane_offset(p.n, p.d, v);
-        e = std::max(e, round_up(o.value + o.error));
-      }
-      ASSERT_EQ(p.e, e) << std::setprecision(17) << "n " << p.n.transpose() << " d " << p.d;
-    }
+    for (const SupportPlane& p : S.planes())
+      ASSERT_EQ(p.e, scanned_offset(F, p.n, p.d)) << std::setprecision(17) << "n " << p.n.transpose() << " d " << p.d;
     const double slack = 1e-9 * F.bbox().diagonal();
     const std::uint32_t stride = F.faces.size() > 5000 ? 7 : 1;  // the tube: every 7th face
     for (std::uint32_t f = 0; f < F.faces.size(); f += stride) {
       const TrianglePlane pl =
           make_triangle_plane(F.vertices[F.faces[f][0]], F.vertices[F.faces[f][1]], F.vertices[F.faces[f][2]]);
-      double e = -HUGE_VAL;
-      for (const Vec3& v : F.vertices) {
-        const PlaneOffset o = plane_offset(pl.n, pl.d, v);
-        e = std::max(e, round_up(o.value + o.error));
-      }
-      ASSERT_EQ(S.plane_of(f) >= 0, e <= slack) << "face " << f << " of " << F.faces.size();
+      ASSERT_EQ(S.plane_of(f) >= 0, scanned_offset(F, pl.n, pl.d) <= slack) << "face " << f << " of " << F.faces.size();
     }
   }
   EXPECT_EQ(SupportPlanes::build(meshes[0]).planes().size(), 2502u);
