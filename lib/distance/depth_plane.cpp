@@ -6,6 +6,7 @@
 
 #include "core/interval.h"
 #include "distance/exact_predicates.h"
+#include "distance/point_triangle_distance.h"
 #include "distance/slab_cut.h"
 
 namespace cdbench {
@@ -13,6 +14,8 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kMaxFaces = DepthRegion::kMaxFaces;
+constexpr int kMaxCandidates = kMaxFaces + kMaxFaces * (kMaxFaces - 1) / 2 + 4;
+constexpr int kMaxEdges = DepthRegion::kMaxEdges;
 // Beyond this many triangles near the box the neighbourhood is not a wall's few faces.
 constexpr std::size_t kMaxNear = 48;
 // Conditioning asked of two or three planes' common line or point (unit normals' Gram
@@ -41,14 +44,9 @@ Vec3 line_point(const Vec3& ni, double hi, double nni, const Vec3& nj, double hj
 
 // W's planes at their levels, and the projections (plain doubles: they place boxes and pick points,
 // whose use is checked rigorously).
-struct Region {
-  std::array<Vec3, kMaxFaces> n, u;  // normals, unit normals
-  std::array<double, kMaxFaces> nn{}, level{};
-  int nf = 0;
-  // Triples of planes that meet at one point (their normals independent), as bit masks.
-  std::array<unsigned, 4> triples{};
-  int nt = 0;
-  double gram = 1.0;  // the least Gram determinant of its pairs and triples
+struct Region : DepthRegionPlanes {
+  Region() = default;
+  explicit Region(const DepthRegionPlanes& p) : DepthRegionPlanes(p) {}
 
   Vec3 onto_plane(int i, const Vec3& x) const { return x + ((level[i] - n[i].dot(x)) / nn[i]) * n[i]; }
   Vec3 onto_line(int i, int j, const Vec3& x) const {
@@ -59,12 +57,17 @@ struct Region {
     return (level[a] * cbc + level[b] * cca + level[c] * cab) / n[a].dot(cbc);
   }
   // The points among which the nearest point of W to x lies (x outside int W): its projections on
-  // the faces' planes, on their common lines, and the triples' common points.
-  int candidates(const Vec3& x, std::array<Vec3, 14>& out) const {
+  // the faces' planes, on their common lines (all pairs' lines, or only W's edges' once `edges` is
+  // set: a line that misses W holds no point of it), and the triples' common points.
+  int candidates(const Vec3& x, std::array<Vec3, kMaxCandidates>& out, bool edges_only) const {
     int m = 0;
     for (int i = 0; i < nf; ++i) out[m++] = onto_plane(i, x);
-    for (int i = 0; i < nf; ++i)
-      for (int j = i + 1; j < nf; ++j) out[m++] = onto_line(i, j, x);
+    if (edges_only) {
+      for (int e = 0; e < ne; ++e) out[m++] = onto_line(edges[e][0], edges[e][1], x);
+    } else {
+      for (int i = 0; i < nf; ++i)
+        for (int j = i + 1; j < nf; ++j) out[m++] = onto_line(i, j, x);
+    }
     for (int k = 0; k < nt; ++k) {
       int idx[3], c = 0;
       for (int i = 0; i < nf; ++i)
@@ -72,6 +75,30 @@ struct Region {
       out[m++] = corner(idx[0], idx[1], idx[2]);
     }
     return m;
+  }
+  // The pairs whose common line meets W, up to a relative slack (a heuristic: the candidates only
+  // pick points, each proven in W before it bounds anything).
+  void find_edges(const Vec3& x) {
+    ne = 0;
+    for (int i = 0; i < nf; ++i)
+      for (int j = i + 1; j < nf; ++j) {
+        const Vec3 p = onto_line(i, j, x), d = n[i].cross(n[j]);
+        double lo = -kInf, hi = kInf;
+        bool meets = p.allFinite();
+        for (int k = 0; k < nf && meets; ++k) {
+          if (k == i || k == j) continue;
+          // n_k.(p + t d) >= H_k
+          const double a = n[k].dot(d), b = level[k] - n[k].dot(p);
+          const double slack = 1e-9 * std::sqrt(nn[k]) * (1.0 + p.norm());
+          if (a > 0.0)
+            lo = std::max(lo, (b - slack) / a);
+          else if (a < 0.0)
+            hi = std::min(hi, (b - slack) / a);
+          else
+            meets = b <= slack;
+        }
+        if (meets && lo <= hi) edges[ne++] = {static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(j)};
+      }
   }
   // y in W (strict: in its interior), rigorously.
   bool inside(const Vec3& y, bool strict) const {
@@ -110,9 +137,9 @@ struct Region {
         const double g = std::abs(u[i].dot(u[j].cross(unit)));
         if (!(g * g > kMinGram)) return false;
         least = std::min(least, g * g);
+        if (nt + nm >= 4) return false;  // more than four common points
         more[nm++] = (1u << i) | (1u << j) | (1u << nf);
       }
-    if (nt + nm > 4) return false;
     for (int k = 0; k < nm; ++k) triples[nt++] = more[k];
     n[nf] = nv, u[nf] = unit, nn[nf] = q, level[nf] = lv;
     ++nf;
@@ -120,12 +147,6 @@ struct Region {
     return true;
   }
 };
-
-bool make_region(const SignedDistance& sdf, const DepthRegion& r, Region& w) {
-  for (int i = 0; i < r.n; ++i)
-    if (!w.add(sdf.planes()[r.face[i]].n, r.level[i])) return false;
-  return w.nf == r.n;
-}
 
 // |x - y| rounded up (any rounding mode: a few ulps, covered with margin).
 inline double distance_up(const Vec3& x, const Vec3& y) {
@@ -135,8 +156,16 @@ inline double distance_up(const Vec3& x, const Vec3& y) {
 }  // namespace
 
 bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec3* points, int n, const Vec3& ref,
-                        int ref_side, DepthRegion* out, std::vector<std::uint32_t>& scratch) {
+                        int ref_side, DepthRegion* out, std::vector<std::uint32_t>& scratch, int max_faces) {
   if (n <= 0 || n > 16) return false;
+  max_faces = std::clamp(max_faces, 1, kMaxFaces);
+  bool capped = false;
+  // Whether a face was kept out by max_faces, on failure too (a caller may try again with more).
+  struct Report {
+    DepthRegion* out;
+    const bool& capped;
+    ~Report() { out->capped = capped; }
+  } report{out, capped};
   const TrianglePlane& pl = sdf.planes()[face];
   if (!std::isfinite(pl.eps)) return false;
   Region w;
@@ -167,9 +196,9 @@ bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec
   // The box of the projections of P's corners (and of the corners, for a crossing region).
   const auto projections_box = [&](Vec3& lo, Vec3& hi) {
     lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
-    std::array<Vec3, 14> q;
+    std::array<Vec3, kMaxCandidates> q;
     for (int k = 0; k < n; ++k) {
-      const int m = w.candidates(points[k], q);
+      const int m = w.candidates(points[k], q, false);
       for (int j = 0; j < m; ++j) lo = lo.cwiseMin(q[j]), hi = hi.cwiseMax(q[j]);
       if (crossing) lo = lo.cwiseMin(points[k]), hi = hi.cwiseMax(points[k]);
     }
@@ -177,30 +206,46 @@ bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec
   Vec3 lo, hi;
   projections_box(lo, hi);
   if (!lo.allFinite() || !hi.allFinite()) return false;
-  Vec3 cb = 0.5 * (lo + hi);
-  double half = 0.5 * (hi - lo).maxCoeff();
+  // B: the box of the projections, a half side per axis (on a curved wall a cube's sides along the
+  // wall and across it differ, and every facet B meets joins the region).
+  Vec3 cb = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
   // The projections' rounding (a few ulps of the coordinates and of the distances moved) is far
-  // below m0; `allow` leaves room for the region to change without a new box.
-  const double m0 = 1e-9 * (mag + half) + 1e-300;
+  // below m0; a sixteenth of the box's largest half side (of each axis' own, and of the largest)
+  // leaves room for the region to change without a new box.
+  const double m0 = 1e-9 * (mag + half.maxCoeff()) + 1e-300;
   bool proven = false;
-  double hk = 0.0;
+  Vec3 hk = Vec3::Zero();
   for (int attempt = 0; attempt < 4 && !proven; ++attempt) {
-    hk = round_up(half + m0 + 0.0625 * half);
-    if (!sdf.triangles_within(cb, round_up(round_up(hk * kSqrt3Up) * (1.0 + 1e-12)), kMaxNear, scratch)) return false;
-    // Each triangle meeting the box c +- hk must lie, over its part there, below some face's level.
+    const double room = m0 + 0.015625 * half.maxCoeff();
+    hk = (half + 0.0625 * half + Vec3::Constant(room)).unaryExpr([](double v) { return round_up(v); });
+    // Every triangle that may meet the box (a ball about it reaches about 1.7 times as far, and on a
+    // finely faceted curved wall each facet meeting the ball would join the region).
+    const Aabb bk{(cb - hk).unaryExpr([](double v) { return round_down(v); }),
+                  (cb + hk).unaryExpr([](double v) { return round_up(v); })};
+    if (!sdf.triangles_meeting_box(bk, kMaxNear, scratch)) return false;
+    // Each triangle meeting the box cb +- hk must lie, over its part there, below some face's level.
     // Where none holds, its face joins the region (at its own level), or else the level it exceeds
     // least rises to it (faces joining and levels rising only shrink W: the triangles passed
     // before still pass).
     for (std::uint32_t j : scratch) {
-      std::array<double, kMaxFaces> s{};
+      std::array<double, kMaxFaces> s;
+      s.fill(-kInf);
       bool below = false;
+      // A face of the region first: its own level holds it (its plane's slab, up to rounding).
+      const int own_index = static_cast<int>(std::find(r.face.begin(), r.face.begin() + r.n, j) - r.face.begin());
+      if (own_index < r.n) {
+        s[own_index] = triangle_span_in_box(sdf.mesh(), sdf.planes(), j, w.n[own_index], cb, hk).hi;
+        below = s[own_index] <= w.level[own_index];
+      }
       for (int i = 0; i < w.nf && !below; ++i) {
+        if (i == own_index) continue;
         s[i] = triangle_span_in_box(sdf.mesh(), sdf.planes(), j, w.n[i], cb, hk).hi;
         below = s[i] <= w.level[i];
       }
       if (below) continue;
       const TrianglePlane& pj = sdf.planes()[j];
-      if (std::isfinite(pj.eps) && w.nf < kMaxFaces) {
+      capped = capped || w.nf >= max_faces;
+      if (std::isfinite(pj.eps) && w.nf < max_faces) {
         // At the level of its own part in the box (its plane's, up to rounding): it passes.
         const double own = triangle_span_in_box(sdf.mesh(), sdf.planes(), j, pj.n, cb, hk).hi;
         if (w.add(pj.n, own)) {
@@ -224,23 +269,24 @@ bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec
     if (!lo.allFinite() || !hi.allFinite()) return false;
     // The exact projections are within m0 of the computed ones (and within the conditioning's
     // error where lines or points are involved): they lie in the box checked.
-    const double inner = hk - std::max(m0, kProjectionError * (mag + half + hk) / w.gram);
-    if (((lo - cb).array() >= -inner).all() && ((hi - cb).array() <= inner).all()) {
+    const Vec3 inner =
+        hk - Vec3::Constant(std::max(m0, kProjectionError * (mag + half.maxCoeff() + hk.maxCoeff()) / w.gram));
+    if (((lo - cb).array() >= -inner.array()).all() && ((hi - cb).array() <= inner.array()).all()) {
       proven = true;
     } else {
       cb = 0.5 * (lo + hi);
-      half = 0.5 * (hi - lo).maxCoeff();
+      half = 0.5 * (hi - lo);
     }
   }
   if (!proven) return false;
   // A point of R: the nearest point of W to the mean of P (approximately), pushed into W's interior.
-  std::array<Vec3, 14> q;
-  const int m = w.candidates(mean, q);
+  std::array<Vec3, kMaxCandidates> q;
+  const int m = w.candidates(mean, q, false);
   Vec3 z = Vec3::Zero();
   double best = kInf;
   for (int j = 0; j < m; ++j) {
     const Vec3 y = w.pushed(q[j], 0.5 * m0);
-    if (!w.inside(y, true) || !((y - cb).cwiseAbs().maxCoeff() < hk * (1.0 - 1e-9))) continue;
+    if (!w.inside(y, true) || !((y - cb).cwiseAbs().array() < hk.array() * (1.0 - 1e-9)).all()) continue;
     const double dist = (y - mean).squaredNorm();
     if (dist < best) best = dist, z = y;
   }
@@ -249,6 +295,8 @@ bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec
   const int side = ref_side != 0 ? sdf.side(z, off_f, ref, ref_side) : sdf.side(z, off_f);
   if (side <= 0) return false;
   for (int i = 0; i < r.n; ++i) r.level[i] = w.level[i];
+  w.find_edges(mean);
+  r.planes = w;
   *out = r;
   return true;
 }
@@ -258,8 +306,8 @@ double depth_region_value(const SignedDistance& sdf, const DepthRegion& region, 
     const double v = plane_excess_up(sdf.planes()[region.face[0]].n, region.level[0], x);
     return region.crossing && v < 0.0 ? v : std::max(1e-300, v);
   }
-  Region w;
-  if (!make_region(sdf, region, w)) return kInf;
+  const Region w(region.planes);
+  if (w.nf != region.n) return kInf;
   if (region.crossing && w.inside(x, false)) {
     // Inside W: the signed distance, -(the distance to W's boundary) = max_i (H_i - n_i.x) / |n_i|.
     double v = -kInf;
@@ -268,34 +316,29 @@ double depth_region_value(const SignedDistance& sdf, const DepthRegion& region, 
   }
   // Any point of W bounds the distance to it; the nearest candidate proven in W is tight (the
   // candidates nearest first: the first in W is the nearest point, up to the push).
-  std::array<Vec3, 14> q;
-  std::array<std::pair<double, int>, 14> order;
-  const int m = w.candidates(x, q);
+  std::array<Vec3, kMaxCandidates> q;
+  std::array<std::pair<double, int>, kMaxCandidates> order;
+  const int m = w.candidates(x, q, true);
   for (int j = 0; j < m; ++j) order[j] = {(q[j] - x).squaredNorm(), j};
   std::sort(order.begin(), order.begin() + m);
   const double delta = 1e-12 * x.cwiseAbs().maxCoeff() + 1e-300;
-  for (int k = 0; k < m; ++k)
-    for (double push = delta; push <= 1e6 * delta; push *= 1e3) {
+  // The least push first over all candidates: a nearer candidate just outside W (a line of two
+  // faces that meets W only beyond the others) is taken with a large push only when no candidate
+  // is in W with a small one.
+  for (double push = delta; push <= 1e6 * delta; push *= 1e3)
+    for (int k = 0; k < m; ++k) {
       const Vec3 y = w.pushed(q[order[k].second], push);
       if (w.inside(y, false)) return std::max(1e-300, distance_up(x, y));
     }
   return kInf;
 }
 
-int depth_region_edge_points(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x,
-                             std::array<Vec3, 6>& out) {
-  Region w;
-  if (region.n < 2 || !make_region(sdf, region, w)) return 0;
+int depth_region_edge_points(const SignedDistance&, const DepthRegion& region, const Vec3& x,
+                             std::array<Vec3, DepthRegion::kMaxEdges>& out) {
+  const Region w(region.planes);
+  if (region.n < 2 || w.nf != region.n) return 0;
   int m = 0;
-  for (int i = 0; i < w.nf; ++i)
-    for (int j = i + 1; j < w.nf; ++j) {
-      const Vec3 p = w.onto_line(i, j, x);
-      // An edge of W where the line's point is in W (up to a hair); else the line lies outside it.
-      bool edge = true;
-      for (int k = 0; k < w.nf && edge; ++k)
-        if (k != i && k != j) edge = w.n[k].dot(p) >= w.level[k] - 1e-9 * std::sqrt(w.nn[k]) * (1.0 + p.norm());
-      if (edge && m < 6) out[m++] = p;
-    }
+  for (int e = 0; e < w.ne && m < DepthRegion::kMaxEdges; ++e) out[m++] = w.onto_line(w.edges[e][0], w.edges[e][1], x);
   return m;
 }
 

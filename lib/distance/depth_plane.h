@@ -4,7 +4,7 @@
 // that, unlike the faces' distances, do not grow past the faces' edges. See doc/distance.md,
 // "Regions beyond faces".
 //
-// For up to four faces with planes n_i.y = d_i (n_i outward, unnormalised), levels H_i and the
+// For up to twelve faces with planes n_i.y = d_i (n_i outward, unnormalised), levels H_i and the
 // convex region W = {y : n_i.y >= H_i for each i} (a half-space beyond one face; beyond several
 // where the solid is concave across their edges, as inside a tube, a wedge or a corner), and a
 // convex cell P (the hull of `points`) lying in {n_i.y <= H_i} for some i (so no point of P is inside
@@ -19,7 +19,7 @@
 //   dist(x, F) <= dist(x, W),
 // a convex function of x (for one face, (H - n.x) / |n|). The region grows from one face: a
 // triangle of B above every level adds its face (a neighbour bending back, as inside a tube) while
-// fewer than four are in and its plane is well placed; otherwise the level it exceeds least rises
+// fewer than twelve are in and its plane is well placed; otherwise the level it exceeds least rises
 // to it. Where a face's neighbours bend away from the solid (a convex edge), one face at its own
 // level suffices.
 //
@@ -36,12 +36,31 @@
 
 namespace cdbench {
 
+// W's planes as proven (prove_depth_region fills them; the other functions read them instead of
+// rebuilding them): normals, unit normals, squared norms and levels; the pairs whose common line
+// meets W (its edges, where the nearest point of W may lie besides the planes), and the triples of
+// planes with one common point.
+struct DepthRegionPlanes {
+  static constexpr int kMaxFaces = 12;
+  std::array<Vec3, kMaxFaces> n, u;
+  std::array<double, kMaxFaces> nn{}, level{};
+  int nf = 0;
+  std::array<unsigned, 4> triples{};  // bit masks of three planes
+  int nt = 0;
+  double gram = 1.0;  // the least Gram determinant of its pairs and triples
+  std::array<std::array<std::uint8_t, 2>, kMaxFaces * (kMaxFaces - 1) / 2> edges{};
+  int ne = 0;
+};
+
 struct DepthRegion {
-  static constexpr int kMaxFaces = 4;
+  static constexpr int kMaxFaces = DepthRegionPlanes::kMaxFaces;
+  static constexpr int kMaxEdges = 12;  // edge points a cell is cut at
   std::array<std::uint32_t, kMaxFaces> face{};
   std::array<double, kMaxFaces> level{};  // H_i, for the face's plane normal n_i = planes()[face].n
   int n = 0;
   bool crossing = false;  // the cell reaches into W: its member is W's signed distance
+  bool capped = false;    // a level rose where a face would have joined but for max_faces
+  DepthRegionPlanes planes;
 };
 
 // Tries to prove the bound above from `face` (grown as said) for the hull of points[0..n)
@@ -49,7 +68,8 @@ struct DepthRegion {
 // reached by a segment (0: by the ray test). False when the proof fails (too many triangles near,
 // a neighbour rising far above the faces, R not outside: then the region bounds nothing here).
 bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec3* points, int n, const Vec3& ref,
-                        int ref_side, DepthRegion* out, std::vector<std::uint32_t>& scratch);
+                        int ref_side, DepthRegion* out, std::vector<std::uint32_t>& scratch,
+                        int max_faces = DepthRegion::kMaxFaces);
 
 // A certified upper end of dist(x, W) (at least 1e-300), for x outside W's interior: the distance to
 // a point proven in W. For a crossing region, of W's signed distance (any sign).
@@ -58,7 +78,7 @@ double depth_region_value(const SignedDistance& sdf, const DepthRegion& region, 
 // Points of the region's edges (lines common to two faces, where its distance is not affine) near
 // x: plain doubles, where to cut a cell, not a bound. Returns how many (at most 6).
 int depth_region_edge_points(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x,
-                             std::array<Vec3, 6>& out);
+                             std::array<Vec3, DepthRegion::kMaxEdges>& out);
 
 // The point nearest to x of the line common to two crossing one-face regions' planes (a convex edge
 // of F across the cell, where each member is tight on its side of the faces' bisector): plain

@@ -40,6 +40,8 @@ struct Outcome {
   std::uint32_t near = 0;      // the triangle found nearest to the centre (or one proving the bound)
   bool regions_tried = false;  // region_depth_bound ran on the cell
   bool regions_won = false;    // and set it aside
+  bool regrown = false;        // regions were grown again past kFirstFaces
+  bool regrown_won = false;    // and that set the cell aside
 };
 
 // The computed corners of the cube c +- h, numbered as kBoxEdges (distance/slab_cut.h) expects:
@@ -57,6 +59,10 @@ constexpr std::size_t kNearFaces = 2;
 constexpr std::size_t kRegionFaces = 6;
 // Triangle members with them (minimax_bound takes at most 16 members).
 constexpr std::size_t kRegionTriangles = 16 - kRegionFaces;
+// Faces a region grows to at first; those that stopped there are grown again up to
+// DepthRegion::kMaxFaces where the bound does not set the cube aside (most regions need at most
+// four faces, and each face costs every later triangle's test).
+constexpr int kFirstFaces = 4;
 
 // The minimax bound over the cube's corners with the regions beyond the nearest faces of `ids`
 // (nearest first) that bound the depth there, besides the triangles' distances: on a curved thin
@@ -67,13 +73,14 @@ constexpr std::size_t kRegionTriangles = 16 - kRegionFaces;
 // +inf when no region is proven. ref: a point of the cube whose side is ref_side (+-1; 0: not
 // known), from which the regions' outside points are reached.
 double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_side, const Vec3* points, int n,
-                         const std::vector<std::uint32_t>& ids, double enough) {
+                          const std::vector<std::uint32_t>& ids, double enough, bool regrow, Outcome& o) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   if (n != 8) return kInf;
   thread_local std::vector<std::uint32_t> scratch;
   std::array<std::uint32_t, kRegionFaces> tried{};
   std::array<DepthRegion, kRegionFaces> regions;
-  std::size_t nt = 0, nr = 0;
+  std::array<std::uint32_t, kRegionFaces> capped_out{};  // faces whose proof failed at kFirstFaces
+  std::size_t nt = 0, nr = 0, ncapped = 0;
   // (Heuristic: a face's region is seldom worth proving again from a face in the same plane.)
   const auto coplanar = [&](std::uint32_t f, std::uint32_t g) {
     const TrianglePlane &pf = sdf.planes()[f], &pg = sdf.planes()[g];
@@ -89,7 +96,8 @@ double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_si
       for (int i = 1; i < regions[j].n; ++i)
         if (coplanar(f, regions[j].face[static_cast<std::size_t>(i)])) return false;
     tried[nt++] = f;
-    if (prove_depth_region(sdf, f, points, n, ref, ref_side, &regions[nr], scratch)) ++nr;
+    if (prove_depth_region(sdf, f, points, n, ref, ref_side, &regions[nr], scratch, kFirstFaces)) ++nr;
+    else if (regions[nr].capped) capped_out[ncapped++] = f;
     return true;
   };
   for (std::size_t i = 0; i < ids.size() && i < 8 && nt < kNearFaces; ++i) try_face(ids[i]);
@@ -98,13 +106,13 @@ double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_si
     for (std::size_t i = 0; i < ids.size() && nt < kRegionFaces; ++i)
       if (sdf.planes()[ids[i]].n.dot(first) < 0.0) try_face(ids[i]);
   }
-  if (nr == 0) return kInf;
+  if (nr == 0 && ncapped == 0) return kInf;
   const std::size_t ntri = std::min(ids.size(), kRegionTriangles);
-  const std::size_t M = ntri + nr;
   // The minimax bound over points q[0..nq) (nq <= 16), plus err. Crossing regions' members are
   // negative above their faces: all members are raised by `shift` (at least their most negative
   // value's size) for minimax_bound, whose weighted means are of positive values, and lowered after.
   const auto bound_over = [&](const Vec3* q, int nq, double err) {
+    const std::size_t M = ntri + nr;  // (nr grows when regions are grown again)
     std::array<double, 16 * 16> D;
     double least = 0.0;
     for (int k = 0; k < nq; ++k) {
@@ -119,55 +127,80 @@ double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_si
     for (int i = 0; i < nq * static_cast<int>(M); ++i) D[i] = round_up(D[i] + shift);
     return round_up(round_up(minimax_bound(D.data(), nq, static_cast<int>(M)) - shift) + err);
   };
-  const double bound = bound_over(points, n, 0.0);
-  if (!(bound > enough)) return bound;
-  // A region's distance is convex across its edges, where the depth may peak (a tube's seam, the
-  // outer faces' edge above it): the cube is cut into slices by planes through those edges, normal
-  // to the first edge's bisector (any planes are valid; these make each slice's region distances
-  // nearly affine), and the slices (cut_by_slab: their points within err) are bounded apart, each
-  // with the same members (proven for the whole cube).
-  const Vec3 centre = 0.5 * (points[0] + points[7]);
-  Vec3 b = Vec3::Zero();
-  std::array<double, 10> t;
-  std::size_t ncut = 0;
-  t[ncut++] = -kInf;
-  for (std::size_t j = 0; j < nr; ++j) {
-    std::array<Vec3, 6> edge;
-    const int m = depth_region_edge_points(sdf, regions[j], centre, edge);
-    if (m == 0) continue;
-    if (b == Vec3::Zero()) {
-      const Vec3 n0 = sdf.planes()[regions[j].face[0]].n, n1 = sdf.planes()[regions[j].face[1]].n;
-      b = n0 / n0.norm() - n1 / n1.norm();
-    }
-    for (int e = 0; e < m && ncut < t.size() - 1; ++e) t[ncut++] = b.dot(edge[static_cast<std::size_t>(e)]);
-  }
-  // Two crossing regions' planes meeting along an edge of F across the cube: cut there too.
-  for (std::size_t i = 0; i < nr; ++i)
-    for (std::size_t j = i + 1; j < nr && ncut < t.size() - 1; ++j) {
-      Vec3 p;
-      if (!crossing_regions_edge_point(sdf, regions[i], regions[j], centre, &p) ||
-          !((p - centre).cwiseAbs().maxCoeff() <= 0.5 * (points[7] - points[0]).maxCoeff()))
-        continue;
+  // The bound over the cube, its slices where regions' edges cross it.
+  const auto cube_bound = [&]() {
+    const double bound = bound_over(points, n, 0.0);
+    if (!(bound > enough)) return bound;
+    // A region's distance is convex across its edges, where the depth may peak (a tube's seam, the
+    // outer faces' edge above it): the cube is cut into slices by planes through those edges, normal
+    // to the first edge's bisector (any planes are valid; these make each slice's region distances
+    // nearly affine), and the slices (cut_by_slab: their points within err) are bounded apart, each
+    // with the same members (proven for the whole cube).
+    const Vec3 centre = 0.5 * (points[0] + points[7]);
+    Vec3 b = Vec3::Zero();
+    std::array<double, DepthRegion::kMaxEdges + 4> t;
+    std::size_t ncut = 0;
+    t[ncut++] = -kInf;
+    for (std::size_t j = 0; j < nr; ++j) {
+      std::array<Vec3, DepthRegion::kMaxEdges> edge;
+      const int m = depth_region_edge_points(sdf, regions[j], centre, edge);
+      if (m == 0) continue;
       if (b == Vec3::Zero()) {
-        const Vec3 n0 = sdf.planes()[regions[i].face[0]].n, n1 = sdf.planes()[regions[j].face[0]].n;
+        const Vec3 n0 = sdf.planes()[regions[j].face[0]].n, n1 = sdf.planes()[regions[j].face[1]].n;
         b = n0 / n0.norm() - n1 / n1.norm();
       }
-      t[ncut++] = b.dot(p);
+      for (int e = 0; e < m && ncut < t.size() - 1; ++e) t[ncut++] = b.dot(edge[static_cast<std::size_t>(e)]);
     }
-  if (ncut == 1) return bound;
-  t[ncut++] = kInf;
-  std::sort(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(ncut));
-  std::array<PlaneOffset, 8> ov;
-  for (int k = 0; k < 8; ++k) ov[k] = plane_offset(b, 0.0, points[k]);
-  double split = 0.0;
-  for (std::size_t i = 0; i + 1 < ncut; ++i) {
-    SlabCut cut;
-    if (!cut_by_slab(points, ov.data(), 8, kBoxEdges.data(), 12, t[i + 1], t[i], cut, 16)) return bound;
-    if (cut.n == 0) continue;
-    split = std::max(split, bound_over(cut.q.data(), cut.n, cut.err));
-    if (!(split < bound)) return bound;
+    // Two crossing regions' planes meeting along an edge of F across the cube: cut there too.
+    for (std::size_t i = 0; i < nr; ++i)
+      for (std::size_t j = i + 1; j < nr && ncut < t.size() - 1; ++j) {
+        Vec3 p;
+        if (!crossing_regions_edge_point(sdf, regions[i], regions[j], centre, &p) ||
+            !((p - centre).cwiseAbs().maxCoeff() <= 0.5 * (points[7] - points[0]).maxCoeff()))
+          continue;
+        if (b == Vec3::Zero()) {
+          const Vec3 n0 = sdf.planes()[regions[i].face[0]].n, n1 = sdf.planes()[regions[j].face[0]].n;
+          b = n0 / n0.norm() - n1 / n1.norm();
+        }
+        t[ncut++] = b.dot(p);
+      }
+    if (ncut == 1) return bound;
+    t[ncut++] = kInf;
+    std::sort(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(ncut));
+    std::array<PlaneOffset, 8> ov;
+    for (int k = 0; k < 8; ++k) ov[k] = plane_offset(b, 0.0, points[k]);
+    double split = 0.0;
+    for (std::size_t i = 0; i + 1 < ncut; ++i) {
+      SlabCut cut;
+      if (!cut_by_slab(points, ov.data(), 8, kBoxEdges.data(), 12, t[i + 1], t[i], cut, 16)) return bound;
+      if (cut.n == 0) continue;
+      split = std::max(split, bound_over(cut.q.data(), cut.n, cut.err));
+      if (!(split < bound)) return bound;
+    }
+    return std::min(bound, split);
+  };
+  const double first = nr > 0 ? cube_bound() : kInf;
+  if (!(first > enough) || !regrow) return first;
+  // Regions whose growth stopped at kFirstFaces (a curved wall's cube spanning more facets than
+  // that: a level rose instead) grown again up to kMaxFaces.
+  bool again = false;
+  for (std::size_t j = 0; j < nr; ++j) {
+    if (!regions[j].capped) continue;
+    DepthRegion more;
+    if (prove_depth_region(sdf, regions[j].face[0], points, n, ref, ref_side, &more, scratch, DepthRegion::kMaxFaces)) {
+      regions[j] = more;
+      again = true;
+    }
   }
-  return std::min(bound, split);
+  for (std::size_t j = 0; j < ncapped; ++j)
+    if (prove_depth_region(sdf, capped_out[j], points, n, ref, ref_side, &regions[nr], scratch, DepthRegion::kMaxFaces)) {
+      ++nr;
+      again = true;
+    }
+  const double fin = again ? std::min(first, cube_bound()) : first;
+  o.regrown = again;
+  o.regrown_won = again && !(fin > enough);
+  return fin;
 }
 
 // The convexity bound over a cube: its 8 corners (see distance/depth_bound.h).
@@ -351,6 +384,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
   double upper_left = 0.0;  // max certified upper bound over the discarded cells and those a stop left
   bool stopped = false;     // a safety stop after a level: its next level was not built
   std::uint64_t regions_tried_before = 0, regions_won_before = 0;  // the previous level's
+  std::uint64_t regrown_before = 0, regrown_won_before = 0;
   Progress progress("max penetration", 0);
 
   while (!frontier.empty()) {  // (a stop leaves it empty: the next level is not built)
@@ -364,6 +398,11 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
     const bool regions_before = regions_tried_before >= 64 ? 100 * regions_won_before >= regions_tried_before
                                                            : regions_won_before > 0;
     bool regions_everywhere = true;  // during the first pass, which holds only sampled cells
+    // Regions grown again past kFirstFaces (a curved wall's cubes spanning many facets) cost about
+    // as much as the first growth: the others grow them again when that set at least a quarter of
+    // the sampled cells it was tried on aside, or the previous level's cells (any, below 16 tries).
+    const bool regrow_before = regrown_before >= 64 ? 4 * regrown_won_before >= regrown_before : regrown_won_before > 0;
+    bool regrow_everywhere = true;
     std::vector<Outcome> out(frontier.size());
     // Grain 1: after the first level the frontier holds 8-600 cells of 10 us to 1 ms each (armadillo),
     // which chunks of 64 gave to at most 9 threads (one below 65 cells).
@@ -424,7 +463,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
           if (!(o.upper > std::max(snapshot, o.lower) + eps) || !regions_everywhere) return;
           const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
           o.upper = std::min(o.upper, region_depth_bound(sdf, cell.center, d.lo > 0.0 ? o.sign : 0, corners.data(), 8,
-                                                         nearest, snapshot + eps));
+                                                         nearest, snapshot + eps, regrow_everywhere, o));
           o.regions_tried = true;
           o.regions_won = !(o.upper > snapshot + eps);
         };
@@ -499,7 +538,8 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
               sort_by_distance(wide);
             const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
             o.upper = std::min(
-                o.upper, region_depth_bound(sdf, cell.center, o.sign, corners.data(), 8, sorted, snapshot + eps));
+                o.upper, region_depth_bound(sdf, cell.center, o.sign, corners.data(), 8, sorted, snapshot + eps,
+                                          regrow_everywhere, o));
             o.regions_tried = true;
             o.regions_won = !(o.upper > snapshot + eps);
           }
@@ -514,6 +554,9 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
       std::uint64_t tried = 0, won = 0;
       for (std::size_t i = 0; i < out.size(); i += 16) tried += out[i].regions_tried, won += out[i].regions_won;
       regions_everywhere = regions_before || (tried >= 16 ? 100 * won >= tried : won > 0);
+      std::uint64_t regrown = 0, regrown_won = 0;
+      for (std::size_t i = 0; i < out.size(); i += 16) regrown += out[i].regrown, regrown_won += out[i].regrown_won;
+      regrow_everywhere = regrow_before || (regrown >= 16 ? 4 * regrown_won >= regrown : regrown_won > 0);
     }
     evaluate(1);
 
@@ -522,11 +565,13 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
     // reports from the kept cells themselves: the same interval), so that the memory stays within
     // them; a level that is built takes one allocation.
     std::uint64_t kept = 0;
-    regions_tried_before = regions_won_before = 0;
+    regions_tried_before = regions_won_before = regrown_before = regrown_won_before = 0;
     for (const Outcome& o : out) {
       kept += o.keep;
       regions_tried_before += o.regions_tried;
       regions_won_before += o.regions_won;
+      regrown_before += o.regrown;
+      regrown_won_before += o.regrown_won;
     }
     const std::uint64_t next_cells = 8 * kept;
     const bool stop = next_cells > 0 && (next_cells > options.max_frontier ||

@@ -184,6 +184,32 @@ struct WithinPolicy {
   }
 };
 
+// Triangles that may meet a closed box: those whose vertices' box and plane are not proven apart
+// from it (the tree's boxes hold their triangles' vertices exactly: a node apart is skipped).
+struct MeetingBoxPolicy {
+  const TriangleMesh& mesh;
+  const std::vector<TrianglePlane>& planes;
+  Aabb box;
+  std::size_t max_count;
+  std::vector<std::uint32_t>& out;
+  bool overflow = false;
+  double bound(const Aabb& b) const {
+    return ((b.hi.array() < box.lo.array()).any() || (b.lo.array() > box.hi.array()).any()) ? kInf : 0.0;
+  }
+  double prune_bound() const { return 0.0; }
+  bool done() const { return overflow; }
+  void leaf(std::uint32_t f) {
+    const Face& t = mesh.faces[f];
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    if ((a.cwiseMax(b).cwiseMax(c).array() < box.lo.array()).any() ||
+        (a.cwiseMin(b).cwiseMin(c).array() > box.hi.array()).any())
+      return;
+    if (std::isfinite(planes[f].eps) && box_plane_lower_bound(planes[f], box) > 0.0) return;
+    out.push_back(f);
+    overflow = out.size() > max_count;
+  }
+};
+
 // Candidates for an exact test: triangles whose box holds p (bound 0) are visited, others skipped.
 struct BoxContainsPolicy {
   const TriangleMesh& mesh;
@@ -487,6 +513,13 @@ bool SignedDistance::triangles_within(const Vec3& p, double radius, std::size_t 
   out.clear();
   // radius^2 rounded up, so that no triangle within the radius is pruned.
   WithinPolicy q{mesh_, planes_, p, radius * radius * (1.0 + kRoundingSlack), max_count, out};
+  traverse_nearest_first(tree_, q);
+  return !q.overflow;
+}
+
+bool SignedDistance::triangles_meeting_box(const Aabb& box, std::size_t max_count, std::vector<std::uint32_t>& out) const {
+  out.clear();
+  MeetingBoxPolicy q{mesh_, planes_, box, max_count, out};
   traverse_nearest_first(tree_, q);
   return !q.overflow;
 }

@@ -96,6 +96,11 @@ class SignedDistance {
   // within radius is listed). Returns false, leaving `out` partial, once more than `max_count` qualify.
   bool triangles_within(const Vec3& p, double radius, std::size_t max_count, std::vector<std::uint32_t>& out) const;
 
+  // Ids of all triangles that may meet the closed box (certified superset: their vertices' boxes
+  // and planes are not proven apart from it). Returns false, leaving `out` partial, once more than
+  // `max_count` qualify.
+  bool triangles_meeting_box(const Aabb& box, std::size_t max_count, std::vector<std::uint32_t>& out) const;
+
   // triangles_within restricted to `candidates`, which must include every triangle within radius
   // of p (then `out` is a certified superset too). No cap.
   void triangles_within_among(const Vec3& p, double radius, const std::vector<std::uint32_t>& candidates,

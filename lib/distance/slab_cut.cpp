@@ -12,8 +12,17 @@ const std::array<std::array<int, 2>, 12> kBoxEdges{{{0, 1}, {2, 3}, {4, 5}, {6, 
                                                     {0, 2}, {1, 3}, {4, 6}, {5, 7},     // along y
                                                     {0, 4}, {1, 5}, {2, 6}, {3, 7}}};  // along z
 
-Interval triangle_span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes, std::uint32_t j,
-                              const Vec3& n, const Vec3& c, double hk) {
+namespace {
+
+// |e|_1 hk for a cube, sum |e_k| hk_k for a box; and the largest half side (for the error term).
+inline double half_dot(const Vec3& e, double hk) { return hk * e.cwiseAbs().sum(); }
+inline double half_dot(const Vec3& e, const Vec3& hk) { return e.cwiseAbs().dot(hk); }
+inline double half_max(double hk) { return hk; }
+inline double half_max(const Vec3& hk) { return hk.maxCoeff(); }
+
+template <class Half>
+Interval span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes, std::uint32_t j, const Vec3& n,
+                     const Vec3& c, const Half& hk) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   double vh = -kInf, vl = kInf;
   for (std::uint32_t w : mesh.faces[j]) {
@@ -28,14 +37,26 @@ Interval triangle_span_in_box(const TriangleMesh& mesh, const std::vector<Triang
     const double mu = n.dot(pl.n) / nn;
     const Vec3 e = n - mu * pl.n;
     const PlaneOffset oj = plane_offset(pl.n, pl.d, c);  // n_j.c - d_j
-    const double spread = hk * e.cwiseAbs().sum() + std::abs(mu) * pl.eps;
+    const double spread = half_dot(e, hk) + std::abs(mu) * pl.eps;
     const double mid = on.value - mu * oj.value;
     const double err = 1e-13 * (std::abs(on.value) + on.error + std::abs(mu) * (std::abs(oj.value) + oj.error) +
-                                spread + hk * (n.cwiseAbs().sum() + std::abs(mu) * pl.n.cwiseAbs().sum()));
+                                spread + half_max(hk) * (n.cwiseAbs().sum() + std::abs(mu) * pl.n.cwiseAbs().sum()));
     vh = std::min(vh, round_up(mid + spread + err));
     vl = std::max(vl, round_down(mid - spread - err));
   }
   return {vl, vh};
+}
+
+}  // namespace
+
+Interval triangle_span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes, std::uint32_t j,
+                              const Vec3& n, const Vec3& c, double hk) {
+  return span_in_box(mesh, planes, j, n, c, hk);
+}
+
+Interval triangle_span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes, std::uint32_t j,
+                              const Vec3& n, const Vec3& c, const Vec3& hk) {
+  return span_in_box(mesh, planes, j, n, c, hk);
 }
 
 Interval triangles_span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes,

@@ -53,6 +53,9 @@ Interval triangles_span_in_box(const TriangleMesh& mesh, const std::vector<Trian
 // may be wider than the triangle's part in the box, which can be empty).
 Interval triangle_span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes, std::uint32_t j,
                               const Vec3& n, const Vec3& c, double hk);
+// The same for the box c +- hk with a half side per axis (hk_k; |e|_1 hk becomes sum |e_k| hk_k).
+Interval triangle_span_in_box(const TriangleMesh& mesh, const std::vector<TrianglePlane>& planes, std::uint32_t j,
+                              const Vec3& n, const Vec3& c, const Vec3& hk);
 
 // The 12 edges of a box whose corner k is (k & 1 ? hi : lo, k & 2 ? ..., k & 4 ? ...).
 extern const std::array<std::array<int, 2>, 12> kBoxEdges;

@@ -311,6 +311,10 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // tree's shape refitted (1), so poses may differ within the tolerance from earlier binaries';
   // absent for smaller movers, whose poses are unchanged.
   if (refits_mover_boxes(mover)) run_key["refitted_mover_boxes"] = 1;
+  // The levels' targets (since session 77): a percentage level's moves with the certified maximum
+  // penetration's lower end, which another binary's bounds may find a few ulps away; a journal
+  // whose targets differ is not resumed or merged (earlier journals lack the key).
+  run_key["targets"] = targets;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 

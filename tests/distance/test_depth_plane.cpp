@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iomanip>
 #include <random>
 #include <vector>
 
@@ -53,6 +54,60 @@ TEST(DepthRegion, BoundsTheDepthInATubesWall) {
   EXPECT_GT(proven, 100);
   EXPECT_GT(grown, 20);      // inner faces: a wedge or more
   EXPECT_GT(own_level, 20);  // outer faces: their own plane
+  EXPECT_GT(checked, 1000);
+}
+
+// A cube on the mid-surface of a finely faceted thin tube spanning four inner facets, where the
+// wall runs along a coordinate axis (the box of the projections, axis-aligned, then meets about six
+// facets; where the wall runs diagonally, more): a region grown from an inner face within four faces stops there (a level rises
+// instead: `capped`); within twelve it takes every inner facet the box meets, and bounds the depth
+// of the cube's inside points (an independent certified distance) as tightly as the bore.
+TEST(DepthRegion, GrowsPastFourFacesOnAFinelyFacetedWall) {
+  const int facets = 2500;
+  const double r_in = 0.98, r_out = 1.0;
+  const SignedDistance sdf(make_tube(r_in, r_out, 1.0, facets));
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<std::uint32_t> scratch;
+  int capped = 0, many = 0, checked = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const double a = M_PI / 2 * (trial % 4) + 0.1 * (u(rng) - 0.5), rho = 0.5 * (r_in + r_out);
+    const Vec3 c(rho * std::cos(a), rho * std::sin(a), 0.3 + 0.4 * u(rng));
+    const double h = 4 * 2 * M_PI / facets;  // four facets wide
+    const std::array<Vec3, 8> v = cube(c, 0.5 * h);
+    // The inner face under the centre (make_tube: faces 8 i + 2 and 8 i + 3 are the inner wall
+    // between the angles 2 pi i / n and 2 pi (i + 1) / n).
+    const int i = static_cast<int>(std::floor(std::atan2(c.y(), c.x()) / (2 * M_PI / facets)) + facets) % facets;
+    const std::uint32_t inner = static_cast<std::uint32_t>(8 * i + 2);
+    DepthRegion four, twelve;
+    const bool proven_four = prove_depth_region(sdf, inner, v.data(), 8, c, -1, &four, scratch, 4);
+    capped += four.capped;
+    EXPECT_TRUE(!proven_four || four.n <= 4);
+    if (!prove_depth_region(sdf, inner, v.data(), 8, c, -1, &twelve, scratch, 12)) continue;
+    many += twelve.n > 4 && !twelve.capped;
+    for (int s = 0; s < 40; ++s) {
+      const Vec3 x = c + 0.5 * h * Vec3(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);
+      if (sdf.side(x) != -1) continue;
+      ++checked;
+      const double value = depth_region_value(sdf, twelve, x);
+      EXPECT_LE(sdf.unsigned_distance(x).lo, value) << std::setprecision(17) << "x " << x.transpose();
+      // The inner facets' region holds the bore (where every facet the box meets is in, no level
+      // rose): its distance is at most the bore polygon's, in the plane across the axis.
+      double to_bore = 1e300;
+      for (int k = i - 12; k <= i + 12; ++k) {
+        const Eigen::Vector2d p(r_in * std::cos(2 * M_PI * k / facets), r_in * std::sin(2 * M_PI * k / facets)),
+            q(r_in * std::cos(2 * M_PI * (k + 1) / facets), r_in * std::sin(2 * M_PI * (k + 1) / facets)),
+            y(x.x(), x.y());
+        const double t = std::clamp((y - p).dot(q - p) / (q - p).squaredNorm(), 0.0, 1.0);
+        to_bore = std::min(to_bore, (y - p - t * (q - p)).norm());
+      }
+      if (!twelve.capped) {
+        EXPECT_LE(value, to_bore + 1e-9) << std::setprecision(17) << "x " << x.transpose();
+      }
+    }
+  }
+  EXPECT_GT(capped, 35);
+  EXPECT_GT(many, 35);
   EXPECT_GT(checked, 1000);
 }
 

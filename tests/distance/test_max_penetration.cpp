@@ -334,6 +334,16 @@ TEST(MaxPenetration, ThinTubeCubesCentredOutsideByCrossingRegions) {
     }
 }
 
+// A finely faceted thin tube (2,500 facets, each a tenth of the wall wide): the cubes that the
+// wall's curvature first lets the regions set aside span about six facets, more than a region of
+// four faces covers; regions grown again up to twelve faces set them aside there (55,000 cells at
+// this tolerance; 109,000 when regions stopped at four faces).
+TEST(MaxPenetration, FinelyFacetedThinTubeByRegionsOfManyFaces) {
+  const int n = 2500;
+  const SignedDistance sdf(make_tube(0.98, 1.0, 0.25, n));
+  expect_tube_wall_depth(sdf, 0.98, n, test_scale::pick(5e-6, 1e-4), 80000);
+}
+
 TEST(MaxPenetration, CoarseToleranceIsHonoured) {
   const TriangleMesh m = make_icosphere(1.0, 3);
   const auto r = run(m, 1e-2);

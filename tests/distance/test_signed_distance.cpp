@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <CGAL/intersections.h>
+
 #include <iomanip>
 #include <random>
 #include <sstream>
@@ -141,6 +143,55 @@ TEST(SignedDistance, TrianglesWithinListEveryTriangleWithinTheRadius) {
     }
   }
   EXPECT_GT(listed, 1000);
+}
+
+// triangles_meeting_box lists every triangle that meets the closed box (decided exactly by CGAL's
+// Epeck triangle-cuboid intersection): random boxes from 1e-9 to 0.3 of the diagonal about points
+// near a torus and a thin faceted tube, and boxes about a point of a triangle (its barycentric
+// combination in doubles, off the triangle by rounding) up to 1e-13 of the diagonal wide, which the
+// triangle grazes.
+TEST(SignedDistance, TrianglesMeetingBoxListEveryTriangleThatMeetsIt) {
+  for (const TriangleMesh& mesh : {make_torus(2.0, 0.6, 24, 12), make_tube(0.98, 1.0, 1.0, 300)}) {
+    const double diag = mesh.bbox().diagonal();
+    const SignedDistance sdf(mesh);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::uniform_int_distribution<std::size_t> face(0, mesh.faces.size() - 1);
+    std::vector<std::uint32_t> ids;
+    int meeting = 0, listed = 0;
+    const auto check = [&](const Aabb& box) {
+      ASSERT_TRUE(sdf.triangles_meeting_box(box, mesh.faces.size(), ids));
+      std::vector<bool> in(mesh.faces.size(), false);
+      for (std::uint32_t f : ids) in[f] = true;
+      listed += static_cast<int>(ids.size());
+      const Epeck::Iso_cuboid_3 cuboid(testing::exact_point(box.lo), testing::exact_point(box.hi));
+      for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        const Face& t = mesh.faces[f];
+        const Epeck::Triangle_3 tri(testing::exact_point(mesh.vertices[t[0]]), testing::exact_point(mesh.vertices[t[1]]),
+                                    testing::exact_point(mesh.vertices[t[2]]));
+        if (!CGAL::do_intersect(tri, cuboid)) continue;
+        ++meeting;
+        ASSERT_TRUE(in[f]) << std::setprecision(17) << "face " << f << " meets the box [" << box.lo.transpose() << "] ["
+                           << box.hi.transpose() << "] but is not listed";
+      }
+    };
+    for (const Vec3& p : sample_points(mesh, 13)) {
+      const Vec3 half = diag * Vec3(std::pow(10.0, -9.0 + 8.5 * u(rng)), std::pow(10.0, -9.0 + 8.5 * u(rng)),
+                                    std::pow(10.0, -9.0 + 8.5 * u(rng)));
+      check(Aabb{p - half, p + half});
+    }
+    for (int k = 0; k < 200; ++k) {
+      const Face& t = mesh.faces[face(rng)];
+      double a = u(rng), b = u(rng);
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      const Vec3 q = mesh.vertices[t[0]] + a * (mesh.vertices[t[1]] - mesh.vertices[t[0]]) +
+                     b * (mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+      const double h = diag * std::pow(10.0, -13.0 + 3.0 * u(rng));
+      check(Aabb{q - Vec3::Constant(h), q + Vec3::Constant(h)});
+    }
+    EXPECT_GT(meeting, 300);
+    EXPECT_LT(listed, 3 * meeting);  // no loose superset
+  }
 }
 
 // The same at radii on the edge of a triangle's farthest vertex, where a triangle is kept by its
