@@ -15,7 +15,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kMaxFaces = DepthRegion::kMaxFaces;
 constexpr int kMaxCandidates = kMaxFaces + kMaxFaces * (kMaxFaces - 1) / 2 + 4;
-constexpr int kMaxEdges = DepthRegion::kMaxEdges;
 // Beyond this many triangles near the box the neighbourhood is not a wall's few faces.
 constexpr std::size_t kMaxNear = 48;
 // Conditioning asked of two or three planes' common line or point (unit normals' Gram
@@ -338,7 +337,8 @@ int depth_region_edge_points(const SignedDistance&, const DepthRegion& region, c
   const Region w(region.planes);
   if (region.n < 2 || w.nf != region.n) return 0;
   int m = 0;
-  for (int e = 0; e < w.ne && m < DepthRegion::kMaxEdges; ++e) out[m++] = w.onto_line(w.edges[e][0], w.edges[e][1], x);
+  for (int e = 0; e < w.ne && m < DepthRegion::kMaxEdges; ++e)
+    out[m++] = w.onto_line(w.edges[e][0], w.edges[e][1], x);
   return m;
 }
 

@@ -65,8 +65,10 @@ struct DepthRegion {
 
 // Tries to prove the bound above from `face` (grown as said) for the hull of points[0..n)
 // (n <= 16). ref: a point whose side ref_side (+-1) is known, from which the outside point of R is
-// reached by a segment (0: by the ray test). False when the proof fails (too many triangles near,
-// a neighbour rising far above the faces, R not outside: then the region bounds nothing here).
+// reached by a segment (0: by the ray test). The region takes at most max_faces faces (a triangle
+// that would join past them makes a level rise instead: out->capped, set on failure too). False
+// when the proof fails (too many triangles near, a neighbour rising far above the faces, R not
+// outside: then the region bounds nothing here).
 bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec3* points, int n, const Vec3& ref,
                         int ref_side, DepthRegion* out, std::vector<std::uint32_t>& scratch,
                         int max_faces = DepthRegion::kMaxFaces);
@@ -76,7 +78,7 @@ bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec
 double depth_region_value(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x);
 
 // Points of the region's edges (lines common to two faces, where its distance is not affine) near
-// x: plain doubles, where to cut a cell, not a bound. Returns how many (at most 6).
+// x: plain doubles, where to cut a cell, not a bound. Returns how many (at most kMaxEdges).
 int depth_region_edge_points(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x,
                              std::array<Vec3, DepthRegion::kMaxEdges>& out);
 
