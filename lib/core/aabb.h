@@ -38,6 +38,8 @@ struct Aabb {
   bool contains(const Eigen::Vector3d& p) const {
     return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
   }
+  // Strictly apart along some axis (exact: comparisons do not round), so no point is in both.
+  bool apart(const Aabb& b) const { return (hi.array() < b.lo.array()).any() || (lo.array() > b.hi.array()).any(); }
 };
 
 // The box of the points p[0..n) (exact: min and max do not round).

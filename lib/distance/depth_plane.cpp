@@ -293,7 +293,6 @@ bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec
   const Interval off_f{std::numeric_limits<double>::min(), kInf};  // z is in R, which holds no point of F
   const int side = ref_side != 0 ? sdf.side(z, off_f, ref, ref_side) : sdf.side(z, off_f);
   if (side <= 0) return false;
-  for (int i = 0; i < r.n; ++i) r.level[i] = w.level[i];
   w.find_edges(mean);
   r.planes = w;
   *out = r;
@@ -302,7 +301,7 @@ bool prove_depth_region(const SignedDistance& sdf, std::uint32_t face, const Vec
 
 double depth_region_value(const SignedDistance& sdf, const DepthRegion& region, const Vec3& x) {
   if (region.n == 1) {
-    const double v = plane_excess_up(sdf.planes()[region.face[0]].n, region.level[0], x);
+    const double v = plane_excess_up(sdf.planes()[region.face[0]].n, region.planes.level[0], x);
     return region.crossing && v < 0.0 ? v : std::max(1e-300, v);
   }
   const Region w(region.planes);
@@ -347,7 +346,7 @@ bool crossing_regions_edge_point(const SignedDistance& sdf, const DepthRegion& a
   if (!a.crossing || !b.crossing || a.n != 1 || b.n != 1) return false;
   const Vec3 &na = sdf.planes()[a.face[0]].n, &nb = sdf.planes()[b.face[0]].n;
   if (!((na.normalized().cross(nb.normalized())).squaredNorm() > 1e-12)) return false;  // (nearly) parallel
-  *out = line_point(na, a.level[0], na.squaredNorm(), nb, b.level[0], nb.squaredNorm(), x);
+  *out = line_point(na, a.planes.level[0], na.squaredNorm(), nb, b.planes.level[0], nb.squaredNorm(), x);
   return out->allFinite();
 }
 

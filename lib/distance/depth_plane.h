@@ -55,8 +55,7 @@ struct DepthRegionPlanes {
 struct DepthRegion {
   static constexpr int kMaxFaces = DepthRegionPlanes::kMaxFaces;
   static constexpr int kMaxEdges = 12;  // edge points a cell is cut at
-  std::array<std::uint32_t, kMaxFaces> face{};
-  std::array<double, kMaxFaces> level{};  // H_i, for the face's plane normal n_i = planes()[face].n
+  std::array<std::uint32_t, kMaxFaces> face{};  // its faces; planes.level[i] is face i's level H_i
   int n = 0;
   bool crossing = false;  // the cell reaches into W: its member is W's signed distance
   bool capped = false;    // a level rose where a face would have joined but for max_faces

@@ -59,6 +59,12 @@ constexpr std::size_t kNearFaces = 2;
 constexpr std::size_t kRegionFaces = 6;
 // Triangle members with them (minimax_bound takes at most 16 members).
 constexpr std::size_t kRegionTriangles = 16 - kRegionFaces;
+// Whether a costly bound is worth trying on a level's other cells: it set at least one in `per` of
+// the `tried` cells it was tried on aside, or any of them when fewer than `enough` were tried.
+bool pays(std::uint64_t tried, std::uint64_t won, std::uint64_t enough, std::uint64_t per) {
+  return tried >= enough ? per * won >= tried : won > 0;
+}
+
 // Faces a region grows to at first; those that stopped there are grown again up to
 // DepthRegion::kMaxFaces where the bound does not set the cube aside (most regions need at most
 // four faces, and each face costs every later triangle's test).
@@ -395,13 +401,12 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
     // every 16th cell of a level is evaluated first, with them; the others try them when those
     // set at least 1 % of the cells they were tried on aside (any, below 16 tries), or when the
     // previous level's cells did (counts over fixed cells: the same for any thread count).
-    const bool regions_before = regions_tried_before >= 64 ? 100 * regions_won_before >= regions_tried_before
-                                                           : regions_won_before > 0;
+    const bool regions_before = pays(regions_tried_before, regions_won_before, 64, 100);
     bool regions_everywhere = true;  // during the first pass, which holds only sampled cells
     // Regions grown again past kFirstFaces (a curved wall's cubes spanning many facets) cost about
     // as much as the first growth: the others grow them again when that set at least a quarter of
     // the sampled cells it was tried on aside, or the previous level's cells (any, below 16 tries).
-    const bool regrow_before = regrown_before >= 64 ? 4 * regrown_won_before >= regrown_before : regrown_won_before > 0;
+    const bool regrow_before = pays(regrown_before, regrown_won_before, 64, 4);
     bool regrow_everywhere = true;
     std::vector<Outcome> out(frontier.size());
     // Grain 1: after the first level the frontier holds 8-600 cells of 10 us to 1 ms each (armadillo),
@@ -551,12 +556,13 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
     };
     evaluate(0);
     {
-      std::uint64_t tried = 0, won = 0;
-      for (std::size_t i = 0; i < out.size(); i += 16) tried += out[i].regions_tried, won += out[i].regions_won;
-      regions_everywhere = regions_before || (tried >= 16 ? 100 * won >= tried : won > 0);
-      std::uint64_t regrown = 0, regrown_won = 0;
-      for (std::size_t i = 0; i < out.size(); i += 16) regrown += out[i].regrown, regrown_won += out[i].regrown_won;
-      regrow_everywhere = regrow_before || (regrown >= 16 ? 4 * regrown_won >= regrown : regrown_won > 0);
+      std::uint64_t tried = 0, won = 0, regrown = 0, regrown_won = 0;
+      for (std::size_t i = 0; i < out.size(); i += 16) {
+        tried += out[i].regions_tried, won += out[i].regions_won;
+        regrown += out[i].regrown, regrown_won += out[i].regrown_won;
+      }
+      regions_everywhere = regions_before || pays(tried, won, 16, 100);
+      regrow_everywhere = regrow_before || pays(regrown, regrown_won, 16, 4);
     }
     evaluate(1);
 

@@ -193,17 +193,12 @@ struct MeetingBoxPolicy {
   std::size_t max_count;
   std::vector<std::uint32_t>& out;
   bool overflow = false;
-  double bound(const Aabb& b) const {
-    return ((b.hi.array() < box.lo.array()).any() || (b.lo.array() > box.hi.array()).any()) ? kInf : 0.0;
-  }
+  double bound(const Aabb& b) const { return b.apart(box) ? kInf : 0.0; }
   double prune_bound() const { return 0.0; }
   bool done() const { return overflow; }
   void leaf(std::uint32_t f) {
     const Face& t = mesh.faces[f];
-    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
-    if ((a.cwiseMax(b).cwiseMax(c).array() < box.lo.array()).any() ||
-        (a.cwiseMin(b).cwiseMin(c).array() > box.hi.array()).any())
-      return;
+    if (bounding_box(3, [&](int k) { return mesh.vertices[t[k]]; }).apart(box)) return;
     if (std::isfinite(planes[f].eps) && box_plane_lower_bound(planes[f], box) > 0.0) return;
     out.push_back(f);
     overflow = out.size() > max_count;

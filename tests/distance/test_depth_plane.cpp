@@ -41,7 +41,7 @@ TEST(DepthRegion, BoundsTheDepthInATubesWall) {
       ++proven;
       grown += region.n >= 2;
       const TrianglePlane& p = sdf.planes()[f];
-      own_level += region.n == 1 && region.level[0] <= p.d + p.eps + 1e-12;
+      own_level += region.n == 1 && region.planes.level[0] <= p.d + p.eps + 1e-12;
       for (int s = 0; s < 20; ++s) {
         const Vec3 x = c + h * Vec3(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);
         if (sdf.side(x) != -1) continue;
@@ -126,7 +126,7 @@ TEST(DepthRegion, RegionsBeyondInwardFacesOnlyWhereOutside) {
       DepthRegion region;
       if (!prove_depth_region(sdf, f, v.data(), 8, c, ref_side, &region, scratch)) continue;
       const Vec3& n = sdf.planes()[f].n;
-      EXPECT_GT(region.level[0], sdf.planes()[f].d + 0.5 * n.norm()) << "face " << f;  // risen across
+      EXPECT_GT(region.planes.level[0], sdf.planes()[f].d + 0.5 * n.norm()) << "face " << f;  // risen across
       for (int k = 0; k < 27; ++k) {
         const Vec3 x = c + 0.05 * Vec3(k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1);
         EXPECT_LE(sdf.unsigned_distance(x).lo, depth_region_value(sdf, region, x)) << "face " << f;
