@@ -766,6 +766,8 @@ struct HeldZoneQuery::State {
   double target = 0.0, cell_size = 0.0, clipped_cell_size = 0.0, slack = 0.0, lambda_max = 0.0;
   Vec3 t0 = Vec3::Zero(), d = Vec3::Zero();
   double best = 0.0;         // its latest contact so far
+  std::int64_t best_face = -1;  // and where (DeepZoneContact::face, cube_centre)
+  Vec3 best_centre = Vec3::Zero();
   std::uint64_t cubes = 0;   // classified since it started
 };
 
@@ -825,6 +827,8 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
   const DeepCube root = deep_cover_root(fixed);
   if (resume) {
     out.lambda = h->best;
+    out.face = h->best_face;
+    out.cube_centre = h->best_centre;
   } else {
     z.start();
     nodes.push_back({root.box, {}, false, false, 0, 0, -2, 0});
@@ -875,6 +879,8 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       h = held->state_.get();
     }
     h->best = out.lambda;
+    h->best_face = out.face;
+    h->best_centre = out.cube_centre;
     h->cubes = done + out.cubes;
   };
   const auto push = [&](std::uint32_t a, std::uint32_t b) {
@@ -961,7 +967,11 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
         r.meet(out.lambda, lambda_top);  // as above: only a later contact matters
         const std::uint32_t face = mover.face(na_first + i);
         g.triangle(face, G, r, clips);
-        if (!r.empty()) out.lambda = std::max(out.lambda, r.hi);
+        if (!r.empty() && r.hi > out.lambda) {
+          out.lambda = r.hi;
+          out.face = face;
+          out.cube_centre = nodes[e.b].box.center();
+        }
       }
       continue;
     }

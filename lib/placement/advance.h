@@ -110,6 +110,11 @@ struct DeepZoneContact {
   double lambda = 0.0;
   bool complete = false;
   std::uint64_t cubes = 0;  // cubes classified by this call
+  // The mover face of the latest contact and the centre of the zone's cube it met there (F's
+  // coordinates): a point of the mover likely inside F at that pose, for the landing's certificate
+  // (ClearanceOptions::hint_face). -1: no contact. A hint only.
+  std::int64_t face = -1;
+  Vec3 cube_centre = Vec3::Zero();
 };
 // A query that ran out of its budget, kept to be continued by a later call (deep_zone_contact's
 // `held`) instead of classified again from the root: a plateau's queries are retried with twice

@@ -86,7 +86,9 @@ struct ClearanceOptions {
   std::uint64_t pair_budget = 0;
   std::uint64_t max_cells = 400000;   // safety stop (the result then reports a wider interval)
   // A mover surface point (face, barycentrics) likely to be near the minimum, e.g. the previous
-  // pose's: it only speeds up the branch and bound (an early upper bound prunes more).
+  // pose's: it only speeds up the branch and bound (an early upper bound prunes more). With a
+  // target < 0, a hinted point strictly inside F also skips the pair-distance path (the surfaces
+  // are not apart; the branch and bound decides). Speed only.
   std::int64_t hint_face = -1;
   double hint_beta = 1.0 / 3, hint_gamma = 1.0 / 3;
   // A triangle pair (fixed face, mover face) likely to be nearest, e.g. the previous pose's: the

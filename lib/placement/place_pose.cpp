@@ -14,6 +14,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "core/interval.h"
+#include "distance/point_triangle_distance.h"
 #include "distance/triangle_distance.h"
 #include "mesh/components.h"
 #include "placement/advance.h"
@@ -30,14 +31,9 @@ double max_distance(const std::vector<Vec3>& v, const Vec3& c) {
 // The barycentrics (beta, gamma) on the placed mover face `face` (pose t) of its point nearest to
 // the fixed triangle A: at an exact first contact of that pair, the contact point. A hint only
 // (clearance.h): any point of the face is a valid one.
-std::array<double, 2> contact_point_on_mover(const Triangle& A, const OrientationFrame& frame, std::uint32_t face,
-                                             const Vec3& t) {
-  const PlacedView P = frame.orientation.placed_view(t);
-  const Face& f = (*frame.orientation.faces)[face];
-  const Vec3 b0 = P[f[0]], e1 = P[f[1]] - b0, e2 = P[f[2]] - b0;
-  Vec3 p, q;
-  triangle_triangle_closest_points(A[0], A[1], A[2], b0, P[f[1]], P[f[2]], &p, &q);
-  // q = b0 + beta e1 + gamma e2 in the least-squares sense, clamped into the triangle.
+// (beta, gamma) of a point q of the placed triangle b0, b0 + e1, b0 + e2: q = b0 + beta e1 + gamma e2
+// in the least-squares sense, clamped into the triangle.
+std::array<double, 2> bary_on(const Vec3& b0, const Vec3& e1, const Vec3& e2, const Vec3& q) {
   const Vec3 w = q - b0;
   const double a11 = e1.dot(e1), a12 = e1.dot(e2), a22 = e2.dot(e2), det = a11 * a22 - a12 * a12;
   if (!(det > 0.0)) return {1.0 / 3, 1.0 / 3};
@@ -45,6 +41,24 @@ std::array<double, 2> contact_point_on_mover(const Triangle& A, const Orientatio
   beta = std::clamp(beta, 0.0, 1.0);
   gamma = std::clamp(gamma, 0.0, 1.0 - beta);
   return {beta, gamma};
+}
+
+std::array<double, 2> contact_point_on_mover(const Triangle& A, const OrientationFrame& frame, std::uint32_t face,
+                                             const Vec3& t) {
+  const PlacedView P = frame.orientation.placed_view(t);
+  const Face& f = (*frame.orientation.faces)[face];
+  Vec3 p, q;
+  triangle_triangle_closest_points(A[0], A[1], A[2], P[f[0]], P[f[1]], P[f[2]], &p, &q);
+  return bary_on(P[f[0]], P[f[1]] - P[f[0]], P[f[2]] - P[f[0]], q);
+}
+
+// The point of the mover's face `face` placed at t nearest to x.
+std::array<double, 2> point_on_mover_near(const OrientationFrame& frame, std::uint32_t face, const Vec3& t,
+                                          const Vec3& x) {
+  const PlacedView P = frame.orientation.placed_view(t);
+  const Face& f = (*frame.orientation.faces)[face];
+  const Vec3 q = closest_point_on_triangle(x, P[f[0]], P[f[1]], P[f[2]]);
+  return bary_on(P[f[0]], P[f[1]] - P[f[0]], P[f[2]] - P[f[0]], q);
 }
 
 void set_hint(ClearanceOptions& o, const std::array<double, 2>& bary, std::uint32_t face) {
@@ -183,6 +197,7 @@ class DeepZoneJumps {
                  std::uint64_t* zone_cubes) {
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     const double pose_slack = pose_rounding_slack(frame, lambda_far);
+    contact_face_ = -1;
     if (use_cover_) {
       if (const DeepCover* cover = options_.deep_cover->get()) {
         use_cover_ = false;
@@ -251,8 +266,15 @@ class DeepZoneJumps {
       return kNaN;
     }
     if (!(z.lambda < worth)) use_octree_ = false;  // the zone is within two gaps: no more tries
+    contact_face_ = z.face;
+    contact_centre_ = z.cube_centre;
     return z.lambda;
   }
+
+  // Where the last contact() that returned a number met the zone (the octree's: its mover face and
+  // cube; -1 for the cover's): a hint for the landing's certificate.
+  std::int64_t contact_face() const { return contact_face_; }
+  const Vec3& contact_centre() const { return contact_centre_; }
 
   static constexpr double kFineLeafGaps = 0.25, kClippedLeafGaps = 3.0, kHeldLeafGrowth = 1.2;
   // A pose flat for this many steps is on a plateau (a level without a cover asks from then on).
@@ -280,6 +302,8 @@ class DeepZoneJumps {
   bool cover_asked_ = false;  // the cover's contact was asked in this pose (jumped to or not)
   std::uint64_t tried_ = 0;  // the budget of the octree's last query that ran out (0: none yet)
   HeldZoneQuery clipped_query_, fine_query_;  // queries that ran out, to be continued
+  std::int64_t contact_face_ = -1;
+  Vec3 contact_centre_ = Vec3::Zero();
 };
 
 }  // namespace
@@ -798,6 +822,15 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         if (!std::isnan(lk)) {
           if (!(lk > -lambda_far)) return missed();  // the line never meets the zone
           if (lk < worth) {
+            // The landing's certificate starts from the mover's point at the zone's cube it met:
+            // likely inside F, so that its first cell lowers the upper end at once and the pair
+            // path, which only looks for a crossing pair there, is skipped (hint_inside,
+            // clearance.cpp). The previous pose's deepest point had moved on with the jump, often
+            // out of the part it was deep in. A hint only.
+            if (jumps.contact_face() >= 0) {
+              const auto f = static_cast<std::uint32_t>(jumps.contact_face());
+              set_hint(copt, point_on_mover_near(frame, f, pose_translation(frame, dir, lk), jumps.contact_centre()), f);
+            }
             jump_to(lk);
             history.clear();
             have_prev = false;

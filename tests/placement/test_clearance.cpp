@@ -448,6 +448,56 @@ TEST(Clearance, PairBudgetHandsOverToTheBranchAndBound) {
   EXPECT_GT(crossing, 0);
 }
 
+// At a penetrating target, a hinted mover point strictly inside F skips the pair-distance path (it
+// could only find a crossing pair and hand over): no pair tested, and the same interval as the
+// branch and bound alone from that hint. A hint outside F, or a target >= 0, still runs the path.
+// Two thin tubes across each other (the pair path's worst case: overlapping slivers).
+TEST(Clearance, HintInsideFSkipsThePairPathAtPenetratingTargets) {
+  std::mt19937_64 rng(31);
+  Case c(make_tube(0.95, 1.0, 0.6, 48), make_tube(0.95, 1.0, 0.6, 48));
+  int skipped = 0, ran = 0;
+  for (int k = 0; k < 12 && skipped < 3; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const Vec3 t = 1.75 * random_direction(rng);
+    const MoverOrientation o = make_mover_orientation(c.mover, R);
+    const std::vector<Vec3> P = o.placed(t);
+    std::int64_t in = -1, out = -1;  // faces whose placed centroid is inside / outside F
+    for (std::size_t f = 0; f < c.mover.faces.size(); ++f) {
+      const Face& q = c.mover.faces[f];
+      const int side = c.fixed.side((P[q[0]] + P[q[1]] + P[q[2]]) / 3.0);
+      if (side < 0 && in < 0) in = static_cast<std::int64_t>(f);
+      if (side > 0 && out < 0) out = static_cast<std::int64_t>(f);
+    }
+    if (in < 0 || out < 0) continue;
+    SCOPED_TRACE(::testing::Message() << std::setprecision(17) << "case " << k << " t = (" << t.x() << ", " << t.y()
+                                      << ", " << t.z() << "), inside face " << in);
+    ClearanceOptions opt;
+    opt.tolerance = 1e-6;
+    opt.target = -0.01;
+    opt.hint_face = in;
+    const ClearanceResult hinted = certify_clearance(c.fixed, c.mover, c.comps, o, t, opt);
+    opt.try_distance_path = false;
+    const ClearanceResult alone = certify_clearance(c.fixed, c.mover, c.comps, o, t, opt);
+    EXPECT_EQ(hinted.pair_tests, 0u);
+    EXPECT_EQ(hinted.clearance.lo, alone.clearance.lo);
+    EXPECT_EQ(hinted.clearance.hi, alone.clearance.hi);
+    EXPECT_LT(hinted.clearance.hi, 0.0);
+    const Interval ref = sampled_enclosure(c.fixed, P, c.mover.faces, 12);
+    EXPECT_LE(hinted.clearance.lo, ref.hi);
+    EXPECT_GE(hinted.clearance.hi, ref.lo);
+    ++skipped;
+    opt.try_distance_path = true;
+    opt.hint_face = out;
+    EXPECT_GT(certify_clearance(c.fixed, c.mover, c.comps, o, t, opt).pair_tests, 0u);
+    opt.hint_face = in;
+    opt.target = 0.0;
+    EXPECT_GT(certify_clearance(c.fixed, c.mover, c.comps, o, t, opt).pair_tests, 0u);
+    ++ran;
+  }
+  EXPECT_EQ(skipped, 3);
+  EXPECT_EQ(ran, 3);
+}
+
 // A branch and bound warm-started from the previous pose's frontier (shifted bounds, and the cells'
 // translated depth bounds) must give a rigorous certificate too: along approaches into a torus,
 // chained warm certificates agree with cold ones and with the dense-sampling enclosure; steps must

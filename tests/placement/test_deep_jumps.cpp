@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "distance/deep_cover.h"
+#include "distance/point_triangle_distance.h"
 #include "mesh/shapes.h"
 #include "placement/advance.h"
 #include "placement/clearance.h"
@@ -283,6 +284,44 @@ TEST(DeepJumps, GrownOctreeFindsTheCoversContact) {
   }
 }
 
+// The octree's contact names the mover face that met the zone there and the cube it met: at the
+// contact pose that face passes within the cube's half-diagonal of its centre, and its point nearest
+// the centre lies inside F (the cube holds zone points, |target| deep): the landing's hint
+// (place_pose). No contact, no face.
+TEST(DeepJumps, ContactNamesTheMoverFaceAtTheCubeItMet) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  int named = 0, inside = 0;
+  for (int shape = 0; shape < 2; ++shape) {
+    const Scene w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
+    const double target = shape == 0 ? -0.05 : -0.12;
+    const double cell = deep_cover_options(target).cell_size;
+    std::mt19937_64 rng(53 + shape);
+    for (int i = 0; i < 12; ++i) {
+      const OrientationFrame frame = make_orientation_frame(w.setup, random_rotation(rng));
+      const Vec3 dir = random_direction(rng);
+      const double lambda_far = w.setup.fixed_radius + w.setup.mover_radius + 1.0;
+      const DeepZoneContact z = deep_zone_contact(w.fixed, target, cell, frame.orientation, frame.t0, dir, 1e-12,
+                                                  lambda_far, kInf, kInf, 1000000);
+      ASSERT_TRUE(z.complete);
+      if (!(z.lambda > -lambda_far)) {
+        EXPECT_EQ(z.face, -1);
+        continue;
+      }
+      ASSERT_GE(z.face, 0);
+      ASSERT_LT(static_cast<std::size_t>(z.face), w.mover.faces.size());
+      const std::vector<Vec3> P = frame.orientation.placed(pose_translation(frame, dir, z.lambda));
+      const Face& f = w.mover.faces[static_cast<std::size_t>(z.face)];
+      const Vec3 q = closest_point_on_triangle(z.cube_centre, P[f[0]], P[f[1]], P[f[2]]);
+      EXPECT_LE((q - z.cube_centre).norm(), 0.87 * cell + 1e-9)
+          << std::setprecision(17) << "shape " << shape << " dir " << dir.transpose() << " face " << z.face;
+      ++named;
+      inside += w.fixed.side(q) < 0;
+    }
+  }
+  EXPECT_GT(named, 8);
+  EXPECT_EQ(inside, named);
+}
+
 // The octree walked with the mover's sweep tree (its oriented boxes) instead of its box tree: a
 // thin ring tilted at random, whose arcs' axis-aligned boxes are far fatter than they are. Its
 // contact is valid (certificates above it leave room above the target, as for the box tree's),
@@ -389,6 +428,8 @@ TEST(DeepJumps, HeldQueryContinuesToTheFreshAnswer) {
       ASSERT_TRUE(rest.complete);
       EXPECT_FALSE(held.held());
       EXPECT_EQ(rest.lambda, fresh.lambda) << std::setprecision(17) << "shape " << shape << " dir " << dir.transpose();
+      EXPECT_EQ(rest.face, fresh.face);
+      EXPECT_EQ(rest.cube_centre, fresh.cube_centre);
       EXPECT_EQ(first.cubes + rest.cubes, fresh.cubes);
       ++continued;
       // Under a lower lambda_top (what a pose that advanced asks): the fresh answer there.
