@@ -4,7 +4,8 @@
 # command (levels -20%, 0, +5 % of the maximum penetration; 20 directions x 2 orientations, all
 # cores), then validation/check_poses on a sample of its certificates. Prints one row per mesh (its
 # max-steps column: the most polishing steps one pose took) and a summary: meshes tried, failed
-# levels, certified fraction, sampled certificates confirmed, the slowest run. Meshes that are not
+# levels, certified fraction (and the poses whose approach line the exact sweep proves to miss
+# the solid, `no-contact`), sampled certificates confirmed, the slowest run. Meshes that are not
 # closed solids are counted and skipped (their rejection is `cdbench check`'s business, tested
 # elsewhere), or with REPAIR=1 repaired first.
 # Usage: validation/sweep_meshes.sh [MESH ...]
@@ -49,7 +50,7 @@ echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -
      "levels $levels; $directions directions x $orientations orientations; at most $max_faces faces;" \
      "mover ${MOVER:-each mesh itself}; tolerance ${TOLERANCE:-default}; ${POSES_ARGS:-}${bench:+; bench_poses on $bench approaches}"
 printf '%-28s %8s %8s %11s %8s %10s %9s %9s %12s %s\n' mesh faces seconds certified failed confirmed max-steps pose/FCL level/FCL note
-tried=0 skipped=0 repaired_count=0 repair_failed=0 too_big=0 failed_levels=0 poses=0 certified=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
+tried=0 skipped=0 repaired_count=0 repair_failed=0 too_big=0 failed_levels=0 poses=0 certified=0 no_contact=0 sampled=0 confirmed=0 slowest=0 slowest_name=-
 worst_ratio=0 worst_name=- worst_level_ratio=0 worst_level=-
 greater() { python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "$1" "$2"; }  # A > B, as numbers
 for mesh in "${meshes[@]}"; do
@@ -91,11 +92,13 @@ for mesh in "${meshes[@]}"; do
   [ -n "$repaired" ] && note="repaired ($repaired s)"
   [ $rc -eq 124 ] && note="$note time limit"
   [ $rc -ne 0 ] && [ $rc -ne 124 ] && note="$note exit $rc"
-  n=0 c=0 f=0 ok="-" most=0 ratio="-" level_ratio="-"
+  n=0 c=0 nc=0 f=0 ok="-" most=0 ratio="-" level_ratio="-"
   if [ -f "$dir/poses.csv" ]; then
-    # Poses, certified poses, and the most polishing steps one pose took (long plateaus).
-    read -r n c most < <(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "status") s = i; if ($i == "polish_steps") p = i }; next }
-                           { n++; if ($s == "certified") c++; if ($p + 0 > m) m = $p + 0 } END { print n + 0, c + 0, m + 0 }' "$dir/poses.csv")
+    # Poses, certified poses, poses whose approach line is proved to miss (no-contact), and the
+    # most polishing steps one pose took (long plateaus).
+    read -r n c nc most < <(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "status") s = i; if ($i == "polish_steps") p = i }; next }
+                           { n++; if ($s == "certified") c++; if ($s == "uncertified:no-contact") x++; if ($p + 0 > m) m = $p + 0 }
+                           END { print n + 0, c + 0, x + 0, m + 0 }' "$dir/poses.csv")
     # A failed level: a pose neither certified nor certified to have no contact, or an offset
     # that could not be certified (--start offset).
     f=$(python3 -c "
@@ -135,6 +138,7 @@ print(sum(1 for l in levels if l['certified'] + l['no_contact'] < l['poses']
   fi
   poses=$((poses + n))
   certified=$((certified + c))
+  no_contact=$((no_contact + nc))
   if [ "$f" = "?" ]; then note="$note poseset.json unreadable"; failed_levels=$((failed_levels + 1)); else failed_levels=$((failed_levels + f)); fi
   if greater "$secs" "$slowest"; then
     slowest=$secs
@@ -145,7 +149,7 @@ done
 echo
 echo "meshes run: $tried (repaired first: $repaired_count; repair failed: $repair_failed; not closed solids:" \
      "$skipped; more than $max_faces faces: $too_big)"
-echo "failed levels: $failed_levels; certified poses: $certified/$poses;" \
+echo "failed levels: $failed_levels; certified poses: $certified/$poses ($no_contact more proved to have no contact);" \
      "sampled certificates confirmed: $confirmed/$sampled; slowest: $slowest_name $slowest s"
 if [ -n "$bench" ]; then
   echo "largest certified pose / FCL CA (all levels): $worst_name $worst_ratio; on one level: $worst_level $worst_level_ratio"
