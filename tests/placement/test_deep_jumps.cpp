@@ -35,6 +35,13 @@ using testing::random_direction;
 using testing::random_rotation;
 using testing::Scene;
 
+// The two scenes of the zone's tests (shape 0, 1): a sphere through the plate and block, at a
+// target beyond the plate's depth, and through a torus, at a target under a third of its tube.
+Scene zone_scene(int shape) {
+  return Scene(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
+}
+double zone_target(int shape) { return shape == 0 ? -0.05 : -0.12; }
+
 TEST(DeepJumps, OctreeBudgetDoublesAndTriesTheCapOnce) {
   PoseOptions o;
   o.deep_zone_cubes = 4000000;
@@ -134,8 +141,8 @@ TEST(DeepJumps, CrossThePlateauInOneJump) {
 // (c > target there: a certificate entirely below it would refute the cover or its contact).
 TEST(DeepJumps, NoPoseBeyondTheContactIsDeep) {
   for (int shape = 0; shape < 2; ++shape) {
-    const Scene w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
-    const double target = shape == 0 ? -0.05 : -0.12;
+    const Scene w = zone_scene(shape);
+    const double target = zone_target(shape);
     const LazyDeepCover cover(w.fixed, target, deep_cover_options(target));
     ASSERT_NE(cover.get(), nullptr);
     std::mt19937_64 rng(11 + shape);
@@ -211,8 +218,8 @@ TEST(DeepJumps, SameFirstCrossingAsWithout) {
 // lambda_top, the latest one below it, likewise. A budget too small claims nothing.
 TEST(DeepJumps, GrownOctreeFindsTheCoversContact) {
   for (int shape = 0; shape < 2; ++shape) {
-    const Scene w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
-    const double target = shape == 0 ? -0.05 : -0.12;
+    const Scene w = zone_scene(shape);
+    const double target = zone_target(shape);
     const DeepCoverOptions co = deep_cover_options(target);
     const LazyDeepCover cover(w.fixed, target, co);
     ASSERT_NE(cover.get(), nullptr);
@@ -292,8 +299,8 @@ TEST(DeepJumps, ContactNamesTheMoverFaceAtTheCubeItMet) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   int named = 0, inside = 0;
   for (int shape = 0; shape < 2; ++shape) {
-    const Scene w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
-    const double target = shape == 0 ? -0.05 : -0.12;
+    const Scene w = zone_scene(shape);
+    const double target = zone_target(shape);
     const double cell = deep_cover_options(target).cell_size;
     std::mt19937_64 rng(53 + shape);
     for (int i = 0; i < 12; ++i) {
@@ -404,8 +411,8 @@ TEST(DeepJumps, HeldQueryContinuesToTheFreshAnswer) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   int continued = 0, lowered = 0;
   for (int shape = 0; shape < 2; ++shape) {
-    const Scene w(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
-    const double target = shape == 0 ? -0.05 : -0.12;
+    const Scene w = zone_scene(shape);
+    const double target = zone_target(shape);
     const double cell = 0.1 * std::abs(target), clipped = 0.3 * std::abs(target);
     std::mt19937_64 rng(41 + shape);
     for (int i = 0; i < 10; ++i) {
