@@ -7,7 +7,9 @@
 //  - on lines the exact sweep proves to miss, any contact FCL claims, certified at its pose (a
 //    penetrating one would contradict the sweep: exit 1);
 //  - per level, the certified polished pose on the same approaches (the pose set's own start and
-//    tolerance), timed in the same run, and its ratio to FCL's conservative advancement.
+//    tolerance), timed in the same run, and its ratio to FCL's conservative advancement; and the
+//    work behind that time, which does not move with the machine's load (certificate cells,
+//    two-sided and segment tries, deep-zone jumps and octree cubes a pose): A/B runs compare it.
 // Usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]
 //                    [--no-support-planes] [--no-deep-cover] [--no-zone-octree]
 //   --no-separated-advance: targets > 0 advance by a certificate per step (the former way), for A/B.
@@ -108,6 +110,8 @@ static int run(int argc, char** argv) {
   const std::size_t L = ps["levels"].size();
   std::vector<double> level_target(L), level_seconds(L, 0.0);
   std::vector<std::size_t> level_certified(L, 0), level_steps(L, 0), level_jumps(L, 0), level_zone_cubes(L, 0);
+  // The work behind ms/pose, in units that do not depend on the machine's load (for A/B runs).
+  std::vector<std::size_t> level_cells(L, 0), level_two_sided(L, 0), level_segments(L, 0);
   std::vector<PoseStart> level_start(L);
   std::vector<std::unique_ptr<SweepMesh>> level_offset(L);
   PoseOptions po;
@@ -183,6 +187,9 @@ static int run(int argc, char** argv) {
       level_steps[l] += static_cast<std::size_t>(p.steps);
       level_jumps[l] += static_cast<std::size_t>(p.cover_jumps);
       level_zone_cubes[l] += static_cast<std::size_t>(p.zone_cubes);
+      level_cells[l] += static_cast<std::size_t>(p.clearance_cells);
+      level_two_sided[l] += static_cast<std::size_t>(p.two_sided_tries);
+      level_segments[l] += static_cast<std::size_t>(p.segment_tries);
     }
     if (!c.hit) {
       // The exact sweep proves the line misses; FCL claiming a contact there is checked by a
@@ -246,16 +253,25 @@ static int run(int argc, char** argv) {
   std::printf("%-12s %-8s %12.3f %12.1f %14s %14s %14.2f\n", "all", "", 1e3 * all / (M * L), M * L / all, "", "",
               (all / (M * L)) / (t_fcl / M));
   for (std::size_t l = 0; l < L; ++l) {
-    if (!level_zone[l].cover) continue;
+    // Levels shallower than a fifth of M have no cover but may still jump by the zone's octree.
+    if (!level_zone[l].cover && level_jumps[l] == 0 && level_zone_cubes[l] == 0) continue;
     const std::string spec = ps["levels"][l]["spec"].get<std::string>();
     std::printf("deep-zone jumps %s: %zu; octree cubes %zu (in ms/pose)", spec.c_str(), level_jumps[l], level_zone_cubes[l]);
-    if (const DeepCover* k = level_zone[l].cover->peek())
+    if (!level_zone[l].cover)
+      std::printf("; no cover (shallower than a fifth of M)\n");
+    else if (const DeepCover* k = level_zone[l].cover->peek())
       std::printf("; built cover (setup, not in ms/pose): %s, %llu cubes, %zu boxes, %.3f s\n",
                   k->complete ? "complete" : "budget exhausted, not used", static_cast<unsigned long long>(k->cells),
                   k->boxes.size(), level_zone[l].cover->seconds());
     else
       std::printf("; built cover not needed (no pose found c flat)\n");
   }
+  for (std::size_t l = 0; l < L; ++l)
+    std::printf("work a pose %s: certificate cells %.0f, two-sided tries %.2f, segment tries %.2f, jumps %.2f, "
+                "octree cubes %.0f\n",
+                ps["levels"][l]["spec"].get<std::string>().c_str(), static_cast<double>(level_cells[l]) / M,
+                static_cast<double>(level_two_sided[l]) / M, static_cast<double>(level_segments[l]) / M,
+                static_cast<double>(level_jumps[l]) / M, static_cast<double>(level_zone_cubes[l]) / M);
   std::printf("approaches %zu, contact found by both %zu, FCL found none %zu\n", M, both, fcl_miss);
   std::printf("lines the exact sweep proves to miss: %zu; FCL found a contact on %zu of them: certified at FCL's pose "
               "apart %zu, grazing (c's interval holds 0) %zu, penetrating %zu (contradicts the sweep)\n",
