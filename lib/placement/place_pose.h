@@ -212,7 +212,7 @@ struct PoseOutcome {
   int two_sided_tries = 0;  // long steps tried where c is flat (each accepted one is a step)
   int segment_tries = 0;    // segments tried on a slide (check_segment_above)
   bool continued = false;   // the advance continued from a higher target's pose (ApproachMemo)
-  int cover_jumps = 0;      // jumps to the deep zone's cover taken
+  int cover_jumps = 0;      // deep-zone jumps taken (to the cover's contact or the octree's)
   std::uint64_t zone_cubes = 0;  // cubes of the zone's octree classified (deep_zone_contact)
   std::string reason;      // why not certified / not on target
   std::uint64_t sphere_tests = 0, triangle_sweeps = 0, clearance_cells = 0;
