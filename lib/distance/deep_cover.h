@@ -56,6 +56,7 @@ struct DeepCubeHead {
   Kind what = drop;  // keep: inside Z, or at most cell_size
   signed char side = 0;        // the centre's side when certain (0: not known)
   signed char n_clips = 0;     // clips[0, n_clips): Z's part of the cube lies in each (keep, split)
+  bool regions_tried = false;  // split: deep_cube_regions has run on it (then the verdict is final)
   std::uint32_t nearest = 0;   // the centre's nearest triangle
   double free = 0.0;           // a lower bound of the centre's distance to F (0: not known)
   double near = 0.0;           // an upper bound of it (0: not known)
@@ -88,6 +89,22 @@ bool deep_cube_list(const SignedDistance& fixed, const Aabb& cube, const DeepCub
 // answered without tree queries where the list provably holds them.
 DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, double cell_size, const DeepCube& cube,
                                    std::vector<std::uint32_t>& ids, const DeepCubeList* parent = nullptr);
+// The second stage of an undecided cube's verdict (classify_deep_cube's split), worth its cost
+// only on cubes a query is about to split or test (deep_zone_contact): the regions beyond the faces
+// of F near the cube (distance/depth_plane.h, region_depth_bound) bound the depth of its interior
+// points. A cube across a thin wall has corners beyond the wall's faces, where every triangle's
+// distance is large (the convexity bound over the corners is the half thickness plus how far they
+// stick out), while a region's signed distance is negative there: the cube is proven shallow at
+// the wall's scale instead of the gap's. True when it is (s > target on the cube: to be dropped).
+// Not tried (seldom proven, and each try costs a few region proofs): cubes whose half-diagonal
+// exceeds kRegionCubeRadius times |target|, and cubes whose centre is certainly inside F at least
+// kRegionCentreDepth times |target| deep (the cube then holds or nearly holds the zone).
+// `verdict`: the cube's classify_deep_cube verdict; `parent` (optional) as there.
+constexpr double kRegionCubeRadius = 8.0;
+constexpr double kRegionCentreDepth = 0.9;
+bool deep_cube_regions(const SignedDistance& fixed, double target, const DeepCube& cube, const DeepCubeHead& verdict,
+                       std::vector<std::uint32_t>& ids, const DeepCubeList* parent = nullptr);
+
 // The eight children of a split cube, cut at its computed centre (they tile it exactly), child k
 // on the upper side of axis a when bit a of k is set.
 std::array<DeepCube, 8> deep_cube_children(const DeepCube& cube, const DeepCubeVerdict& verdict);
@@ -110,6 +127,8 @@ class DeepCubeMemo {
   double target() const { return target_; }
   bool find(const Aabb& cube, DeepCubeVerdict* verdict) const;
   void insert(const Aabb& cube, const DeepCubeVerdict& verdict);
+  // A cube's verdict after deep_cube_regions (its head replaces the one inserted; its clips stay).
+  void refine(const Aabb& cube, const DeepCubeHead& head);
   std::size_t size() const;
 
  private:

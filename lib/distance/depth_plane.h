@@ -87,4 +87,39 @@ int depth_region_edge_points(const SignedDistance& sdf, const DepthRegion& regio
 bool crossing_regions_edge_point(const SignedDistance& sdf, const DepthRegion& a, const DepthRegion& b, const Vec3& x,
                                  Vec3* out);
 
+// The minimax bound (depth_bound.h) over a box's eight corners `points` (numbered as kBoxEdges,
+// distance/slab_cut.h) with the regions beyond the nearest faces of `ids` (nearest first) that can
+// be proven there, besides the first triangles' distances: an upper bound of dist(x, F) at every
+// point x of the box inside the solid. On a curved thin wall the facets' distances grow past their
+// edges quadratically in the box's size over the wall's half thickness; the regions' distances are
+// exact across edges where the solid is convex, and convex across those where it is concave,
+// where the box is cut into slices. A region whose face the box crosses bounds by its signed
+// distance, negative where the box reaches into it (outside the solid): the box's corners outside
+// the wall do not raise the bound. +inf when no region is proven (or n != 8). ref: a point of the
+// box whose side is ref_side (+-1; 0: not known), from which the regions' outside points are
+// reached. Regions are tried from the two nearest distinct faces and up to four facing the other
+// way (a wall's other side).
+struct RegionBoundOptions {
+  double enough = 0.0;  // a bound at most this is returned as soon as found (no slices, no more regions)
+  // Regions whose growth stopped at four faces are grown again up to twelve when the bound is still
+  // above `enough`.
+  bool regrow = false;
+  // The bound from the nearest face's region and the nearest facing the other way first, the other
+  // regions only when it is above `enough` (a thin wall's two sides often suffice; each region's
+  // proof is most of the cost).
+  bool staged = false;
+  // Where the bound over the box is above `enough`, the box cut into slices at the regions' edges
+  // and each bounded apart (tighter where a concave edge of F crosses the box, at the cost of a
+  // cut and a bound per slice).
+  bool slices = true;
+};
+// stats (optional): whether regions were grown again, and whether that set the box aside.
+struct RegionBoundStats {
+  bool regrown = false;
+  bool regrown_won = false;
+};
+double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_side, const Vec3* points, int n,
+                          const std::vector<std::uint32_t>& ids, const RegionBoundOptions& options,
+                          RegionBoundStats* stats = nullptr);
+
 }  // namespace cdbench

@@ -40,8 +40,7 @@ struct Outcome {
   std::uint32_t near = 0;      // the triangle found nearest to the centre (or one proving the bound)
   bool regions_tried = false;  // region_depth_bound ran on the cell
   bool regions_won = false;    // and set it aside
-  bool regrown = false;        // regions were grown again past kFirstFaces
-  bool regrown_won = false;    // and that set the cell aside
+  RegionBoundStats regrowth;   // regions grown again past four faces, and whether that set it aside
 };
 
 // The computed corners of the cube c +- h, numbered as kBoxEdges (distance/slab_cut.h) expects:
@@ -53,160 +52,10 @@ std::array<Vec3, 8> cube_corners(const Vec3& c, double h) {
   return v;
 }
 
-// Faces from which regions are grown as members (distance/depth_plane.h): the nearest few
-// distinct planes, and the nearest facing the other way (a wall's other side).
-constexpr std::size_t kNearFaces = 2;
-constexpr std::size_t kRegionFaces = 6;
-// Triangle members with them (minimax_bound takes at most 16 members).
-constexpr std::size_t kRegionTriangles = 16 - kRegionFaces;
 // Whether a costly bound is worth trying on a level's other cells: it set at least one in `per` of
 // the `tried` cells it was tried on aside, or any of them when fewer than `enough` were tried.
 bool pays(std::uint64_t tried, std::uint64_t won, std::uint64_t enough, std::uint64_t per) {
   return tried >= enough ? per * won >= tried : won > 0;
-}
-
-// Faces a region grows to at first; those that stopped there are grown again up to
-// DepthRegion::kMaxFaces where the bound does not set the cube aside (most regions need at most
-// four faces, and each face costs every later triangle's test).
-constexpr int kFirstFaces = 4;
-
-// The minimax bound over the cube's corners with the regions beyond the nearest faces of `ids`
-// (nearest first) that bound the depth there, besides the triangles' distances: on a curved thin
-// wall the facets' distances grow past their edges quadratically in the cell's size over the wall's
-// half thickness; the regions' distances are exact across edges where the solid is convex, and
-// convex across those where it is concave, where the cube is cut into slices. A region whose face
-// the cube crosses bounds by its signed distance, negative where the cube reaches into it (outside).
-// +inf when no region is proven. ref: a point of the cube whose side is ref_side (+-1; 0: not
-// known), from which the regions' outside points are reached.
-double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_side, const Vec3* points, int n,
-                          const std::vector<std::uint32_t>& ids, double enough, bool regrow, Outcome& o) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  if (n != 8) return kInf;
-  thread_local std::vector<std::uint32_t> scratch;
-  std::array<std::uint32_t, kRegionFaces> tried{};
-  std::array<DepthRegion, kRegionFaces> regions;
-  std::array<std::uint32_t, kRegionFaces> capped_out{};  // faces whose proof failed at kFirstFaces
-  std::size_t nt = 0, nr = 0, ncapped = 0;
-  // (Heuristic: a face's region is seldom worth proving again from a face in the same plane.)
-  const auto coplanar = [&](std::uint32_t f, std::uint32_t g) {
-    const TrianglePlane &pf = sdf.planes()[f], &pg = sdf.planes()[g];
-    const double lf = pf.n.norm(), lg = pg.n.norm();
-    if (!(lf > 0.0) || !(lg > 0.0)) return false;
-    return (pf.n / lf - pg.n / lg).cwiseAbs().maxCoeff() <= 1e-12 &&
-           std::abs(pf.d / lf - pg.d / lg) <= 1e-12 * (1.0 + std::abs(pf.d / lf));
-  };
-  const auto try_face = [&](std::uint32_t f) {
-    for (std::size_t j = 0; j < nt; ++j)
-      if (coplanar(f, tried[j])) return false;  // the other half of a quad
-    for (std::size_t j = 0; j < nr; ++j)       // a face a region grew to
-      for (int i = 1; i < regions[j].n; ++i)
-        if (coplanar(f, regions[j].face[static_cast<std::size_t>(i)])) return false;
-    tried[nt++] = f;
-    if (prove_depth_region(sdf, f, points, n, ref, ref_side, &regions[nr], scratch, kFirstFaces)) ++nr;
-    else if (regions[nr].capped) capped_out[ncapped++] = f;
-    return true;
-  };
-  for (std::size_t i = 0; i < ids.size() && i < 8 && nt < kNearFaces; ++i) try_face(ids[i]);
-  if (nt > 0) {
-    const Vec3 first = sdf.planes()[tried[0]].n;
-    for (std::size_t i = 0; i < ids.size() && nt < kRegionFaces; ++i)
-      if (sdf.planes()[ids[i]].n.dot(first) < 0.0) try_face(ids[i]);
-  }
-  if (nr == 0 && ncapped == 0) return kInf;
-  const std::size_t ntri = std::min(ids.size(), kRegionTriangles);
-  // The minimax bound over points q[0..nq) (nq <= 16), plus err. Crossing regions' members are
-  // negative above their faces: all members are raised by `shift` (at least their most negative
-  // value's size) for minimax_bound, whose weighted means are of positive values, and lowered after.
-  const auto bound_over = [&](const Vec3* q, int nq, double err) {
-    const std::size_t M = ntri + nr;  // (nr grows when regions are grown again)
-    std::array<double, 16 * 16> D;
-    double least = 0.0;
-    for (int k = 0; k < nq; ++k) {
-      for (std::size_t j = 0; j < ntri; ++j) D[k * M + j] = point_triangle_distance_upper_near(q[k], sdf.mesh(), ids[j]);
-      for (std::size_t j = 0; j < nr; ++j) {
-        D[k * M + ntri + j] = depth_region_value(sdf, regions[j], q[k]);
-        least = std::min(least, D[k * M + ntri + j]);
-      }
-    }
-    if (!(least < 0.0)) return round_up(minimax_bound(D.data(), nq, static_cast<int>(M)) + err);
-    const double shift = round_up(-least * (1.0 + 1e-12) + 1e-300);
-    for (int i = 0; i < nq * static_cast<int>(M); ++i) D[i] = round_up(D[i] + shift);
-    return round_up(round_up(minimax_bound(D.data(), nq, static_cast<int>(M)) - shift) + err);
-  };
-  // The bound over the cube, its slices where regions' edges cross it.
-  const auto cube_bound = [&]() {
-    const double bound = bound_over(points, n, 0.0);
-    if (!(bound > enough)) return bound;
-    // A region's distance is convex across its edges, where the depth may peak (a tube's seam, the
-    // outer faces' edge above it): the cube is cut into slices by planes through those edges, normal
-    // to the first edge's bisector (any planes are valid; these make each slice's region distances
-    // nearly affine), and the slices (cut_by_slab: their points within err) are bounded apart, each
-    // with the same members (proven for the whole cube).
-    const Vec3 centre = 0.5 * (points[0] + points[7]);
-    Vec3 b = Vec3::Zero();
-    std::array<double, DepthRegion::kMaxEdges + 4> t;
-    std::size_t ncut = 0;
-    t[ncut++] = -kInf;
-    for (std::size_t j = 0; j < nr; ++j) {
-      std::array<Vec3, DepthRegion::kMaxEdges> edge;
-      const int m = depth_region_edge_points(sdf, regions[j], centre, edge);
-      if (m == 0) continue;
-      if (b == Vec3::Zero()) {
-        const Vec3 n0 = sdf.planes()[regions[j].face[0]].n, n1 = sdf.planes()[regions[j].face[1]].n;
-        b = n0 / n0.norm() - n1 / n1.norm();
-      }
-      for (int e = 0; e < m && ncut < t.size() - 1; ++e) t[ncut++] = b.dot(edge[static_cast<std::size_t>(e)]);
-    }
-    // Two crossing regions' planes meeting along an edge of F across the cube: cut there too.
-    for (std::size_t i = 0; i < nr; ++i)
-      for (std::size_t j = i + 1; j < nr && ncut < t.size() - 1; ++j) {
-        Vec3 p;
-        if (!crossing_regions_edge_point(sdf, regions[i], regions[j], centre, &p) ||
-            !((p - centre).cwiseAbs().maxCoeff() <= 0.5 * (points[7] - points[0]).maxCoeff()))
-          continue;
-        if (b == Vec3::Zero()) {
-          const Vec3 n0 = sdf.planes()[regions[i].face[0]].n, n1 = sdf.planes()[regions[j].face[0]].n;
-          b = n0 / n0.norm() - n1 / n1.norm();
-        }
-        t[ncut++] = b.dot(p);
-      }
-    if (ncut == 1) return bound;
-    t[ncut++] = kInf;
-    std::sort(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(ncut));
-    std::array<PlaneOffset, 8> ov;
-    for (int k = 0; k < 8; ++k) ov[k] = plane_offset(b, 0.0, points[k]);
-    double split = 0.0;
-    for (std::size_t i = 0; i + 1 < ncut; ++i) {
-      SlabCut cut;
-      if (!cut_by_slab(points, ov.data(), 8, kBoxEdges.data(), 12, t[i + 1], t[i], cut, 16)) return bound;
-      if (cut.n == 0) continue;
-      split = std::max(split, bound_over(cut.q.data(), cut.n, cut.err));
-      if (!(split < bound)) return bound;
-    }
-    return std::min(bound, split);
-  };
-  const double first = nr > 0 ? cube_bound() : kInf;
-  if (!(first > enough) || !regrow) return first;
-  // Regions whose growth stopped at kFirstFaces (a curved wall's cube spanning more facets than
-  // that: a level rose instead) grown again up to kMaxFaces.
-  bool again = false;
-  for (std::size_t j = 0; j < nr; ++j) {
-    if (!regions[j].capped) continue;
-    DepthRegion more;
-    if (prove_depth_region(sdf, regions[j].face[0], points, n, ref, ref_side, &more, scratch, DepthRegion::kMaxFaces)) {
-      regions[j] = more;
-      again = true;
-    }
-  }
-  for (std::size_t j = 0; j < ncapped; ++j)
-    if (prove_depth_region(sdf, capped_out[j], points, n, ref, ref_side, &regions[nr], scratch, DepthRegion::kMaxFaces)) {
-      ++nr;
-      again = true;
-    }
-  const double fin = again ? std::min(first, cube_bound()) : first;
-  o.regrown = again;
-  o.regrown_won = again && !(fin > enough);
-  return fin;
 }
 
 // The convexity bound over a cube: its 8 corners (see distance/depth_bound.h).
@@ -403,7 +252,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
     // previous level's cells did (counts over fixed cells: the same for any thread count).
     const bool regions_before = pays(regions_tried_before, regions_won_before, 64, 100);
     bool regions_everywhere = true;  // during the first pass, which holds only sampled cells
-    // Regions grown again past kFirstFaces (a curved wall's cubes spanning many facets) cost about
+    // Regions grown again past four faces (a curved wall's cubes spanning many facets) cost about
     // as much as the first growth: the others grow them again when that set at least a quarter of
     // the sampled cells it was tried on aside, or the previous level's cells (any, below 16 tries).
     const bool regrow_before = pays(regrown_before, regrown_won_before, 64, 4);
@@ -468,7 +317,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
           if (!(o.upper > std::max(snapshot, o.lower) + eps) || !regions_everywhere) return;
           const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
           o.upper = std::min(o.upper, region_depth_bound(sdf, cell.center, d.lo > 0.0 ? o.sign : 0, corners.data(), 8,
-                                                         nearest, snapshot + eps, regrow_everywhere, o));
+                                                         nearest, {snapshot + eps, regrow_everywhere, false}, &o.regrowth));
           o.regions_tried = true;
           o.regions_won = !(o.upper > snapshot + eps);
         };
@@ -543,8 +392,8 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
               sort_by_distance(wide);
             const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
             o.upper = std::min(
-                o.upper, region_depth_bound(sdf, cell.center, o.sign, corners.data(), 8, sorted, snapshot + eps,
-                                          regrow_everywhere, o));
+                o.upper, region_depth_bound(sdf, cell.center, o.sign, corners.data(), 8, sorted, {snapshot + eps, regrow_everywhere, false},
+                                          &o.regrowth));
             o.regions_tried = true;
             o.regions_won = !(o.upper > snapshot + eps);
           }
@@ -559,7 +408,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
       std::uint64_t tried = 0, won = 0, regrown = 0, regrown_won = 0;
       for (std::size_t i = 0; i < out.size(); i += 16) {
         tried += out[i].regions_tried, won += out[i].regions_won;
-        regrown += out[i].regrown, regrown_won += out[i].regrown_won;
+        regrown += out[i].regrowth.regrown, regrown_won += out[i].regrowth.regrown_won;
       }
       regions_everywhere = regions_before || pays(tried, won, 16, 100);
       regrow_everywhere = regrow_before || pays(regrown, regrown_won, 16, 4);
@@ -576,8 +425,8 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
       kept += o.keep;
       regions_tried_before += o.regions_tried;
       regions_won_before += o.regions_won;
-      regrown_before += o.regrown;
-      regrown_won_before += o.regrown_won;
+      regrown_before += o.regrowth.regrown;
+      regrown_won_before += o.regrowth.regrown_won;
     }
     const std::uint64_t next_cells = 8 * kept;
     const bool stop = next_cells > 0 && (next_cells > options.max_frontier ||

@@ -911,6 +911,24 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
     nb.leaf = nb.verdict.what == DeepCubeVerdict::keep ||
               (nb.verdict.what == DeepCubeVerdict::split && deep_cube_radius(nb.box) <= leaf_size);
   };
+  // A cube the mover comes near, undecided by its verdict: its second stage (deep_cube_regions), in
+  // the memo as well. A deterministic function of the cube, as the verdict is.
+  const auto refine = [&](std::uint32_t b) {
+    ZoneOctree::Node& nb = nodes[b];
+    DeepCubeVerdict v;
+    if (memo && memo->find(nb.box, &v) && v.regions_tried) {
+      nb.verdict.what = v.what;
+    } else {
+      const DeepCube cube = b == 0 ? root : deep_cube_child(nb.box, nodes[nb.parent].box, nodes[nb.parent].verdict);
+      if (deep_cube_regions(fixed, target, cube, nb.verdict, ids, b == 0 ? nullptr : parent_list(b)))
+        nb.verdict.what = DeepCubeVerdict::drop;
+      nb.verdict.regions_tried = true;
+      DeepCubeHead head = nb.verdict;
+      if (head.what == DeepCubeVerdict::drop) head.n_clips = 0;
+      if (memo) memo->refine(nb.box, head);
+    }
+    nb.verdict.regions_tried = true;
+  };
   if (!resume) push(0, 0);
   while (!heap.empty()) {
     std::pop_heap(heap.begin(), heap.end(), earlier);
@@ -928,6 +946,7 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       classify(e.b);
     }
     ZoneOctree::Node& nb = nodes[e.b];
+    if (nb.verdict.what == DeepCubeVerdict::split && !nb.verdict.regions_tried) refine(e.b);
     if (nb.verdict.what == DeepCubeVerdict::drop) continue;
     const std::uint32_t na_count = mover.count(e.a), na_first = mover.first(e.a);
     const Aabb na_box = mover.box(g, e.a);

@@ -266,11 +266,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // |target|: 3; after 20 such steps instead of 64 since session 75: 4), and the octree walks the
   // mover's oriented boxes (session 49: 1; since session 50 a split cube's children classified at
   // once, counted against the budget together: 2; since session 52 the test before a split
-  // without the clipped extents, so other cubes split: 3): every polished penetrating level;
-  // absent otherwise.
+  // without the clipped extents, so other cubes split: 3; since session 80 undecided cubes the
+  // mover comes near dropped by the regions beyond F's faces, so contacts may be later: 4): every
+  // polished penetrating level; absent otherwise.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo != nullptr; })) {
     run_key["near_target_jumps"] = 4;
-    run_key["oriented_zone_octree"] = 3;
+    run_key["oriented_zone_octree"] = 4;
   }
   // Penetrating levels' certificates since 2026-11-28 (session 34: no pair-distance path, leaves
   // of one face and hopeless boxes split unevaluated, 2; stale cells re-bounded by their last depth

@@ -183,6 +183,45 @@ TEST(DeepCover, ParentShortcutsChangeTheWorkNotTheVerdicts) {
   expect_parent_shortcuts_agree(make_icosphere(1.0, 2), -0.3, 5);
 }
 
+// The second stage of an undecided cube (deep_cube_regions) drops only cubes without a deep
+// point: every cube of the octree's first levels that the regions drop, sampled at random points
+// whose depth is decided exactly, has none. On a thin tube whose wall is shallower than |target|
+// everywhere they drop cubes across the wall that the first stage could not (its corners beyond
+// the wall's faces count their distance as depth); on the torus and the plate beside a block they
+// must keep every cube that holds a deep point.
+int expect_regions_drop_only_shallow_cubes(const TriangleMesh& m, double target, int levels, std::uint64_t seed) {
+  const SignedDistance sdf(m);
+  const CgalSide side(m);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<std::uint32_t> ids;
+  int dropped = 0, tried = 0;
+  walk_octree(sdf, target, levels, [&](const DeepCube& cube, const DeepCubeVerdict& v, int, const DeepCubeList* list) {
+    if (v.what != DeepCubeVerdict::split) return;
+    if (deep_cube_radius(cube.box) <= kRegionCubeRadius * -target) ++tried;
+    if (!deep_cube_regions(sdf, target, cube, v, ids, list)) return;
+    ++dropped;
+    for (int i = 0; i < test_scale::pick(8, 2); ++i) {
+      Vec3 p;
+      for (int k = 0; k < 3; ++k) p[k] = cube.box.lo[k] + u(rng) * (cube.box.hi[k] - cube.box.lo[k]);
+      if (side(p) >= 0) continue;
+      ASSERT_TRUE(testing::exact_squared_distance(p, m) < Epeck::FT(target) * target)
+          << std::setprecision(17) << "deep point (" << p.transpose() << ") in a cube the regions dropped "
+          << cube.box.lo.transpose() << " / " << cube.box.hi.transpose() << " target " << target;
+    }
+  }, /*lists=*/true);
+  EXPECT_GT(tried, 0);
+  return dropped;
+}
+
+TEST(DeepCover, RegionsDropOnlyShallowCubes) {
+  // Wall 0.1 thick (0.05 deep at most), target -0.07: no deep zone, cubes across the wall.
+  EXPECT_GT(expect_regions_drop_only_shallow_cubes(make_tube(0.9, 1.0, 2.0, 48), -0.07, 7, 6), 50);
+  // Beside a deep zone (each drops a few hundred, sampled).
+  EXPECT_GT(expect_regions_drop_only_shallow_cubes(make_torus(1.0, 0.4, 24, 12), -0.1, 6, 7), 20);
+  EXPECT_GT(expect_regions_drop_only_shallow_cubes(plate_and_block(), -0.05, 7, 8), 20);
+}
+
 TEST(DeepCover, ThePlateHasNoDeepZone) {
   // Only the block's interior is kept: no box reaches into the plate's slab beyond its boundary
   // layer (the plate's deepest points are 0.02 deep, the target 0.05).
