@@ -7,7 +7,6 @@
 #include <cstring>
 #include <limits>
 #include <mutex>
-#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/collaborative_call_once.h>
@@ -172,9 +171,9 @@ bool deep_cube_regions(const SignedDistance& fixed, double target, const DeepCub
   const double depth = -target;
   const Aabb& Q = cube.box;
   const double r = deep_cube_radius(Q);
-  if (verdict.what != DeepCubeVerdict::split || !(verdict.near > 0.0) || !(r <= kRegionCubeRadius * depth)) return false;
+  if (verdict.what != DeepCubeVerdict::split || !(verdict.near > 0.0) || !(r <= kRegionCellRadius * depth)) return false;
   // A centre at least |target| deep is in the zone itself; one nearly that deep seldom lets the
-  // cube go (measured: none of 3,000 such tries on P, a few percent on rotor and elephant).
+  // cube go.
   if (verdict.side < 0 && !(verdict.free < kRegionCentreDepth * depth)) return false;
   const Vec3 q = Q.center();
   // Every triangle nearest to a point of the cube (a region's seeds: the nearest faces first, then
@@ -182,18 +181,8 @@ bool deep_cube_regions(const SignedDistance& fixed, double target, const DeepCub
   // faces (64 lost a third of the repaired shark's drops, 512 dropped no more than 128).
   constexpr std::size_t kMaxListed = 128;
   const double reach = round_up((verdict.near + 2.0 * r) * (1.0 + 1e-12));
-  if (parent && parent->covers(q, reach)) {
-    fixed.triangles_within_among(q, reach, parent->ids, ids);
-    if (ids.size() > kMaxListed) return false;
-  } else if (!fixed.triangles_within(q, reach, kMaxListed, ids)) {
-    return false;
-  }
-  if (ids.empty()) return false;
-  thread_local std::vector<std::pair<double, std::uint32_t>> by;
-  by.clear();
-  for (const std::uint32_t t : ids) by.emplace_back(point_triangle_distance_upper_near(q, fixed.mesh(), t), t);
-  std::sort(by.begin(), by.end());
-  for (std::size_t i = 0; i < by.size(); ++i) ids[i] = by[i].second;
+  const bool listed = parent && parent->covers(q, reach);
+  if (!region_seeds(fixed, q, reach, kMaxListed, listed ? &parent->ids : nullptr, ids) || ids.empty()) return false;
   const std::array<Vec3, 8> corners = Q.corners();
   // Only the interior points of the solid matter (the zone's): the bound is of their depth. The
   // two sides' regions first (staged); no slices (as tight on the shark, 10 % cheaper).

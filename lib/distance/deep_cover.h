@@ -96,12 +96,10 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
 // distance is large (the convexity bound over the corners is the half thickness plus how far they
 // stick out), while a region's signed distance is negative there: the cube is proven shallow at
 // the wall's scale instead of the gap's. True when it is (s > target on the cube: to be dropped).
-// Not tried (seldom proven, and each try costs a few region proofs): cubes whose half-diagonal
-// exceeds kRegionCubeRadius times |target|, and cubes whose centre is certainly inside F at least
-// kRegionCentreDepth times |target| deep (the cube then holds or nearly holds the zone).
-// `verdict`: the cube's classify_deep_cube verdict; `parent` (optional) as there.
-constexpr double kRegionCubeRadius = 8.0;
-constexpr double kRegionCentreDepth = 0.9;
+// Not tried (depth_plane.h, kRegionCellRadius, kRegionCentreDepth): cubes whose half-diagonal
+// exceeds 8 |target|, and cubes whose centre is certainly inside F at least 0.9 |target| deep (the
+// cube then holds or nearly holds the zone). `verdict`: the cube's classify_deep_cube verdict;
+// `parent` (optional) as there.
 bool deep_cube_regions(const SignedDistance& fixed, double target, const DeepCube& cube, const DeepCubeHead& verdict,
                        std::vector<std::uint32_t>& ids, const DeepCubeList* parent = nullptr);
 

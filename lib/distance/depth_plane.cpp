@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "core/interval.h"
 #include "distance/depth_bound.h"
@@ -361,6 +362,22 @@ bool crossing_regions_edge_point(const SignedDistance& sdf, const DepthRegion& a
   if (!((na.normalized().cross(nb.normalized())).squaredNorm() > 1e-12)) return false;  // (nearly) parallel
   *out = line_point(na, a.planes.level[0], na.squaredNorm(), nb, b.planes.level[0], nb.squaredNorm(), x);
   return out->allFinite();
+}
+
+bool region_seeds(const SignedDistance& sdf, const Vec3& c, double reach, std::size_t max_count,
+                  const std::vector<std::uint32_t>* candidates, std::vector<std::uint32_t>& out) {
+  if (candidates) {
+    sdf.triangles_within_among(c, reach, *candidates, out);
+    if (out.size() > max_count) return false;
+  } else if (!sdf.triangles_within(c, reach, max_count, out)) {
+    return false;
+  }
+  thread_local std::vector<std::pair<double, std::uint32_t>> by;
+  by.clear();
+  for (const std::uint32_t t : out) by.emplace_back(point_triangle_distance_upper_near(c, sdf.mesh(), t), t);
+  std::sort(by.begin(), by.end());
+  for (std::size_t i = 0; i < by.size(); ++i) out[i] = by[i].second;
+  return true;
 }
 
 double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_side, const Vec3* points, int n,

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "distance/deep_cover.h"
+#include "distance/depth_plane.h"
 #include "distance/signed_distance.h"
 #include "exact_reference.h"
 #include "mesh/shapes.h"
@@ -198,7 +199,7 @@ int expect_regions_drop_only_shallow_cubes(const TriangleMesh& m, double target,
   int dropped = 0, tried = 0;
   walk_octree(sdf, target, levels, [&](const DeepCube& cube, const DeepCubeVerdict& v, int, const DeepCubeList* list) {
     if (v.what != DeepCubeVerdict::split) return;
-    if (deep_cube_radius(cube.box) <= kRegionCubeRadius * -target) ++tried;
+    if (deep_cube_radius(cube.box) <= kRegionCellRadius * -target) ++tried;
     if (!deep_cube_regions(sdf, target, cube, v, ids, list)) return;
     ++dropped;
     for (int i = 0; i < test_scale::pick(8, 2); ++i) {
