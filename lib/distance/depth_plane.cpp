@@ -372,12 +372,16 @@ bool region_seeds(const SignedDistance& sdf, const Vec3& c, double reach, std::s
   } else if (!sdf.triangles_within(c, reach, max_count, out)) {
     return false;
   }
+  sort_nearest_first(sdf, c, out);
+  return true;
+}
+
+void sort_nearest_first(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids) {
   thread_local std::vector<std::pair<double, std::uint32_t>> by;
   by.clear();
-  for (const std::uint32_t t : out) by.emplace_back(point_triangle_distance_upper_near(c, sdf.mesh(), t), t);
+  for (const std::uint32_t t : ids) by.emplace_back(point_triangle_distance_upper_near(c, sdf.mesh(), t), t);
   std::sort(by.begin(), by.end());
-  for (std::size_t i = 0; i < by.size(); ++i) out[i] = by[i].second;
-  return true;
+  for (std::size_t i = 0; i < by.size(); ++i) ids[i] = by[i].second;
 }
 
 double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_side, const Vec3* points, int n,

@@ -132,6 +132,9 @@ constexpr double kRegionCentreDepth = 0.9;
 // when more than max_count qualify (not a wall's few faces: regions seldom pay there).
 bool region_seeds(const SignedDistance& sdf, const Vec3& c, double reach, std::size_t max_count,
                   const std::vector<std::uint32_t>* candidates, std::vector<std::uint32_t>& out);
+// Reorders ids nearest to c first, as region_seeds leaves its seeds (by the certified distance's
+// upper end, ties by id).
+void sort_nearest_first(const SignedDistance& sdf, const Vec3& c, std::vector<std::uint32_t>& ids);
 double region_depth_bound(const SignedDistance& sdf, const Vec3& ref, int ref_side, const Vec3* points, int n,
                           const std::vector<std::uint32_t>& ids, const RegionBoundOptions& options,
                           RegionBoundStats* stats = nullptr);

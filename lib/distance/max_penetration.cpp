@@ -373,23 +373,17 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
             // bounds it (the wall's far side, beyond r from the hollow). (Heuristics: not on the
             // first level, whose cubes the next level sets aside anyway, nor where the slab bound
             // found more triangles near than it takes.)
-            thread_local std::vector<std::pair<double, std::uint32_t>> by;
             thread_local std::vector<std::uint32_t> sorted, wide;
-            const auto sort_by_distance = [&](const std::vector<std::uint32_t>& from) {
-              by.clear();
-              for (std::uint32_t t : from)
-                by.emplace_back(point_triangle_distance_upper_near(cell.center, sdf.mesh(), t), t);
-              std::sort(by.begin(), by.end());
-              sorted.clear();
-              for (const auto& e : by) sorted.push_back(e.second);
-            };
-            sort_by_distance(ids);
+            sorted = ids;
+            sort_nearest_first(sdf, cell.center, sorted);
             const Vec3 first = sdf.planes()[sorted[0]].n;
             const bool other_side = std::any_of(sorted.begin(), sorted.end(), [&](std::uint32_t t) {
               return sdf.planes()[t].n.dot(first) < 0.0;
             });
-            if (!other_side && sdf.triangles_within(cell.center, round_up(r + snapshot + eps), kMaxSlabTriangles, wide))
-              sort_by_distance(wide);
+            if (!other_side && sdf.triangles_within(cell.center, round_up(r + snapshot + eps), kMaxSlabTriangles, wide)) {
+              sorted = wide;
+              sort_nearest_first(sdf, cell.center, sorted);
+            }
             const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
             o.upper = std::min(
                 o.upper, region_depth_bound(sdf, cell.center, o.sign, corners.data(), 8, sorted, {snapshot + eps, regrow_everywhere, false},

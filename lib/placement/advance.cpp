@@ -922,10 +922,12 @@ DeepZoneContact deep_zone_contact(const SignedDistance& fixed, double target, do
       const DeepCube cube = b == 0 ? root : deep_cube_child(nb.box, nodes[nb.parent].box, nodes[nb.parent].verdict);
       if (deep_cube_regions(fixed, target, cube, nb.verdict, ids, b == 0 ? nullptr : parent_list(b)))
         nb.verdict.what = DeepCubeVerdict::drop;
-      nb.verdict.regions_tried = true;
-      DeepCubeHead head = nb.verdict;
-      if (head.what == DeepCubeVerdict::drop) head.n_clips = 0;
-      if (memo) memo->refine(nb.box, head);
+      if (memo) {
+        DeepCubeHead head = nb.verdict;
+        head.regions_tried = true;
+        if (head.what == DeepCubeVerdict::drop) head.n_clips = 0;
+        memo->refine(nb.box, head);
+      }
     }
     nb.verdict.regions_tried = true;
   };
