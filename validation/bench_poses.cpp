@@ -11,12 +11,14 @@
 //    work behind that time, which does not move with the machine's load (certificate cells,
 //    two-sided and segment tries, deep-zone jumps and octree cubes a pose): A/B runs compare it.
 // Usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]
-//                    [--no-support-planes] [--no-deep-cover] [--no-zone-octree]
+//                    [--no-support-planes] [--no-deep-cover] [--no-zone-octree] [--per-pose]
 //   --no-separated-advance: targets > 0 advance by a certificate per step (the former way), for A/B.
 //   --no-sweep-certificate: the touching pose certified by a branch and bound (the former way), A/B.
 //   --no-support-planes: penetrating targets of a convex F without its supporting planes, A/B.
 //   --no-deep-cover: penetrating targets without the deep zone's cover (no jumps across plateaus), A/B.
 //   --no-zone-octree: where a cover runs out of its budget, no octree about the mover's path, A/B.
+//   --per-pose: a line per polished pose (approach, level): its time and work, to find the poses
+//     that hold a level's time.
 
 #include <algorithm>
 #include <chrono>
@@ -52,11 +54,12 @@ TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_s
 static int run(int argc, char** argv) {
   const char* usage =
       "usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]\n"
-      "       [--no-support-planes] [--no-deep-cover] [--no-zone-octree]\n"
+      "       [--no-support-planes] [--no-deep-cover] [--no-zone-octree] [--per-pose]\n"
       "  times certified polished poses of a pose set made by `cdbench poses` against FCL's conservative\n"
       "  advancement on the same approaches (M: how many, default 200); the --no-* switches select\n"
       "  former ways (A/B): the separated advance and the touching certificate by certificates, no\n"
-      "  supporting planes, no built deep-zone cover, no deep-zone octree about the mover's path\n";
+      "  supporting planes, no built deep-zone cover, no deep-zone octree about the mover's path;\n"
+      "  --per-pose: a line per polished pose (approach, level) with its time and work\n";
   if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
     std::fputs(usage, stdout);
     return 0;
@@ -68,7 +71,7 @@ static int run(int argc, char** argv) {
   const std::string dir = argv[1];
   std::size_t wanted = 200;
   bool separated_advance = true, no_sweep_certificate = false, support_planes = true, deep_covers = true,
-       zone_octree = true;
+       zone_octree = true, per_pose = false;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--approaches") == 0 && i + 1 < argc) wanted = std::stoul(argv[++i]);
     else if (std::strcmp(argv[i], "--no-separated-advance") == 0) separated_advance = false;  // A/B
@@ -76,6 +79,7 @@ static int run(int argc, char** argv) {
     else if (std::strcmp(argv[i], "--no-support-planes") == 0) support_planes = false;  // A/B
     else if (std::strcmp(argv[i], "--no-deep-cover") == 0) deep_covers = false;  // A/B
     else if (std::strcmp(argv[i], "--no-zone-octree") == 0) zone_octree = false;  // A/B
+    else if (std::strcmp(argv[i], "--per-pose") == 0) per_pose = true;
     else {
       std::fprintf(stderr, "bench_poses: unknown option '%s'\n%s", argv[i], usage);
       return 2;
@@ -190,6 +194,13 @@ static int run(int argc, char** argv) {
       level_cells[l] += static_cast<std::size_t>(p.clearance_cells);
       level_two_sided[l] += static_cast<std::size_t>(p.two_sided_tries);
       level_segments[l] += static_cast<std::size_t>(p.segment_tries);
+      if (per_pose)
+        std::printf("pose approach %zu level %s: %.3f ms, steps %d, cells %llu, two-sided %d, segments %d, jumps %d, "
+                    "cubes %llu%s\n",
+                    a, ps["levels"][l]["spec"].get<std::string>().c_str(), 1e3 * seconds_since(t0), p.steps,
+                    static_cast<unsigned long long>(p.clearance_cells), p.two_sided_tries, p.segment_tries,
+                    p.cover_jumps, static_cast<unsigned long long>(p.zone_cubes),
+                    p.certified && p.on_target ? "" : " (not certified on target)");
     }
     if (!c.hit) {
       // The exact sweep proves the line misses; FCL claiming a contact there is checked by a

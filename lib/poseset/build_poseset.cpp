@@ -288,11 +288,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // segments of up to 512 gaps instead of 64, session 73, 13; a deep-zone jump's landing and a
   // restart far away certified by the pair-distance path first, session 75, 14; a landing certified
   // from the mover's point at the zone's cube it met, without the pair path where that point lies
-  // inside F, session 78, 15):
+  // inside F, session 78, 15; a landing certified at a step's loose width first, full width only
+  // where it may be on the target, session 81, 16):
   // their intervals, and so the polished poses, may differ within the tolerance from earlier
   // binaries'. Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
-    run_key["penetrating_certificates"] = 15;
+    run_key["penetrating_certificates"] = 16;
   // Every certificate since 2026-11-29 (session 37) sets cells far outside F aside by a lower bound
   // of their centre's distance alone (1): intervals and polishing steps, rarely poses, may differ
   // within the tolerance from earlier binaries', whose journals have no such key.
