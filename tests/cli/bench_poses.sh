@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# validation/bench_poses, whose tables doc/performance.md quotes: on a torus pose set it times every
+# level against FCL's conservative advancement, prints one --per-pose line per approach and level
+# (their work adding up to the level's "work a pose"), finds every contact FCL finds, and refuses
+# bad usage and a folder that is not a pose set (exit 2, as every validation program: the file
+# named).
+set -eu
+cdbench=$1
+meshes=$2
+bench=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+"$cdbench" poses "$meshes/torus.off" --levels=-30%,0,6% --directions 4 --orientations 2 -o "$work/set" \
+  > "$work/poses.txt" 2>&1 || { cat "$work/poses.txt"; fail "pose set of the torus"; }
+"$bench" "$work/set" --approaches 6 --per-pose > "$work/bench.txt" 2>&1 || { cat "$work/bench.txt"; fail "bench_poses"; }
+for level in -30% 0 6%; do
+  grep -q "^$level " "$work/bench.txt" || { cat "$work/bench.txt"; fail "no row for level $level"; }
+  [ "$(grep -c "^pose approach [0-9]* level $level:" "$work/bench.txt")" -eq 6 ] ||
+    { cat "$work/bench.txt"; fail "expected 6 per-pose lines at level $level"; }
+done
+grep -q "^all " "$work/bench.txt" || fail "no all-levels row"
+grep -q "FCL found none 0" "$work/bench.txt" || { cat "$work/bench.txt"; fail "FCL missed a contact the exact sweep found"; }
+# The per-pose cells at -30 % add up to the level's mean "certificate cells" times the approaches.
+python3 - "$work/bench.txt" <<'PY' || fail "per-pose cells do not add up to the level's work"
+import re, sys
+text = open(sys.argv[1]).read()
+cells = [int(c) for c in re.findall(r"^pose approach \d+ level -30%: .*?cells (\d+),", text, re.M)]
+mean = float(re.search(r"^work a pose -30%: certificate cells ([0-9.]+)", text, re.M).group(1))
+sys.exit(0 if len(cells) == 6 and abs(sum(cells) / 6 - mean) <= 0.5 else 1)
+PY
+set +e
+"$bench" "$work/set" --approaches 6 --no-such-option > "$work/usage.txt" 2>&1
+[ $? -eq 2 ] || fail "an unknown option must exit 2"
+"$bench" > /dev/null 2>&1
+[ $? -eq 2 ] || fail "no pose set must exit 2"
+mkdir -p "$work/empty"
+"$bench" "$work/empty" > "$work/empty.txt" 2>&1
+rc=$?
+set -e
+[ $rc -eq 2 ] || { cat "$work/empty.txt"; fail "a folder without a pose set must exit 2 (got $rc)"; }
+grep -q "poseset.json" "$work/empty.txt" || { cat "$work/empty.txt"; fail "the missing file must be named"; }
+echo "bench_poses: ok"
