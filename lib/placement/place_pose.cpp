@@ -678,6 +678,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       const double lambda0 = out.lambda;
       const ClearanceResult c0 = c;
       const ClearanceFrontier f0 = frontier;
+      const bool loose0 = last_loose;  // c0's width, restored with it
       // After a short jump (at most kWarmJumpTargets |target|) the frontier's cells, sized by the
       // depths about the mover, mostly still decide: a warm start re-evaluates them where they
       // matter (rotor with pinion, jumps of 0.4-1.8 |target|: 2-3 ms a certificate instead of 4-8 ms
@@ -698,6 +699,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         out.lambda = lambda0;
         c = c0;
         frontier = f0;
+        last_loose = loose0;
         adopt(c);
       } else {
         ++out.cover_jumps;
