@@ -240,8 +240,11 @@ class DeepZoneJumps {
     // After the cover, only from kAfterCoverSteps flat steps: on armadillo's -25 % poses queries
     // after 4 jumped a few gaps on short flat stretches at 16 % more time.
     if (cover_asked_ && flat < kAfterCoverSteps) return kNaN;
-    const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_,
-                                                         flat >= kPlateauSteps && flat_slope <= kPlateauSlope);
+    const ZonePlateau plateau = !(flat_slope <= kPlateauSlope) ? ZonePlateau::none
+                                : flat >= kLongPlateauSteps    ? ZonePlateau::long_plateau
+                                : flat >= kPlateauSteps        ? ZonePlateau::plateau
+                                                               : ZonePlateau::none;
+    const std::uint64_t budget = deep_zone_query_budget(options_, cells, tried_, plateau);
     if (budget == 0) return kNaN;
     // A query that ran out is held and continued by the next try (with twice the budget) rather
     // than started again, with its own leaves while they are at most 1.2 times the size this gap
@@ -286,6 +289,9 @@ class DeepZoneJumps {
   // -17 %: 17.4 -> 8.7x FCL); 16 and below cost spool and cactus 8-70 % (doc/performance.md,
   // "Near-target plateaus asked sooner").
   static constexpr int kPlateauSteps = 4, kNearPlateauSteps = 20, kAfterCoverSteps = 16;
+  // A plateau this long gets PoseOptions::deep_zone_long_plateau_cubes_per_cell (16 steps: half the
+  // gain on the repaired shells, doc/performance.md, "Long plateaus' budget").
+  static constexpr int kLongPlateauSteps = 8;
   // Thin machined parts' plateaus (rotor -20 %, alone or with pinion moving) at their fourth
   // step: c fell by at most 1/16 of the advance over the run or over its last two steps, mostly
   // both (some plateaus begin with the end of a fall); glancing slides (a sheet bracket, thin
@@ -331,10 +337,12 @@ LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, d
 }
 
 std::uint64_t deep_zone_query_budget(const PoseOptions& options, std::uint64_t cells, std::uint64_t tried,
-                                     bool plateau) {
+                                     ZonePlateau plateau) {
   const std::uint64_t least = std::max<std::uint64_t>(options.deep_zone_min_cubes, 1);
-  double by_work = options.deep_zone_cubes_per_cell * static_cast<double>(cells);
-  if (plateau) by_work = std::max(by_work, static_cast<double>(least));
+  const double per_cell = plateau == ZonePlateau::long_plateau ? options.deep_zone_long_plateau_cubes_per_cell
+                                                               : options.deep_zone_cubes_per_cell;
+  double by_work = per_cell * static_cast<double>(cells);
+  if (plateau != ZonePlateau::none) by_work = std::max(by_work, static_cast<double>(least));
   const std::uint64_t budget = by_work >= static_cast<double>(options.deep_zone_cubes)
                                    ? options.deep_zone_cubes
                                    : static_cast<std::uint64_t>(by_work);

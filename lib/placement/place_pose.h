@@ -153,6 +153,13 @@ struct PoseOptions {
   // about four times the advance it could have spared, and a long plateau soon pays for one
   // (doc/performance.md, "Thin shells").
   double deep_zone_cubes_per_cell = 4.0;
+  // On a long plateau (c flat for DeepZoneJumps' 8 steps, falling by at most 1/16 of the advance),
+  // this many instead: there the pose's steps while a held query waits for its budget are mostly
+  // spared by the jump it finds (the repaired thin shells' -20 % poses: lion 11 %, lion-head 5 %,
+  // the shark 6 % faster, their certificate cells 1.3-2x fewer), while thin CAD parts' queries,
+  // asked sooner on shorter stretches, seldom wait so long (rotor, spool, pinion moving against
+  // spool, a thin tube as the mover: the same work; doc/performance.md, "Long plateaus' budget").
+  double deep_zone_long_plateau_cubes_per_cell = 16.0;
   // A query gets at least this many cubes or none: on thin machined parts' plateaus smaller
   // budgets ran out and were paid again, while every query completed within 11,000 (rotor -20 %;
   // doc/performance.md, "Clipped cubes"). A pose reaches it by its own work
@@ -180,13 +187,18 @@ DeepCoverOptions deep_cover_options(double target,
 // mover's path (a memo, no cover), asked only once c has been flat for 4 steps.
 bool deep_cover_wanted(double target, double max_penetration);
 
+// How long c has been flat where a pose asks the zone's octree (place_pose): not a plateau; a
+// plateau (4 flat steps over which, or over the last two of which, c fell by at most 1/16 of the
+// advance); a long one (8 such steps).
+enum class ZonePlateau { none, plateau, long_plateau };
 // The cube budget of a pose's next octree query (PoseOptions::deep_zone_cubes): cells is the
-// pose's certificate cells so far, tried the budget of its last query that ran out (0: none),
-// plateau whether c has been flat long (then at least PoseOptions::deep_zone_min_cubes).
+// pose's certificate cells so far, tried the budget of its last query that ran out (0: none). On a
+// plateau at least PoseOptions::deep_zone_min_cubes; on a long one
+// deep_zone_long_plateau_cubes_per_cell a cell instead of deep_zone_cubes_per_cell.
 // 0: no query is due (below deep_zone_min_cubes, or not yet double the last one, unless it is the
 // first at the cap).
 std::uint64_t deep_zone_query_budget(const PoseOptions& options, std::uint64_t cells, std::uint64_t tried,
-                                     bool plateau = false);
+                                     ZonePlateau plateau = ZonePlateau::none);
 
 // A level's deep-zone state, shared by its poses: the cover (built by the first pose that asks)
 // and the memo of its octree's cube verdicts. The cover null where deep_cover_wanted says no,

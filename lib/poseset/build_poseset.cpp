@@ -248,18 +248,21 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // flat steps instead of 8 since session 57: 7; with the octree asked on a long plateau after a
   // cover contact not worth a jump since session 59: 8; the floor only where c fell by at most
   // 1/16 of the advance over the flat steps or the last two, since session 65: 9; the octree asked
-  // on a plateau of 16 flat steps after a jump to the cover's contact too, since session 75: 10):
+  // on a plateau of 16 flat steps after a jump to the cover's contact too, since session 75: 10;
+  // queries on a plateau of 8 flat steps with 16 cubes a certificate cell instead of 4, since
+  // session 81: 11):
   // their poses may differ within the tolerance from earlier binaries', whose journals must
   // therefore not be resumed or merged with them. Absent otherwise, so that other runs still
   // resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
-    run_key["deep_zone_jumps"] = 10;
+    run_key["deep_zone_jumps"] = 11;
   // Penetrating levels shallower than a fifth of M (no cover) jump to the octree's contact too since
   // session 48 after 32 flat steps (1), since session 49 after 8 (2), since session 57 after 4 (3),
-  // since session 65 only where c fell by at most 1/16 of the advance over them or the last two (4);
-  // absent otherwise.
+  // since session 65 only where c fell by at most 1/16 of the advance over them or the last two (4),
+  // with 16 cubes a certificate cell on a plateau of 8 such steps since session 81 (5); absent
+  // otherwise.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo && !z.cover; }))
-    run_key["shallow_zone_jumps"] = 4;
+    run_key["shallow_zone_jumps"] = 5;
   // Plateaus within a tenth of |target| above it ask the zone too once 64 steps long (session 48:
   // 1; since session 57 steps over which the gap has not fallen to an eighth, and a jump of at
   // most 2 |target| keeps the certificate's frontier: 2; since session 58 a jump of at most 4

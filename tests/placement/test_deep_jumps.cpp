@@ -58,9 +58,14 @@ TEST(DeepJumps, OctreeBudgetDoublesAndTriesTheCapOnce) {
   // On a plateau a pose gets the least query before its work reaches it, and more by its work.
   o.deep_zone_min_cubes = 20000;
   EXPECT_EQ(deep_zone_query_budget(o, 1000, 0), 0u);
-  EXPECT_EQ(deep_zone_query_budget(o, 1000, 0, true), 20000u);
-  EXPECT_EQ(deep_zone_query_budget(o, 1000, 20000, true), 0u);  // that ran out: not yet double
-  EXPECT_EQ(deep_zone_query_budget(o, 10000, 20000, true), 40000u);
+  EXPECT_EQ(deep_zone_query_budget(o, 1000, 0, ZonePlateau::plateau), 20000u);
+  EXPECT_EQ(deep_zone_query_budget(o, 1000, 20000, ZonePlateau::plateau), 0u);  // that ran out: not yet double
+  EXPECT_EQ(deep_zone_query_budget(o, 10000, 20000, ZonePlateau::plateau), 40000u);
+  // On a long plateau its own cubes a cell: 16 x 10,000 (4 x 10,000 on a plateau, above).
+  o.deep_zone_long_plateau_cubes_per_cell = 16.0;
+  EXPECT_EQ(deep_zone_query_budget(o, 1000, 0, ZonePlateau::long_plateau), 20000u);  // the least
+  EXPECT_EQ(deep_zone_query_budget(o, 10000, 20000, ZonePlateau::long_plateau), 160000u);
+  EXPECT_EQ(deep_zone_query_budget(o, 10000, 100000, ZonePlateau::long_plateau), 0u);  // not double
   o.deep_zone_cubes = 0;
   EXPECT_EQ(deep_zone_query_budget(o, 1000000, 0), 0u);  // no octree
 }
