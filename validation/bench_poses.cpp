@@ -186,7 +186,8 @@ static int run(int argc, char** argv) {
       lpo.start = level_start[l];
       t0 = Clock::now();
       const PoseOutcome p = place_pose(setup, *frame, swept, d, level_target[l], lpo, &memo);
-      level_seconds[l] += seconds_since(t0);
+      const double pose_seconds = seconds_since(t0);
+      level_seconds[l] += pose_seconds;
       level_certified[l] += p.contact && p.certified && p.on_target;
       level_steps[l] += static_cast<std::size_t>(p.steps);
       level_jumps[l] += static_cast<std::size_t>(p.cover_jumps);
@@ -197,7 +198,7 @@ static int run(int argc, char** argv) {
       if (per_pose)
         std::printf("pose approach %zu level %s: %.3f ms, steps %d, cells %llu, two-sided %d, segments %d, jumps %d, "
                     "cubes %llu%s\n",
-                    a, ps["levels"][l]["spec"].get<std::string>().c_str(), 1e3 * seconds_since(t0), p.steps,
+                    a, ps["levels"][l]["spec"].get<std::string>().c_str(), 1e3 * pose_seconds, p.steps,
                     static_cast<unsigned long long>(p.clearance_cells), p.two_sided_tries, p.segment_tries,
                     p.cover_jumps, static_cast<unsigned long long>(p.zone_cubes),
                     p.certified && p.on_target ? "" : " (not certified on target)");

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "core/interval.h"
@@ -380,10 +381,8 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
             const bool other_side = std::any_of(sorted.begin(), sorted.end(), [&](std::uint32_t t) {
               return sdf.planes()[t].n.dot(first) < 0.0;
             });
-            if (!other_side && sdf.triangles_within(cell.center, round_up(r + snapshot + eps), kMaxSlabTriangles, wide)) {
-              sorted = wide;
-              sort_nearest_first(sdf, cell.center, sorted);
-            }
+            if (!other_side && region_seeds(sdf, cell.center, round_up(r + snapshot + eps), kMaxSlabTriangles, nullptr, wide))
+              std::swap(sorted, wide);
             const std::array<Vec3, 8> corners = cube_corners(cell.center, half);
             o.upper = std::min(
                 o.upper, region_depth_bound(sdf, cell.center, o.sign, corners.data(), 8, sorted, {snapshot + eps, regrow_everywhere, false},
