@@ -4,16 +4,13 @@
 # (their work adding up to the level's "work a pose"), finds every contact FCL finds, and refuses
 # bad usage and a folder that is not a pose set (exit 2, as every validation program: the file
 # named).
-set -eu
 cdbench=$1
 meshes=$2
 bench=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/common.sh"
 "$cdbench" poses "$meshes/torus.off" --levels=-30%,0,6% --directions 4 --orientations 2 -o "$work/set" \
   > "$work/poses.txt" 2>&1 || { cat "$work/poses.txt"; fail "pose set of the torus"; }
-"$bench" "$work/set" --approaches 6 --per-pose > "$work/bench.txt" 2>&1 || { cat "$work/bench.txt"; fail "bench_poses"; }
+logged "$work/bench.txt" "bench_poses" "$bench" "$work/set" --approaches 6 --per-pose
 for level in -30% 0 6%; do
   grep -q "^$level " "$work/bench.txt" || { cat "$work/bench.txt"; fail "no row for level $level"; }
   [ "$(grep -c "^pose approach [0-9]* level $level:" "$work/bench.txt")" -eq 6 ] ||

@@ -4,13 +4,10 @@
 # byte-identical poses.csv, the bundle accepted by bench and score, and deliberately wrong answers
 # scored as exactly those false positives and negatives. With validation/check_poses (third
 # argument), sampled certificates are confirmed independently.
-set -eu
 cdbench=$1
 meshes=$2
 check_poses=${3:-}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/common.sh"
 
 # Fixed: the sphere (radius 1 about the origin); mover: the box. Random rotations; translations
 # from deep inside to well apart.
@@ -99,10 +96,10 @@ cmp "$work/m/poses.csv" "$work/r/poses.csv" || fail "resumed poses.csv differs"
 # Its poses have no targets: the plots place the levels by their order (gnuplot refused the NaN
 # percentages until session 59).
 if command -v gnuplot > /dev/null 2>&1; then
-  "$cdbench" plot "$work/b" > "$work/plot.txt" 2>&1 || { cat "$work/plot.txt"; fail "plot of poses without targets"; }
+  logged "$work/plot.txt" "plot of poses without targets" "$cdbench" plot "$work/b"
   [ -s "$work/b/time_vs_level.png" ] && [ -s "$work/b/bv_tests_vs_level.svg" ] || fail "plot files missing"
   # validate has no errors to plot there: its figure says so instead of gnuplot failing.
-  "$cdbench" validate "$work/m" -o "$work/v" > "$work/v.txt" 2>&1 || { cat "$work/v.txt"; fail "validate of poses without targets"; }
+  logged "$work/v.txt" "validate of poses without targets" "$cdbench" validate "$work/m" -o "$work/v"
   [ -s "$work/v/error_distribution_0.png" ] || fail "validate's figure missing"
 fi
 python3 - "$work" <<'PY'

@@ -4,13 +4,10 @@
 # touching and separated poses of a torus and of a box moved against a torus; it confirms the
 # certificates of a pose set, sampled evenly over its levels, and refuses one whose intervals were
 # moved (exit 1, NOT CONFIRMED); usage errors exit 2.
-set -eu
 cdbench=$1
 meshes=$2
 check=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/common.sh"
 "$cdbench" poses "$meshes/torus.off" --levels=-30%,0,7% --directions 6 --orientations 2 -o "$work/self" \
   > "$work/self.txt" 2>&1 || { cat "$work/self.txt"; fail "pose set of the torus"; }
 "$cdbench" poses "$meshes/torus.off" --mover "$meshes/box.off" --levels=-20%,0,3% --directions 6 --orientations 2 \

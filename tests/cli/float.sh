@@ -5,13 +5,10 @@
 # request (zero wrong signs and missed contacts), several grids (error against voxel size), and
 # bad options. With validation/check_poses (third argument), validate's intervals are confirmed
 # independently.
-set -eu
 cdbench=$1
 meshes=$2
 check_poses=${3:-}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/common.sh"
 mesh="$meshes/sphere.off"
 req=(--levels=-20%,0,10% --directions 5 --orientations 2)
 
