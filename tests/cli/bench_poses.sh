@@ -8,8 +8,8 @@ cdbench=$1
 meshes=$2
 bench=$3
 . "$(dirname "$0")/common.sh"
-"$cdbench" poses "$meshes/torus.off" --levels=-30%,0,6% --directions 4 --orientations 2 -o "$work/set" \
-  > "$work/poses.txt" 2>&1 || { cat "$work/poses.txt"; fail "pose set of the torus"; }
+logged "$work/poses.txt" "pose set of the torus" \
+  "$cdbench" poses "$meshes/torus.off" --levels=-30%,0,6% --directions 4 --orientations 2 -o "$work/set"
 logged "$work/bench.txt" "bench_poses" "$bench" "$work/set" --approaches 6 --per-pose
 for level in -30% 0 6%; do
   grep -q "^$level " "$work/bench.txt" || { cat "$work/bench.txt"; fail "no row for level $level"; }

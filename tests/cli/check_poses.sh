@@ -8,8 +8,8 @@ cdbench=$1
 meshes=$2
 check=$3
 . "$(dirname "$0")/common.sh"
-"$cdbench" poses "$meshes/torus.off" --levels=-30%,0,7% --directions 6 --orientations 2 -o "$work/self" \
-  > "$work/self.txt" 2>&1 || { cat "$work/self.txt"; fail "pose set of the torus"; }
+logged "$work/self.txt" "pose set of the torus" \
+  "$cdbench" poses "$meshes/torus.off" --levels=-30%,0,7% --directions 6 --orientations 2 -o "$work/self"
 "$cdbench" poses "$meshes/torus.off" --mover "$meshes/box.off" --levels=-20%,0,3% --directions 6 --orientations 2 \
   -o "$work/box" > "$work/box.txt" 2>&1 || { cat "$work/box.txt"; fail "pose set of the box against the torus"; }
 for set in self box; do

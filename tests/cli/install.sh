@@ -35,8 +35,8 @@ grep -q "t = (0, 0, 0): clearance in \[0.498198940110.*answer collides: false-po
   || { cat "$work/consumer.txt"; fail "consumer output"; }
 grep -q "t = (5, 0, 0): .*answer free: ok" "$work/consumer.txt" || fail "consumer output (separated)"
 
-cmake -S "$src/examples/fcl_plugin" -B "$work/plugin" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release \
-  > "$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure the example plugin"; }
+logged "$work/configure.log" "configure the example plugin" \
+  cmake -S "$src/examples/fcl_plugin" -B "$work/plugin" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$work/plugin" > "$work/build.log" 2>&1 || build_failed "$work/build.log" "build the example plugin"
 plugin="$work/plugin/libcdbench_fcl_obbrss.so"
 [ -f "$plugin" ] || fail "no plugin library"
