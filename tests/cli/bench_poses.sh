@@ -4,10 +4,10 @@
 # (their work adding up to the level's "work a pose"), finds every contact FCL finds, and refuses
 # bad usage and a folder that is not a pose set (exit 2, as every validation program: the file
 # named).
+. "$(dirname "$0")/common.sh"
 cdbench=$1
 meshes=$2
 bench=$3
-. "$(dirname "$0")/common.sh"
 logged "$work/poses.txt" "pose set of the torus" \
   "$cdbench" poses "$meshes/torus.off" --levels=-30%,0,6% --directions 4 --orientations 2 -o "$work/set"
 logged "$work/bench.txt" "bench_poses" "$bench" "$work/set" --approaches 6 --per-pose

@@ -4,10 +4,10 @@
 # byte-identical poses.csv, the bundle accepted by bench and score, and deliberately wrong answers
 # scored as exactly those false positives and negatives. With validation/check_poses (third
 # argument), sampled certificates are confirmed independently.
+. "$(dirname "$0")/common.sh"
 cdbench=$1
 meshes=$2
 check_poses=${3:-}
-. "$(dirname "$0")/common.sh"
 
 # Fixed: the sphere (radius 1 about the origin); mover: the box. Random rotations; translations
 # from deep inside to well apart.

@@ -4,10 +4,10 @@
 # touching and separated poses of a torus and of a box moved against a torus; it confirms the
 # certificates of a pose set, sampled evenly over its levels, and refuses one whose intervals were
 # moved (exit 1, NOT CONFIRMED); usage errors exit 2.
+. "$(dirname "$0")/common.sh"
 cdbench=$1
 meshes=$2
 check=$3
-. "$(dirname "$0")/common.sh"
 logged "$work/self.txt" "pose set of the torus" \
   "$cdbench" poses "$meshes/torus.off" --levels=-30%,0,7% --directions 6 --orientations 2 -o "$work/self"
 "$cdbench" poses "$meshes/torus.off" --mover "$meshes/box.off" --levels=-20%,0,3% --directions 6 --orientations 2 \

@@ -5,9 +5,9 @@
 # rigorous interval holding the true clearance 0, reported as not reaching the tolerance on a
 # torus, certified on a convex sphere).
 # Coordinates out of scale and a 1-face input are in data/bad (cli_bad_inputs).
+. "$(dirname "$0")/common.sh"
 cdbench=$1
 meshes=$2
-. "$(dirname "$0")/common.sh"
 python3 - "$meshes/box.off" "$work" <<'PY'
 import sys
 lines = open(sys.argv[1]).read().split("\n")

@@ -5,10 +5,10 @@
 # request (zero wrong signs and missed contacts), several grids (error against voxel size), and
 # bad options. With validation/check_poses (third argument), validate's intervals are confirmed
 # independently.
+. "$(dirname "$0")/common.sh"
 cdbench=$1
 meshes=$2
 check_poses=${3:-}
-. "$(dirname "$0")/common.sh"
 mesh="$meshes/sphere.off"
 req=(--levels=-20%,0,10% --directions 5 --orientations 2)
 

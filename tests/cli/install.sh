@@ -3,10 +3,10 @@
 # through find_package(cdbench)) and run it; build examples/fcl_plugin against the same prefix, time
 # it with `cdbench bench --impl plugin:...` on a certified pose set, and check that its verdicts and
 # BV-test counts equal the built-in fcl-obbrss ones; a file that is not a plugin is refused.
+. "$(dirname "$0")/common.sh"
 build=$1
 src=$2
 meshes=$3
-. "$(dirname "$0")/common.sh"
 # A failed build prints its log, then its error lines again last (CI keeps only the tail).
 build_failed() {
   cat "$1"

@@ -1,11 +1,9 @@
 #!/usr/bin/env bash
 # cdbench offset end to end on a small mesh: exit code, manifest, byte-identical outputs from a
 # fresh directory, reuse on a re-run, and a clear error for a bad level list.
-set -eu
+. "$(dirname "$0")/common.sh"
 cdbench=$1
 mesh=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 args=(offset "$mesh" --levels=-50%,-150%,0,0.2 --tolerance 5e-3 --mesher-radius 0.05)
 # The generator of larger meshes of the same shape: 4x the faces, validated, written.
 "$cdbench" subdivide "$mesh" "$work/fine.off" --steps 1 > "$work/s.txt"

@@ -3,10 +3,10 @@
 # report (JSON beside the output), refusal with --no-wrap, and FCL's test meshes where present
 # (../shared/meshes/fcl beside the checkout), checked independently by validation/check_repair
 # when it is built.
+. "$(dirname "$0")/common.sh"
 cdbench=$1
 data=$2
 check_repair=${3:-}
-. "$(dirname "$0")/common.sh"
 
 # Two unit cubes as separate blocks touching along x = 1 (the soup a CAD export gives).
 python3 - "$work/two.off" <<'PY'
