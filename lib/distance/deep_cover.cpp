@@ -128,15 +128,17 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
   }
   // The parent's list holds q's nearest triangles when it holds every triangle within an upper
   // bound of dist(q, F) of q, and the segment from the parent's centre when it reaches q.
+  bool unique = false;  // v.nearest is q's only nearest triangle
   const Interval ud = parent && parent->covers(q, hint_distance)
-                          ? fixed.unsigned_distance_among(q, parent->ids, &v.nearest)
-                          : fixed.unsigned_distance(q, &v.nearest, cube.hint);
+                          ? fixed.unsigned_distance_among(q, parent->ids, &v.nearest, DistanceEnds::enclosed, &unique)
+                          : fixed.unsigned_distance(q, &v.nearest, cube.hint, DistanceEnds::enclosed, &unique);
   v.free = ud.lo;
   v.near = ud.hi;
   // s >= -dist(x, F) everywhere: shallow whatever q's side.
   if (round_up(ud.hi + r) < depth) return v;
   const bool segment_listed = parent && cube.ref_side != 0 && parent->covers(q, 0.0);
   const int side = in_free_ball         ? cube.ref_side
+                   : unique             ? fixed.side_by_nearest(q, ud, v.nearest, cube.ref, cube.ref_side)
                    : segment_listed     ? fixed.side_among(q, ud, cube.ref, cube.ref_side, parent->ids)
                    : cube.ref_side != 0 ? fixed.side(q, ud, cube.ref, cube.ref_side)
                                         : fixed.side(q, ud);

@@ -15,6 +15,11 @@ bool vectors_coplanar(const Vec3& a, const Vec3& b, const Vec3& c) {
   return CGAL::orientation(K::Point_3(0.0, 0.0, 0.0), P(a), P(b), P(c)) == CGAL::COPLANAR;
 }
 
+int orientation_sign(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  // CGAL's orientation is the sign of det(b - a, c - a, d - a) = ((b - a) x (c - a)) . (d - a).
+  return static_cast<int>(CGAL::orientation(P(a), P(b), P(c), P(d)));
+}
+
 bool point_on_triangle(const Vec3& pd, const Vec3& ad, const Vec3& bd, const Vec3& cd) {
   const K::Point_3 p = P(pd), a = P(ad), b = P(bd), c = P(cd);
   if (CGAL::collinear(a, b, c)) {

@@ -14,6 +14,10 @@ bool corners_collinear(const Vec3& a, const Vec3& b, const Vec3& c);
 // Whether the vectors a, b and c are linearly dependent (exact): their determinant is 0.
 bool vectors_coplanar(const Vec3& a, const Vec3& b, const Vec3& c);
 
+// The sign of the orientation of d against the triangle abc (exact): +1 when d lies on the side its
+// normal (b - a) x (c - a) points to, -1 on the other, 0 in its plane (or abc degenerate).
+int orientation_sign(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
 // Whether the closed triangles abc and def share a point (exact). A degenerate triangle (collinear
 // corners) is the union of its edges, a segment or a point. The one exact triangle-triangle
 // intersection test: certified distances and our collision trees both use it.

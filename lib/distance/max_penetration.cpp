@@ -272,7 +272,8 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
         // depth over the cell <= dist(c) + r <= snapshot + eps.
         const double theta = snapshot + eps - r;
         Interval d;
-        if (sdf.distance_at_most(cell.center, theta, &d, &o.near, cell.near)) {
+        bool unique = false;  // o.near is the centre's only nearest triangle
+        if (sdf.distance_at_most(cell.center, theta, &d, &o.near, cell.near, &unique)) {
           o.upper = round_up(theta + r);
           if (options.progress) progress.advance();
           continue;
@@ -281,7 +282,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
         o.sign = cell.sign;
         if (o.sign == 0) {
           o.side_query = true;
-          const int s = sdf.side(cell.center, d);
+          const int s = unique ? sdf.side_by_nearest(cell.center, d, o.near, cell.center, 0) : sdf.side(cell.center, d);
           o.sign = static_cast<signed char>(s == 0 ? 1 : s);  // on the surface: depth 0, treat as outside
         }
         o.child_margin = d.lo;

@@ -5,6 +5,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -369,7 +370,8 @@ bool SignedDistance::triangles_near_triangle(const std::array<Vec3, 3>& v, doubl
   return !q.overflow;
 }
 
-SignedDistance::SignedDistance(TriangleMesh mesh) : mesh_(std::move(mesh)), bbox_(mesh_.bbox()) {
+SignedDistance::SignedDistance(TriangleMesh mesh)
+    : mesh_(std::move(mesh)), bbox_(mesh_.bbox()), face_outward_(new std::atomic<std::int8_t>[mesh_.faces.size()]()) {
   // Boxes of double vertices are exact. The faces' planes beside the tree, on all threads (at
   // 832,000 faces a serial loop that other threads waited for).
   tbb::parallel_invoke(
@@ -395,7 +397,7 @@ namespace {
 // not lie at or below the final pruning threshold (the caller then runs the rigorous query).
 bool finish_fast(const SignedDistance& sd, const FastNearestPolicy& fast,
                  const std::vector<std::pair<double, std::uint32_t>>& near, Interval* out, std::uint32_t* nearest,
-                 DistanceEnds ends) {
+                 DistanceEnds ends, bool* unique) {
   if (!(fast.best.key < kInf)) return false;
   // A triangle's squared distance enclosed (`enclosed`), or between its slab bound and the square of
   // its near-point upper bound (`near_points`: no enclosure).
@@ -408,14 +410,28 @@ bool finish_fast(const SignedDistance& sd, const FastNearestPolicy& fast,
   if (!(best.hi <= fast.threshold_sq)) return false;
   double lo = best.lo;
   LeastKey upper{best.hi, fast.best.index};  // ties: the least index, whatever the order of `near`
+  thread_local std::vector<std::pair<double, std::uint32_t>> lows;  // (lower end squared, face) of `near`
+  lows.clear();
+  lows.emplace_back(best.lo, fast.best.index);
   for (const auto& [lb_sq, f] : near)
     if (lb_sq < best.hi && f != fast.best.index) {
       const Interval x = enclose(f, lb_sq);
       lo = std::min(lo, x.lo);
       upper.offer(x.hi, f);
+      lows.emplace_back(x.lo, f);
+    } else {
+      lows.emplace_back(lb_sq, f);
     }
   if (nearest) *nearest = upper.index;
   *out = sqrt_interval({lo, upper.key});
+  if (unique) {
+    // The nearest triangle is the only one at dist(p, F) when every other lies farther than its
+    // upper end: those left out of `near` or pruned lie at or beyond the final threshold (it only
+    // falls), those in it beyond their lower ends.
+    bool u = upper.key < fast.threshold_sq;
+    for (std::size_t i = 0; u && i < lows.size(); ++i) u = lows[i].second == upper.index || lows[i].first > upper.key;
+    *unique = u;
+  }
   return true;
 }
 
@@ -423,7 +439,7 @@ bool finish_fast(const SignedDistance& sd, const FastNearestPolicy& fast,
 // the fast policy first, the rigorous one when the fast result cannot be confirmed.
 template <class Visit>
 Interval nearest_distance(const SignedDistance& sd, const Vec3& p, const Visit& visit, std::uint32_t* nearest,
-                          DistanceEnds ends) {
+                          DistanceEnds ends, bool* unique) {
   // Margin of the estimate: far above its rounding near the surface (scale: the box and p).
   const double scale = sd.bbox().lo.cwiseAbs().maxCoeff() + sd.bbox().hi.cwiseAbs().maxCoeff() + p.cwiseAbs().maxCoeff();
   thread_local std::vector<std::pair<double, std::uint32_t>> near;
@@ -431,7 +447,8 @@ Interval nearest_distance(const SignedDistance& sd, const Vec3& p, const Visit& 
   FastNearestPolicy fast{sd.mesh(), sd.planes(), p, (1e-10 * scale) * (1e-10 * scale), near};
   visit(fast);
   Interval d;
-  if (finish_fast(sd, fast, near, &d, nearest, ends)) return d;
+  if (finish_fast(sd, fast, near, &d, nearest, ends, unique)) return d;
+  if (unique) *unique = false;  // not asked of the rigorous query (rare)
   NearestPolicy q{sd.mesh(), p};
   visit(q);
   if (nearest) *nearest = q.best_face();
@@ -441,7 +458,7 @@ Interval nearest_distance(const SignedDistance& sd, const Vec3& p, const Visit& 
 }  // namespace
 
 Interval SignedDistance::unsigned_distance(const Vec3& p, std::uint32_t* nearest, std::int64_t hint,
-                                           DistanceEnds ends) const {
+                                           DistanceEnds ends, bool* unique) const {
   const bool hinted = hint >= 0 && static_cast<std::size_t>(hint) < mesh_.faces.size();
   return nearest_distance(
       *this, p,
@@ -450,15 +467,15 @@ Interval SignedDistance::unsigned_distance(const Vec3& p, std::uint32_t* nearest
         if (hinted) policy.leaf(static_cast<std::uint32_t>(hint));
         traverse_nearest_first(tree_, policy);
       },
-      nearest, ends);
+      nearest, ends, unique);
 }
 
 Interval SignedDistance::unsigned_distance_among(const Vec3& p, const std::vector<std::uint32_t>& candidates,
-                                                 std::uint32_t* nearest, DistanceEnds ends) const {
+                                                 std::uint32_t* nearest, DistanceEnds ends, bool* unique) const {
   // The same leaves as the tree query, without the tree: every triangle left out is farther than
   // the nearest, as a pruned subtree is.
   return nearest_distance(
-      *this, p, [&](auto& policy) { for (std::uint32_t f : candidates) policy.leaf(f); }, nearest, ends);
+      *this, p, [&](auto& policy) { for (std::uint32_t f : candidates) policy.leaf(f); }, nearest, ends, unique);
 }
 
 void SignedDistance::triangles_within_among(const Vec3& p, double radius, const std::vector<std::uint32_t>& candidates,
@@ -474,7 +491,7 @@ Interval SignedDistance::face_squared_distance(const Vec3& p, std::uint32_t f) c
 }
 
 bool SignedDistance::distance_at_most(const Vec3& p, double bound, Interval* full, std::uint32_t* nearest,
-                                      std::int64_t hint) const {
+                                      std::int64_t hint, bool* unique) const {
   const bool hinted = hint >= 0 && static_cast<std::size_t>(hint) < mesh_.faces.size();
   if (bound > 0.0) {
     // bound^2 rounded down: an upper end <= stop_sq then implies dist <= bound in exact arithmetic.
@@ -487,7 +504,7 @@ bool SignedDistance::distance_at_most(const Vec3& p, double bound, Interval* ful
     }
   }
   std::uint32_t face = 0;
-  const Interval d = unsigned_distance(p, &face, hint);
+  const Interval d = unsigned_distance(p, &face, hint, DistanceEnds::enclosed, unique);
   if (full) *full = d;
   if (nearest) *nearest = face;
   return false;
@@ -558,6 +575,21 @@ int SignedDistance::segment_side(const Vec3& p, const Interval& unsigned_dist, c
   return parity.crossings % 2 == 1 ? -ref_side : ref_side;
 }
 
+int SignedDistance::side_by_nearest(const Vec3& p, const Interval& unsigned_dist, std::uint32_t face,
+                                    const Vec3& ref, int ref_side) const {
+  if (!(unsigned_dist.lo > 0.0)) return side(p, unsigned_dist);
+  const Face& t = mesh_.faces[face];
+  const int o = orientation_sign(mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]], p);
+  const auto slow = [&] { return ref_side == 1 || ref_side == -1 ? side(p, unsigned_dist, ref, ref_side) : side(p, unsigned_dist); };
+  if (o == 0) return slow();  // a degenerate face (p, off F, is never in a proper face's plane here)
+  std::atomic<std::int8_t>& known = face_outward_[face];
+  const int sigma = known.load(std::memory_order_relaxed);
+  if (sigma != 0) return sigma * o;
+  const int s = slow();
+  if (s != 0) known.store(static_cast<std::int8_t>(s * o), std::memory_order_relaxed);
+  return s;
+}
+
 int SignedDistance::side_off_surface(const Vec3& p) const {
   const Vec3 center = bbox_.center();
   const double reach = 2.0 * (bbox_.diagonal() + (p - center).norm()) + 1.0;
@@ -581,6 +613,11 @@ Interval SignedDistance::signed_distance(const Vec3& p, const Interval& d) const
   return with_side(d, side(p, d));
 }
 
-Interval SignedDistance::signed_distance(const Vec3& p) const { return signed_distance(p, unsigned_distance(p)); }
+Interval SignedDistance::signed_distance(const Vec3& p) const {
+  std::uint32_t face = 0;
+  bool unique = false;
+  const Interval d = unsigned_distance(p, &face, -1, DistanceEnds::enclosed, &unique);
+  return with_side(d, unique ? side_by_nearest(p, d, face, p, 0) : side(p, d));
+}
 
 }  // namespace cdbench

@@ -5,8 +5,10 @@
 // are rounded down and from interval arithmetic at the leaves; the sign comes from an exact ray
 // parity test (CGAL's exact orientation predicates). See doc/distance.md.
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "bvh/bvh.h"
@@ -48,14 +50,17 @@ class SignedDistance {
   // rigour: the answer is the same but where a triangle pruned in one order and visited in the
   // other has an enclosure reaching below the nearest one's (a few ulps, rigorous either way).
   // ends: see DistanceEnds (the default encloses both ends).
+  // unique (if given): set when `nearest` is proven the only triangle at dist(p, F) (every other one
+  // lies farther), which side_by_nearest needs; false when that is not proven.
   Interval unsigned_distance(const Vec3& p, std::uint32_t* nearest = nullptr, std::int64_t hint = -1,
-                             DistanceEnds ends = DistanceEnds::enclosed) const;
+                             DistanceEnds ends = DistanceEnds::enclosed, bool* unique = nullptr) const;
 
   // The same, the triangles searched being `candidates` only: they must include every triangle
   // within dist(p, F) of p (e.g. all within a radius known to exceed it), and then the result is
   // that of unsigned_distance, without a tree traversal.
   Interval unsigned_distance_among(const Vec3& p, const std::vector<std::uint32_t>& candidates,
-                                   std::uint32_t* nearest = nullptr, DistanceEnds ends = DistanceEnds::enclosed) const;
+                                   std::uint32_t* nearest = nullptr, DistanceEnds ends = DistanceEnds::enclosed,
+                                   bool* unique = nullptr) const;
 
   // Rigorous enclosure of the squared distance from p to one face (an upper bound of dist(p, F)^2).
   Interval face_squared_distance(const Vec3& p, std::uint32_t face) const;
@@ -63,9 +68,10 @@ class SignedDistance {
   // True when dist(p, F) <= bound is proven; may stop at the first triangle that proves it.
   // False means the full query ran; then `*full` (if given) receives the enclosure of dist(p, F).
   // `nearest` (optional) receives the triangle that proved it, or the nearest one; `hint`, as for
-  // unsigned_distance, only orders the search (a triangle near p is tried first).
+  // unsigned_distance, only orders the search (a triangle near p is tried first); `unique`, when the
+  // full query ran, as for unsigned_distance.
   bool distance_at_most(const Vec3& p, double bound, Interval* full = nullptr, std::uint32_t* nearest = nullptr,
-                        std::int64_t hint = -1) const;
+                        std::int64_t hint = -1, bool* unique = nullptr) const;
 
   // A rigorous lower bound of dist(T, F)^2 for the triangle T = (v0, v1, v2), tight up to rounding
   // where T and F are disjoint. F's tree is searched nearest first from T's box; per triangle the
@@ -120,7 +126,16 @@ class SignedDistance {
   int side_among(const Vec3& p, const Interval& unsigned_dist, const Vec3& ref, int ref_side,
                  const std::vector<std::uint32_t>& candidates) const;
 
-  // [lo, hi] containing the signed distance s(p) (negative inside).
+  // The same when `face` is p's only nearest triangle (unsigned_distance's `unique`): its closest
+  // point to p then lies inside the face (a point of its boundary is on a neighbour too), so p lies
+  // on the side of F that the face's side towards p faces, the same over the whole face. That side
+  // is learnt once per face from side(p, ud, ref, ref_side) (or the ray when ref_side is 0) and
+  // then read with one exact orientation test (doc/distance.md, "Side from the nearest face").
+  int side_by_nearest(const Vec3& p, const Interval& unsigned_dist, std::uint32_t face, const Vec3& ref,
+                      int ref_side) const;
+
+  // [lo, hi] containing the signed distance s(p) (negative inside); the side by side_by_nearest
+  // where p has one nearest triangle, else by the ray.
   Interval signed_distance(const Vec3& p) const;
 
   // Same, when dist(p, F) is already enclosed by `unsigned_dist`.
@@ -137,6 +152,9 @@ class SignedDistance {
   Aabb bbox_;
   Bvh<Aabb> tree_;
   std::vector<TrianglePlane> planes_;  // per face: skips a visited triangle before its closest point
+  // Per face, the side of F (+-1) that the side its normal points to faces; 0 while unknown
+  // (side_by_nearest). Learnt as needed by any thread; shared by copies (the same mesh).
+  std::shared_ptr<std::atomic<std::int8_t>[]> face_outward_;
 };
 
 }  // namespace cdbench

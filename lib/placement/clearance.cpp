@@ -221,9 +221,9 @@ struct ParentCandidates {
 // dist(x, F) from a candidate list when it provably holds x's nearest triangles (they lie within
 // dist(x, F) <= `ud_bound` of x), else from F's tree (`hint`: a triangle likely nearest).
 Interval distance_at(const SignedDistance& fixed, const Vec3& x, const ParentCandidates* list, double ud_bound,
-                     std::uint32_t* nearest = nullptr, std::int64_t hint = -1) {
-  if (list && list->covers(x, ud_bound)) return fixed.unsigned_distance_among(x, list->ids, nearest, kEnds);
-  return fixed.unsigned_distance(x, nearest, hint, kEnds);
+                     std::uint32_t* nearest = nullptr, std::int64_t hint = -1, bool* unique = nullptr) {
+  if (list && list->covers(x, ud_bound)) return fixed.unsigned_distance_among(x, list->ids, nearest, kEnds, unique);
+  return fixed.unsigned_distance(x, nearest, hint, kEnds, unique);
 }
 
 // A lower bound of s on a cell's points placed in doubles at the pose t (rounding `rounding_t`), from
@@ -452,9 +452,14 @@ class BranchAndBound {
   // s at x from its unsigned distance; the side from `ball` when x lies in it, else a ray test.
   // `own` receives the ball about x that this evaluation certifies.
   // known: x's side when already decided (set_aside_far), else 0.
-  Interval signed_at(const Vec3& x, const Interval& ud, const SideBall* ball, SideBall* own, int known = 0) {
+  // unique: x's only nearest triangle of F (SignedDistance::side_by_nearest), or -1.
+  Interval signed_at(const Vec3& x, const Interval& ud, const SideBall* ball, SideBall* own, int known = 0,
+                     std::int64_t unique = -1) {
     int side = known != 0 ? known : side_from_ball(ball, x);
-    // Outside the ball, the parity of the short segment from its centre (of known side).
+    // Outside the ball, the side of its only nearest face, else the parity of the short segment from
+    // its centre (of known side).
+    if (side == 0 && unique >= 0)
+      side = fixed_.side_by_nearest(x, ud, static_cast<std::uint32_t>(unique), ball ? ball->centre : x, ball ? ball->side : 0);
     if (side == 0) side = ball ? fixed_.side(x, ud, ball->centre, ball->side) : fixed_.side(x, ud);
     if (own) *own = SideBall{x, side == 0 ? 0.0 : ud.lo, side};
     return with_side(ud, side);
@@ -494,10 +499,11 @@ class BranchAndBound {
     int known_side = 0;
     if (set_aside_far(centre, r, 0.0, parent, hint, c, &known_side)) return c;
     std::uint32_t nearest = 0;
-    const Interval ud = fixed_.unsigned_distance(centre, &nearest, hint, kEnds);
+    bool unique = false;
+    const Interval ud = fixed_.unsigned_distance(centre, &nearest, hint, kEnds, &unique);
     c.near_face = nearest;
     c.ud_hi = ud.hi;
-    const Interval s = signed_at(centre, ud, parent, &c.ball, known_side);
+    const Interval s = signed_at(centre, ud, parent, &c.ball, known_side, unique ? std::int64_t{nearest} : std::int64_t{-1});
     double lower = down(s.lo - r);
     // The depth bound only when it can set the node aside: never when its centre lies below the
     // threshold (every bound of the node is at most s there), e.g. a large box across F at a contact.
@@ -666,10 +672,11 @@ class BranchAndBound {
     if (!list && set_aside_far(m, up(r + eta_m), upper_, parent, c.near_face, c, &known_side)) return c;
     // dist(m, F) <= dist(parent centre, F) + |m - parent centre|.
     std::uint32_t nearest = 0;
-    const Interval ud = distance_at(fixed_, m, list, list ? list->distance_bound(m) : kInf, &nearest, c.near_face);
+    bool unique = false;
+    const Interval ud = distance_at(fixed_, m, list, list ? list->distance_bound(m) : kInf, &nearest, c.near_face, &unique);
     c.ud_hi = ud.hi;
     c.near_face = nearest;
-    const Interval s = signed_at(m, ud, parent, &c.ball, known_side);
+    const Interval s = signed_at(m, ud, parent, &c.ball, known_side, unique ? std::int64_t{nearest} : std::int64_t{-1});
     const auto& w = geo.w;
     offer_upper(up(s.hi + eta_m), c.id,
                 {w[0] * c.bary[0][0] + w[1] * c.bary[1][0] + w[2] * c.bary[2][0],
@@ -712,12 +719,7 @@ class BranchAndBound {
         if (sep > -kInf) {
           lower = std::max(lower, down(sep - eta));
           // The corner nearest the plane is where the contact is: certify it for the upper end.
-          if (lower < upper_) {
-            ++queries_;
-            const Interval d_corner = distance_at(fixed_, v[corner], list, up(ud.hi + r), nullptr, nearest);
-            const Interval s_corner = signed_at(v[corner], d_corner, &c.ball, nullptr);
-            offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
-          }
+          if (lower < upper_) offer_corner(c, v[corner], corner, list, up(ud.hi + r), nearest, eta);
         }
       }
       // The depth bound sets a cell aside only when -bound >= threshold < 0, and the bound is at
@@ -748,11 +750,8 @@ class BranchAndBound {
         // (Not when the cell's own lower bound already reaches the upper end: s at the corner is
         // at least that, so it could not lower the upper end.)
         if (depth < kInf && down(-depth - eta) < upper_) {
-          ++queries_;
           // dist(corner, F) <= dist(m, F) + |corner - m| <= ud.hi + r.
-          const Interval d_corner = distance_at(fixed_, v[corner], list, up(ud.hi + r), nullptr, nearest);
-          const Interval s_corner = signed_at(v[corner], d_corner, &c.ball, nullptr);
-          offer_upper(up(s_corner.hi + eta), c.id, c.bary[corner]);
+          offer_corner(c, v[corner], corner, list, up(ud.hi + r), nearest, eta);
         }
         lower = std::max(lower, down(-depth - eta));
         // Still not set aside: the weights that minimise the bound over the corners, among the four
@@ -776,6 +775,19 @@ class BranchAndBound {
     }
     c.lower = lower;
     return c;
+  }
+
+  // The corner x (index k) of the face cell c certified for the upper end: dist(x, F) from the
+  // list when it covers `ud_bound` (an upper bound of it), the side from c's ball or x's only
+  // nearest face where it has one.
+  void offer_corner(const Cell& c, const Vec3& x, int k, const ParentCandidates* list, double ud_bound,
+                    std::uint32_t hint, double eta) {
+    ++queries_;
+    std::uint32_t nearest = 0;
+    bool unique = false;
+    const Interval d = distance_at(fixed_, x, list, ud_bound, &nearest, hint, &unique);
+    const Interval s = signed_at(x, d, &c.ball, nullptr, 0, unique ? std::int64_t{nearest} : std::int64_t{-1});
+    offer_upper(up(s.hi + eta), c.id, c.bary[k]);
   }
 
   // The bound of s over a cell (corners v within eta of the exact ones) from the planes of F's

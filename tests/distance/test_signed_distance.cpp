@@ -102,6 +102,93 @@ TEST(SignedDistance, SideFromAReferencePointAgreesWithCgal) {
   EXPECT_GT(flipped, 300);
 }
 
+// unsigned_distance's `unique`: when it is set, every other triangle lies strictly farther than the
+// reported nearest one (exact rational distances), on points near and away from a torus, a thin
+// slab and a sphere, from the tree and from a candidate list holding every triangle; and the side
+// read from that face (side_by_nearest) is CGAL's, also for a mesh with every other face reversed
+// (the side is learnt per face, not assumed from the orientation). Most points near F have one.
+TEST(SignedDistance, SideByTheOnlyNearestFaceAgreesWithCgal) {
+  int unique_points = 0, checked = 0;
+  for (TriangleMesh m : {make_torus(2.0, 0.6, 24, 12), make_box(Vec3(0, 0, 0), Vec3(2, 2, 0.02)),
+                         make_icosphere(1.0, 2)}) {
+    const CgalSide cgal(m);  // of the consistently oriented mesh: the solid is the same
+    for (const bool reverse_half : {false, true}) {
+      if (reverse_half)
+        for (std::size_t f = 0; f < m.faces.size(); f += 2) std::swap(m.faces[f][1], m.faces[f][2]);
+      const SignedDistance sdf(m);
+      std::vector<std::uint32_t> all(m.faces.size());
+      for (std::size_t f = 0; f < all.size(); ++f) all[f] = static_cast<std::uint32_t>(f);
+      int k = 0;
+      for (const Vec3& p : sample_points(m, 31 + (reverse_half ? 1 : 0))) {
+        for (const DistanceEnds ends : {DistanceEnds::enclosed, DistanceEnds::near_points}) {
+          std::uint32_t face = 0;
+          bool unique = false;
+          const Interval d = (++k % 2) ? sdf.unsigned_distance(p, &face, -1, ends, &unique)
+                                       : sdf.unsigned_distance_among(p, all, &face, ends, &unique);
+          if (!unique) continue;
+          ++unique_points;
+          const Face& t = m.faces[face];
+          const Epeck::FT best = testing::exact_squared_distance(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+          const double near = testing::approx_squared_distance(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+          for (std::size_t g = 0; g < m.faces.size(); ++g) {
+            if (g == face) continue;
+            const Face& u = m.faces[g];
+            // Exact where the doubles do not settle it by far.
+            if (testing::approx_squared_distance(p, m.vertices[u[0]], m.vertices[u[1]], m.vertices[u[2]]) >
+                1.01 * near + 1e-12)
+              continue;
+            ASSERT_GT(testing::exact_squared_distance(p, m.vertices[u[0]], m.vertices[u[1]], m.vertices[u[2]]), best)
+                << std::setprecision(17) << "p " << p.transpose() << " faces " << face << ", " << g;
+          }
+          const int truth = cgal(p);
+          if (truth == 0) continue;
+          // A reference of known side, or none (the ray), for the first answer of each face.
+          const Vec3 ref = m.bbox().hi + Vec3(1, 1, 1);
+          ASSERT_EQ(sdf.side_by_nearest(p, d, face, ref, (k % 3) ? 1 : 0), truth)
+              << std::setprecision(17) << "p " << p.transpose() << " face " << face << " reversed half "
+              << reverse_half;
+          ++checked;
+        }
+      }
+    }
+  }
+  EXPECT_GT(unique_points, 800);
+  EXPECT_GT(checked, 600);
+}
+
+// The control: a point whose nearest points lie on an edge has two nearest faces, and the side read
+// from the wrong one is wrong. Beyond the sharp edge of a thin wedge, off one face along its normal,
+// the other face's plane has the point behind it; `unique` is not set there.
+TEST(SignedDistance, SideByNearestNeedsTheOnlyNearestFace) {
+  // A wedge: the triangle prism over (0,0), (1,0), (1,0.1) in x-y, from z = 0 to 1.
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 0.1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0.1, 1}};
+  m.faces = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {2, 0, 3}, {2, 3, 5}};
+  const SignedDistance sdf(m);
+  const CgalSide cgal(m);
+  // Outward normal of the slanted side (faces 6, 7) is about (-0.0995, 0.995, 0); from the sharp
+  // edge at x = 0, z = 0.5, off that side along its normal.
+  const Vec3 n = Vec3(-0.1, 1.0, 0.0).normalized();
+  const Vec3 p = Vec3(0, 0, 0.5) + 0.01 * n;
+  ASSERT_EQ(cgal(p), 1);
+  std::uint32_t face = 0;
+  bool unique = true;
+  const Interval d = sdf.unsigned_distance(p, &face, -1, DistanceEnds::enclosed, &unique);
+  EXPECT_FALSE(unique);
+  // Face 3 (of the y = 0 side, outward normal -y) learns its side from a point off its interior.
+  const Vec3 below(0.3, -0.01, 0.6);
+  std::uint32_t f2 = 0;
+  bool u2 = false;
+  const Interval d2 = sdf.unsigned_distance(below, &f2, -1, DistanceEnds::enclosed, &u2);
+  ASSERT_TRUE(u2);
+  ASSERT_EQ(f2, 3u);
+  ASSERT_EQ(sdf.side_by_nearest(below, d2, f2, below, 0), 1);
+  // p is one of face 3's nearest points' faces too, but lies behind its plane (y > 0): read from
+  // it, p would be inside.
+  EXPECT_EQ(face == 3u || face == 6u, true);
+  EXPECT_EQ(sdf.side_by_nearest(p, d, f2, below, 0), -1);
+}
+
 TEST(SignedDistance, BoxPointsExactlyOnFacesEdgesAndVertices) {
   const TriangleMesh m = make_box(Vec3(0, 0, 0), Vec3(1, 2, 4));
   std::vector<Vec3> pts = {{0.5, 0, 1},  {1, 1, 2},   {0.25, 2, 3}, {0, 0, 1},    {1, 2, 0.5}, {0, 0, 0},
