@@ -576,11 +576,14 @@ int SignedDistance::segment_side(const Vec3& p, const Interval& unsigned_dist, c
 }
 
 int SignedDistance::side_by_nearest(const Vec3& p, const Interval& unsigned_dist, std::uint32_t face,
-                                    const Vec3& ref, int ref_side) const {
+                                    const Vec3& ref, int ref_side, const std::vector<std::uint32_t>* candidates) const {
   if (!(unsigned_dist.lo > 0.0)) return side(p, unsigned_dist);
   const Face& t = mesh_.faces[face];
   const int o = orientation_sign(mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]], p);
-  const auto slow = [&] { return ref_side == 1 || ref_side == -1 ? side(p, unsigned_dist, ref, ref_side) : side(p, unsigned_dist); };
+  const auto slow = [&] {
+    return ref_side == 1 || ref_side == -1 ? segment_side(p, unsigned_dist, ref, ref_side, candidates)
+                                           : side(p, unsigned_dist);
+  };
   if (o == 0) return slow();  // a degenerate face (p, off F, is never in a proper face's plane here)
   std::atomic<std::int8_t>& known = face_outward_[face];
   const int sigma = known.load(std::memory_order_relaxed);

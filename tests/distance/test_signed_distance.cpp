@@ -142,9 +142,10 @@ TEST(SignedDistance, SideByTheOnlyNearestFaceAgreesWithCgal) {
           }
           const int truth = cgal(p);
           if (truth == 0) continue;
-          // A reference of known side, or none (the ray), for the first answer of each face.
+          // A reference of known side (its segment's crossings from the tree or from a list of
+          // every face), or none (the ray), for the first answer of each face.
           const Vec3 ref = m.bbox().hi + Vec3(1, 1, 1);
-          ASSERT_EQ(sdf.side_by_nearest(p, d, face, ref, (k % 3) ? 1 : 0), truth)
+          ASSERT_EQ(sdf.side_by_nearest(p, d, face, ref, (k % 3) ? 1 : 0, (k % 5) ? nullptr : &all), truth)
               << std::setprecision(17) << "p " << p.transpose() << " face " << face << " reversed half "
               << reverse_half;
           ++checked;
