@@ -2,8 +2,9 @@
 // Certified signed distance to a closed triangle surface F: for a query point p, an interval
 // [lo, hi] that contains s(p) = +-dist(p, F) (negative inside the solid) for the exact real
 // geometry given by the doubles. Distances come from an AABB tree in doubles whose pruning bounds
-// are rounded down and from interval arithmetic at the leaves; the sign comes from an exact ray
-// parity test (CGAL's exact orientation predicates). See doc/distance.md.
+// are rounded down and from interval arithmetic at the leaves; the sign comes from an exact ray or
+// segment parity test (CGAL's exact orientation predicates), or from the point's only nearest face
+// where the distance query proves one (side_by_nearest). See doc/distance.md.
 #include <array>
 #include <atomic>
 #include <cstdint>
