@@ -137,12 +137,9 @@ DeepCubeVerdict classify_deep_cube(const SignedDistance& fixed, double target, d
   // s >= -dist(x, F) everywhere: shallow whatever q's side.
   if (round_up(ud.hi + r) < depth) return v;
   const bool segment_listed = parent && cube.ref_side != 0 && parent->covers(q, 0.0);
-  const std::vector<std::uint32_t>* listed = segment_listed ? &parent->ids : nullptr;
-  const int side = in_free_ball         ? cube.ref_side
-                   : unique             ? fixed.side_by_nearest(q, ud, v.nearest, cube.ref, cube.ref_side, listed)
-                   : segment_listed     ? fixed.side_among(q, ud, cube.ref, cube.ref_side, parent->ids)
-                   : cube.ref_side != 0 ? fixed.side(q, ud, cube.ref, cube.ref_side)
-                                        : fixed.side(q, ud);
+  const int side = in_free_ball ? cube.ref_side
+                                : fixed.side_by_nearest(q, ud, v.nearest, unique, cube.ref, cube.ref_side,
+                                                        segment_listed ? &parent->ids : nullptr);
   if (ud.lo > 0.0) v.side = static_cast<signed char>(side);
   if (side > 0 && round_down(ud.lo - r) > target) return v;  // outside: s >= dist(q, F) - r
   if (side < 0 && round_down(ud.lo - r) >= depth) {        // inside Z: s <= s(q) + r <= target

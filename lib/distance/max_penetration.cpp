@@ -282,7 +282,7 @@ MaxPenetrationResult certified_max_penetration(const SignedDistance& sdf, const 
         o.sign = cell.sign;
         if (o.sign == 0) {
           o.side_query = true;
-          const int s = unique ? sdf.side_by_nearest(cell.center, d, o.near, cell.center, 0) : sdf.side(cell.center, d);
+          const int s = sdf.side_by_nearest(cell.center, d, o.near, unique, cell.center, 0);
           o.sign = static_cast<signed char>(s == 0 ? 1 : s);  // on the surface: depth 0, treat as outside
         }
         o.child_margin = d.lo;

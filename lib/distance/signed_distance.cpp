@@ -410,16 +410,17 @@ bool finish_fast(const SignedDistance& sd, const FastNearestPolicy& fast,
   if (!(best.hi <= fast.threshold_sq)) return false;
   double lo = best.lo;
   LeastKey upper{best.hi, fast.best.index};  // ties: the least index, whatever the order of `near`
-  thread_local std::vector<std::pair<double, std::uint32_t>> lows;  // (lower end squared, face) of `near`
+  // (lower end squared, face) of the best and of `near`, for `unique` only.
+  thread_local std::vector<std::pair<double, std::uint32_t>> lows;
   lows.clear();
-  lows.emplace_back(best.lo, fast.best.index);
+  if (unique) lows.emplace_back(best.lo, fast.best.index);
   for (const auto& [lb_sq, f] : near)
     if (lb_sq < best.hi && f != fast.best.index) {
       const Interval x = enclose(f, lb_sq);
       lo = std::min(lo, x.lo);
       upper.offer(x.hi, f);
-      lows.emplace_back(x.lo, f);
-    } else {
+      if (unique) lows.emplace_back(x.lo, f);
+    } else if (unique) {
       lows.emplace_back(lb_sq, f);
     }
   if (nearest) *nearest = upper.index;
@@ -575,17 +576,18 @@ int SignedDistance::segment_side(const Vec3& p, const Interval& unsigned_dist, c
   return parity.crossings % 2 == 1 ? -ref_side : ref_side;
 }
 
-int SignedDistance::side_by_nearest(const Vec3& p, const Interval& unsigned_dist, std::uint32_t face,
-                                    const Vec3& ref, int ref_side, const std::vector<std::uint32_t>* candidates) const {
-  if (!(unsigned_dist.lo > 0.0)) return side(p, unsigned_dist);
-  const Face& t = mesh_.faces[face];
-  const int o = orientation_sign(mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]], p);
+int SignedDistance::side_by_nearest(const Vec3& p, const Interval& unsigned_dist, std::uint32_t nearest,
+                                    bool unique, const Vec3& ref, int ref_side,
+                                    const std::vector<std::uint32_t>* candidates) const {
   const auto slow = [&] {
     return ref_side == 1 || ref_side == -1 ? segment_side(p, unsigned_dist, ref, ref_side, candidates)
                                            : side(p, unsigned_dist);
   };
+  if (!unique || !(unsigned_dist.lo > 0.0)) return slow();
+  const Face& t = mesh_.faces[nearest];
+  const int o = orientation_sign(mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]], p);
   if (o == 0) return slow();  // a degenerate face (p, off F, is never in a proper face's plane here)
-  std::atomic<std::int8_t>& known = face_outward_[face];
+  std::atomic<std::int8_t>& known = face_outward_[nearest];
   const int sigma = known.load(std::memory_order_relaxed);
   if (sigma != 0) return sigma * o;
   const int s = slow();
@@ -620,7 +622,7 @@ Interval SignedDistance::signed_distance(const Vec3& p) const {
   std::uint32_t face = 0;
   bool unique = false;
   const Interval d = unsigned_distance(p, &face, -1, DistanceEnds::enclosed, &unique);
-  return with_side(d, unique ? side_by_nearest(p, d, face, p, 0) : side(p, d));
+  return with_side(d, side_by_nearest(p, d, face, unique, p, 0));
 }
 
 }  // namespace cdbench

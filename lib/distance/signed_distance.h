@@ -127,14 +127,15 @@ class SignedDistance {
   int side_among(const Vec3& p, const Interval& unsigned_dist, const Vec3& ref, int ref_side,
                  const std::vector<std::uint32_t>& candidates) const;
 
-  // The same when `face` is p's only nearest triangle (unsigned_distance's `unique`): its closest
-  // point to p then lies inside the face (a point of its boundary is on a neighbour too), so p lies
-  // on the side of F that the face's side towards p faces, the same over the whole face. That side
-  // is learnt once per face from side(p, ud, ref, ref_side) (side_among with `candidates`, which
-  // must then hold every triangle the segment ref -> p may meet; the ray when ref_side is 0) and
-  // then read with one exact orientation test (doc/distance.md, "Side from the nearest face").
-  int side_by_nearest(const Vec3& p, const Interval& unsigned_dist, std::uint32_t face, const Vec3& ref,
-                      int ref_side, const std::vector<std::uint32_t>* candidates = nullptr) const;
+  // p's side from its distance query (unsigned_dist, its `nearest` triangle and `unique`): where
+  // that triangle is p's only nearest one, p's closest point lies inside it (a point of its
+  // boundary is on a neighbour too), so p lies on the side of F that the face's side towards p
+  // faces, the same over the whole face; that side is learnt once per face and then read with one
+  // exact orientation test (doc/distance.md, "Side from the nearest face"). Otherwise, and to learn
+  // it, side(p, ud, ref, ref_side): side_among with `candidates` (which must then hold every
+  // triangle the segment ref -> p may meet), the ray when ref_side is not +-1.
+  int side_by_nearest(const Vec3& p, const Interval& unsigned_dist, std::uint32_t nearest, bool unique,
+                      const Vec3& ref, int ref_side, const std::vector<std::uint32_t>* candidates = nullptr) const;
 
   // [lo, hi] containing the signed distance s(p) (negative inside); the side by side_by_nearest
   // where p has one nearest triangle, else by the ray.

@@ -452,15 +452,13 @@ class BranchAndBound {
   // s at x from its unsigned distance; the side from `ball` when x lies in it, else a ray test.
   // `own` receives the ball about x that this evaluation certifies.
   // known: x's side when already decided (set_aside_far), else 0.
-  // unique: x's only nearest triangle of F (SignedDistance::side_by_nearest), or -1.
+  // nearest, unique: ud's nearest triangle of F and whether it is x's only one.
   Interval signed_at(const Vec3& x, const Interval& ud, const SideBall* ball, SideBall* own, int known = 0,
-                     std::int64_t unique = -1) {
+                     std::uint32_t nearest = 0, bool unique = false) {
     int side = known != 0 ? known : side_from_ball(ball, x);
     // Outside the ball, the side of its only nearest face, else the parity of the short segment from
     // its centre (of known side).
-    if (side == 0 && unique >= 0)
-      side = fixed_.side_by_nearest(x, ud, static_cast<std::uint32_t>(unique), ball ? ball->centre : x, ball ? ball->side : 0);
-    if (side == 0) side = ball ? fixed_.side(x, ud, ball->centre, ball->side) : fixed_.side(x, ud);
+    if (side == 0) side = fixed_.side_by_nearest(x, ud, nearest, unique, ball ? ball->centre : x, ball ? ball->side : 0);
     if (own) *own = SideBall{x, side == 0 ? 0.0 : ud.lo, side};
     return with_side(ud, side);
   }
@@ -503,7 +501,7 @@ class BranchAndBound {
     const Interval ud = fixed_.unsigned_distance(centre, &nearest, hint, kEnds, &unique);
     c.near_face = nearest;
     c.ud_hi = ud.hi;
-    const Interval s = signed_at(centre, ud, parent, &c.ball, known_side, unique ? std::int64_t{nearest} : std::int64_t{-1});
+    const Interval s = signed_at(centre, ud, parent, &c.ball, known_side, nearest, unique);
     double lower = down(s.lo - r);
     // The depth bound only when it can set the node aside: never when its centre lies below the
     // threshold (every bound of the node is at most s there), e.g. a large box across F at a contact.
@@ -676,7 +674,7 @@ class BranchAndBound {
     const Interval ud = distance_at(fixed_, m, list, list ? list->distance_bound(m) : kInf, &nearest, c.near_face, &unique);
     c.ud_hi = ud.hi;
     c.near_face = nearest;
-    const Interval s = signed_at(m, ud, parent, &c.ball, known_side, unique ? std::int64_t{nearest} : std::int64_t{-1});
+    const Interval s = signed_at(m, ud, parent, &c.ball, known_side, nearest, unique);
     const auto& w = geo.w;
     offer_upper(up(s.hi + eta_m), c.id,
                 {w[0] * c.bary[0][0] + w[1] * c.bary[1][0] + w[2] * c.bary[2][0],
@@ -786,7 +784,7 @@ class BranchAndBound {
     std::uint32_t nearest = 0;
     bool unique = false;
     const Interval d = distance_at(fixed_, x, list, ud_bound, &nearest, hint, &unique);
-    const Interval s = signed_at(x, d, &c.ball, nullptr, 0, unique ? std::int64_t{nearest} : std::int64_t{-1});
+    const Interval s = signed_at(x, d, &c.ball, nullptr, 0, nearest, unique);
     offer_upper(up(s.hi + eta), c.id, c.bary[k]);
   }
 

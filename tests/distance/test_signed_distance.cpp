@@ -145,7 +145,7 @@ TEST(SignedDistance, SideByTheOnlyNearestFaceAgreesWithCgal) {
           // A reference of known side (its segment's crossings from the tree or from a list of
           // every face), or none (the ray), for the first answer of each face.
           const Vec3 ref = m.bbox().hi + Vec3(1, 1, 1);
-          ASSERT_EQ(sdf.side_by_nearest(p, d, face, ref, (k % 3) ? 1 : 0, (k % 5) ? nullptr : &all), truth)
+          ASSERT_EQ(sdf.side_by_nearest(p, d, face, true, ref, (k % 3) ? 1 : 0, (k % 5) ? nullptr : &all), truth)
               << std::setprecision(17) << "p " << p.transpose() << " face " << face << " reversed half "
               << reverse_half;
           ++checked;
@@ -183,11 +183,12 @@ TEST(SignedDistance, SideByNearestNeedsTheOnlyNearestFace) {
   const Interval d2 = sdf.unsigned_distance(below, &f2, -1, DistanceEnds::enclosed, &u2);
   ASSERT_TRUE(u2);
   ASSERT_EQ(f2, 3u);
-  ASSERT_EQ(sdf.side_by_nearest(below, d2, f2, below, 0), 1);
+  ASSERT_EQ(sdf.side_by_nearest(below, d2, f2, u2, below, 0), 1);
   // p is one of face 3's nearest points' faces too, but lies behind its plane (y > 0): read from
-  // it, p would be inside.
+  // it as if it were the only one, p would be inside; with the query's own answer, outside.
   EXPECT_EQ(face == 3u || face == 6u, true);
-  EXPECT_EQ(sdf.side_by_nearest(p, d, f2, below, 0), -1);
+  EXPECT_EQ(sdf.side_by_nearest(p, d, f2, true, below, 0), -1);
+  EXPECT_EQ(sdf.side_by_nearest(p, d, face, unique, below, 0), 1);
 }
 
 TEST(SignedDistance, BoxPointsExactlyOnFacesEdgesAndVertices) {
