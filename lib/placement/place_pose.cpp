@@ -329,8 +329,10 @@ DeepCoverOptions deep_cover_options(double target, std::uint64_t approaches) {
 LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, double max_penetration, bool polish,
                                    std::uint64_t approaches) {
   LevelDeepZone z;
+  const bool deep = deep_cover_wanted(target, max_penetration);
+  if (deep) z.step_relative_tolerance = kDeepStepRelativeTolerance;
   if (!polish || !(target < 0.0)) return z;
-  if (deep_cover_wanted(target, max_penetration))
+  if (deep)
     z.cover = std::make_unique<LazyDeepCover>(fixed, target, deep_cover_options(target, approaches));
   z.memo = std::make_unique<DeepCubeMemo>(target);
   return z;
@@ -356,6 +358,7 @@ PoseOptions LevelDeepZone::options(const PoseOptions& base) const {
   PoseOptions o = base;
   o.deep_cover = cover.get();
   o.deep_zone_memo = memo.get();
+  o.step_relative_tolerance = step_relative_tolerance;
   return o;
 }
 
@@ -522,12 +525,6 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   copt.support_seeds = step_planes ? &seeds : nullptr;
   copt.support_trees = step_planes ? &trees : nullptr;  // its oriented boxes for the planes' walks
   copt.hull = options.support_planes && target < 0.0 ? setup.hull.get() : nullptr;
-  // While far from the target an advance step needs only a loose lower bound: a width of a part of
-  // the remaining gap (upper end - target, tightening as the search lowers the upper end) costs at
-  // most that part of the step; the reported pose gets the full tolerance (`loose` = false).
-  // 3/8: more, cheaper steps; the fewest thread-seconds of 1/16 ... 4/5 on armadillo, bunny00 and
-  // fandisk_large (1/8: 1.15-1.25x slower), neutral on CAD parts (doc/performance.md).
-  constexpr double kStepRelativeTolerance = 0.375;
   // A frontier taken over from a higher level (below) is worth it up to this many times the cells
   // of a cold start (about 25 us per cold cell, 4 us per re-evaluated warm one; doc/performance.md).
   constexpr std::uint64_t kColdCellsPerWarm = 6;
@@ -581,7 +578,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // frontier ran out of cells).
   const auto certify = [&](double lambda, bool loose, bool maybe_apart = false) {
     if (maybe_apart) copt.try_distance_path = true;
-    copt.relative_tolerance = loose ? kStepRelativeTolerance : 0.0;
+    // A step's certificate is loose (PoseOptions::step_relative_tolerance); the reported pose's not.
+    copt.relative_tolerance = loose ? options.step_relative_tolerance : 0.0;
     copt.target = target;
     last_loose = loose;
     const Vec3 t = pose_translation(frame, dir, lambda);

@@ -116,8 +116,23 @@ bool fallback_start(double target, bool polish, PoseStart* start);
 // Plateaus of saturated depth take hundreds of steps (doc/poses.md).
 constexpr int kDefaultMaxSteps = 10000;
 
+// While far from the target an advance step needs only a loose lower bound: the steps' certificates
+// stop at a width of this part of the remaining gap (upper end - target, tightening as the search
+// lowers the upper end), which costs at most that part of the step; the reported pose gets the full
+// tolerance. 3/8: more, cheaper steps; the fewest thread-seconds of 1/16 ... 4/5 on armadillo,
+// bunny00 and fandisk_large (1/8: 1.15-1.25x slower), neutral on CAD parts (doc/performance.md).
+constexpr double kStepRelativeTolerance = 0.375;
+// The same on levels at least a fifth of the maximum penetration deep (deep_cover_wanted): their
+// poses slide and cross plateaus, where looser steps cost fewer cells for about as many steps
+// (rotor, spool -21 %: 11-13 % faster a pose; 0.5-0.8 alike, 0.9 slower; shallower levels slower
+// with it; doc/performance.md, "Looser steps on deep levels").
+constexpr double kDeepStepRelativeTolerance = 0.6;
+
 struct PoseOptions {
   double tolerance = 0.0;  // absolute: certificate width and polishing target band
+  // The steps' loose certificates' relative width (kStepRelativeTolerance; the level's,
+  // LevelDeepZone::options). Only the work depends on it.
+  double step_relative_tolerance = kStepRelativeTolerance;
   bool polish = true;
   int max_steps = kDefaultMaxSteps;  // conservative-advancement steps before giving up (reported)
   std::uint64_t max_cells = 400000;
@@ -207,7 +222,10 @@ std::uint64_t deep_zone_query_budget(const PoseOptions& options, std::uint64_t c
 struct LevelDeepZone {
   std::unique_ptr<LazyDeepCover> cover;
   std::unique_ptr<DeepCubeMemo> memo;
-  // The options for this level's poses: `base` with its cover and memo.
+  // kDeepStepRelativeTolerance where deep_cover_wanted, else kStepRelativeTolerance (set with or
+  // without polishing and covers).
+  double step_relative_tolerance = kStepRelativeTolerance;
+  // The options for this level's poses: `base` with its cover, memo and step tolerance.
   PoseOptions options(const PoseOptions& base) const;
 };
 LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, double max_penetration, bool polish,

@@ -250,12 +250,13 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // 1/16 of the advance over the flat steps or the last two, since session 65: 9; the octree asked
   // on a plateau of 16 flat steps after a jump to the cover's contact too, since session 75: 10;
   // queries on a plateau of 8 flat steps with 16 cubes a certificate cell instead of 4, since
-  // session 81: 11):
+  // session 81: 11; the steps' certificates at a looser width, kDeepStepRelativeTolerance, since
+  // session 84: 12):
   // their poses may differ within the tolerance from earlier binaries', whose journals must
   // therefore not be resumed or merged with them. Absent otherwise, so that other runs still
   // resume.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.cover != nullptr; }))
-    run_key["deep_zone_jumps"] = 11;
+    run_key["deep_zone_jumps"] = 12;
   // Penetrating levels shallower than a fifth of M (no cover) jump to the octree's contact too since
   // session 48 after 32 flat steps (1), since session 49 after 8 (2), since session 57 after 4 (3),
   // since session 65 only where c fell by at most 1/16 of the advance over them or the last two (4),

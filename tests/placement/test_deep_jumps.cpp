@@ -527,6 +527,38 @@ TEST(DeepJumps, ShallowLevelJumpsWithTheOctreeAlone) {
   EXPECT_LT(jumped.steps + 60, plain.steps) << "plain " << plain.steps << " jumped " << jumped.steps;
 }
 
+// Levels at least a fifth of M deep step with looser certificates (kDeepStepRelativeTolerance),
+// with or without polishing and covers; shallower and separated levels keep kStepRelativeTolerance.
+// The width changes only the work: the sphere sinking into the plate (no jumps) reaches the same
+// first crossing, certified and on target, with either.
+TEST(DeepJumps, DeepLevelsStepAtALooserWidth) {
+  const Scene w(plate_and_block(), make_icosphere(0.1, 1));
+  ASSERT_GT(kDeepStepRelativeTolerance, kStepRelativeTolerance);
+  EXPECT_EQ(make_level_deep_zone(w.fixed, -0.095, 0.4, true, 40).step_relative_tolerance, kDeepStepRelativeTolerance);
+  EXPECT_EQ(make_level_deep_zone(w.fixed, -0.095, 0.4, false, 40).step_relative_tolerance, kDeepStepRelativeTolerance);
+  EXPECT_EQ(make_level_deep_zone(w.fixed, -0.024, 0.4, true, 40).step_relative_tolerance, kStepRelativeTolerance);
+  EXPECT_EQ(make_level_deep_zone(w.fixed, 0.01, 0.4, true, 40).step_relative_tolerance, kStepRelativeTolerance);
+  const LevelDeepZone deep = make_level_deep_zone(w.fixed, -0.095, 0.4, true, 40);
+  PoseOptions base;
+  base.tolerance = kPlateTolerance;
+  base.start = PoseStart::Surface;
+  EXPECT_EQ(deep.options(base).step_relative_tolerance, kDeepStepRelativeTolerance);
+  ApproachSetup setup = w.attached();
+  setup.fixed_ref = Vec3(0, 0, 0.05);
+  const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
+  const Vec3 dir = Vec3(-1, 0, 1).normalized();  // into the plate's top face at 45 degrees
+  PoseOutcome at[2];
+  for (int k = 0; k < 2; ++k) {
+    PoseOptions o = base;
+    o.deep_zone_cubes = 0;
+    o.step_relative_tolerance = k == 0 ? kStepRelativeTolerance : kDeepStepRelativeTolerance;
+    at[k] = place_pose(setup, frame, &w.surface, dir, -0.015, o);
+    EXPECT_TRUE(at[k].contact && at[k].certified && at[k].on_target) << k << " " << at[k].reason;
+  }
+  EXPECT_NEAR(at[1].lambda, at[0].lambda, 4 * kPlateTolerance);
+  EXPECT_NE(at[1].clearance_cells, at[0].clearance_cells) << "the width must change the work";
+}
+
 // A plateau just above the target: at -0.0205, c = -0.02 is 2.4 % of |target| above it (no jump is
 // asked within a tenth of |target| on a short flat stretch), for about 1,500 two-sided steps;
 // after 64 flat steps the octree is asked and the pose jumps to the block.
