@@ -314,6 +314,10 @@ class DeepZoneJumps {
 
 }  // namespace
 
+bool separated_steps_by_certificates(const ApproachSetup& setup, double target, const PoseOptions& options) {
+  return target > 0.0 && !(options.separated_advance && target <= setup.advance_target_limit);
+}
+
 bool deep_cover_wanted(double target, double max_penetration) {
   return target < 0.0 && max_penetration > 0.0 && -target >= 0.2 * max_penetration;
 }
@@ -575,11 +579,14 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // to about three gaps, so the mover may land still outside F; a restart far away). The
   // pair-distance path is tried first there: the branch and bound resolves the smooth minimum of a
   // distance slowly (dino at -12 %: 284,142 cells for one landing, and the warm starts from that
-  // frontier ran out of cells).
+  // frontier ran out of cells). A step's certificate is loose (PoseOptions::step_relative_tolerance;
+  // tighter where a separated target steps by certificates); the reported pose's not.
+  const double step_width = separated_steps_by_certificates(setup, target, options)
+                                ? std::min(options.step_relative_tolerance, kSeparatedStepRelativeTolerance)
+                                : options.step_relative_tolerance;
   const auto certify = [&](double lambda, bool loose, bool maybe_apart = false) {
     if (maybe_apart) copt.try_distance_path = true;
-    // A step's certificate is loose (PoseOptions::step_relative_tolerance); the reported pose's not.
-    copt.relative_tolerance = loose ? options.step_relative_tolerance : 0.0;
+    copt.relative_tolerance = loose ? step_width : 0.0;
     copt.target = target;
     last_loose = loose;
     const Vec3 t = pose_translation(frame, dir, lambda);
@@ -764,7 +771,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           continue;
         }
       }
-      if (options.separated_advance && target > 0.0 && target <= setup.advance_target_limit) {
+      if (target > 0.0 && !separated_steps_by_certificates(setup, target, options)) {
         // c > target > 0: the mover's surface is outside F and apart from it. Advance by the pair
         // traversal's reach bound (advance.h), pose after pose without a certificate while the
         // steps stay longer than the tolerance, then certify where it stops (doc/poses.md).

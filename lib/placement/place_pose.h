@@ -127,11 +127,23 @@ constexpr double kStepRelativeTolerance = 0.375;
 // (rotor, spool -21 %: 11-13 % faster a pose; 0.5-0.8 alike, 0.9 slower; shallower levels slower
 // with it; doc/performance.md, "Looser steps on deep levels").
 constexpr double kDeepStepRelativeTolerance = 0.6;
+// The same for separated targets that step by certificates (separated_steps_by_certificates):
+// there c falls about as fast as the mover advances, so a tighter lower end makes each step
+// longer (armadillo x4 and bunny00 +25 %: 14-22 % faster a pose; 0.1-0.2 alike, 0.375 and 0.6
+// slower; doc/performance.md, "Tighter steps on separated levels").
+constexpr double kSeparatedStepRelativeTolerance = 0.15;
+
+struct PoseOptions;
+// Whether a separated target (> 0) steps by certificates rather than by the separated advance: it is
+// beyond ApproachSetup::advance_target_limit, or PoseOptions::separated_advance is off. Their steps'
+// certificates stop at kSeparatedStepRelativeTolerance (or the options' width, if tighter).
+bool separated_steps_by_certificates(const ApproachSetup& setup, double target, const PoseOptions& options);
 
 struct PoseOptions {
   double tolerance = 0.0;  // absolute: certificate width and polishing target band
   // The steps' loose certificates' relative width (kStepRelativeTolerance; the level's,
-  // LevelDeepZone::options). Only the work depends on it.
+  // LevelDeepZone::options; at most kSeparatedStepRelativeTolerance where a separated target steps
+  // by certificates). Only the work depends on it.
   double step_relative_tolerance = kStepRelativeTolerance;
   bool polish = true;
   int max_steps = kDefaultMaxSteps;  // conservative-advancement steps before giving up (reported)

@@ -324,6 +324,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // penetration's lower end, which another binary's bounds may find a few ulps away; a journal
   // whose targets differ is not resumed or merged (earlier journals lack the key).
   run_key["targets"] = targets;
+  // Separated levels beyond the separated advance's reach step by certificates of a tighter width
+  // since session 84 (kSeparatedStepRelativeTolerance: 1), so their poses may differ within the
+  // tolerance from earlier binaries'; absent otherwise, so that other runs still resume.
+  if (std::any_of(targets.begin(), targets.end(),
+                  [&](double t) { return separated_steps_by_certificates(setup, t, PoseOptions{}); }))
+    run_key["separated_certificate_steps"] = 1;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 

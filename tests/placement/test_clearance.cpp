@@ -676,6 +676,54 @@ TEST(PlacePose, PolishedPosesHitTheTarget) {
   }
 }
 
+// Separated targets beyond the separated advance's reach step by certificates at
+// kSeparatedStepRelativeTolerance, whatever wider width the options give: polished with the default
+// width and with that one, such a pose does the same work and lands at the same place. A
+// penetrating target takes the options' width as it is (its work differs), and both reach the target.
+TEST(PlacePose, SeparatedTargetsBeyondTheAdvanceStepByTighterCertificates) {
+  const Scene scene(make_icosphere(1.0, 2), make_icosphere(0.25, 1));
+  const ApproachSetup& setup = scene.setup;
+  PoseOptions opt;
+  opt.tolerance = 1e-7;
+  opt.support_planes = false;  // the sphere is convex: its planes would certify without cells
+  const double beyond = 2.0 * setup.advance_target_limit + 0.05;
+  ASSERT_GT(setup.advance_target_limit, 0.0);
+  EXPECT_TRUE(separated_steps_by_certificates(setup, beyond, opt));
+  EXPECT_FALSE(separated_steps_by_certificates(setup, 0.5 * setup.advance_target_limit, opt));
+  EXPECT_FALSE(separated_steps_by_certificates(setup, -0.1, opt));
+  PoseOptions no_advance = opt;
+  no_advance.separated_advance = false;
+  EXPECT_TRUE(separated_steps_by_certificates(setup, 0.5 * setup.advance_target_limit, no_advance));
+  ASSERT_LT(kSeparatedStepRelativeTolerance, kStepRelativeTolerance);
+  std::mt19937_64 rng(29);
+  std::uint64_t penetrating_cells[2] = {0, 0};
+  for (int k = 0; k < 3; ++k) {
+    const OrientationFrame frame = make_orientation_frame(setup, random_rotation(rng));
+    const Vec3 dir = random_direction(rng);
+    for (double target : {beyond, -0.1}) {
+      PoseOutcome at[2];
+      for (int w = 0; w < 2; ++w) {
+        PoseOptions o = opt;
+        o.start = target > 0.0 ? PoseStart::Far : PoseStart::Surface;
+        o.step_relative_tolerance = w == 0 ? kStepRelativeTolerance : kSeparatedStepRelativeTolerance;
+        at[w] = place_pose(setup, frame, &scene.surface, dir, target, o);
+        ASSERT_TRUE(at[w].contact);
+        EXPECT_TRUE(at[w].certified && at[w].on_target) << target << " " << w << " " << at[w].reason;
+      }
+      if (target > 0.0) {
+        EXPECT_EQ(at[0].clearance_cells, at[1].clearance_cells) << target;
+        EXPECT_EQ(at[0].lambda, at[1].lambda) << target;
+        EXPECT_GT(at[0].steps, 1) << "certificate steps are what this test is about";
+      } else {
+        penetrating_cells[0] += at[0].clearance_cells;
+        penetrating_cells[1] += at[1].clearance_cells;
+        EXPECT_NEAR(at[0].lambda, at[1].lambda, 4 * opt.tolerance);
+      }
+    }
+  }
+  EXPECT_NE(penetrating_cells[0], penetrating_cells[1]) << "a penetrating target takes the options' width";
+}
+
 // Every start (the surface itself for targets <= 0, far away for any target) reaches the target
 // with a certified clearance, and the polished poses of one approach agree within the tolerances
 // (the clearance is monotone near a head-on first crossing of a convex shape). A line that misses
