@@ -449,7 +449,8 @@ class BranchAndBound {
     heap_.pop_back();
   }
 
-  // s at x from its unsigned distance; the side from `ball` when x lies in it, else a ray test.
+  // s at x from its unsigned distance; the side from `ball` when x lies in it, else from x's only
+  // nearest face or a parity test (SignedDistance::side_by_nearest).
   // `own` receives the ball about x that this evaluation certifies.
   // known: x's side when already decided (set_aside_far), else 0.
   // nearest, unique: ud's nearest triangle of F and whether it is x's only one.

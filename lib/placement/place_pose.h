@@ -133,12 +133,6 @@ constexpr double kDeepStepRelativeTolerance = 0.6;
 // slower; doc/performance.md, "Tighter steps on separated levels").
 constexpr double kSeparatedStepRelativeTolerance = 0.15;
 
-struct PoseOptions;
-// Whether a separated target (> 0) steps by certificates rather than by the separated advance: it is
-// beyond ApproachSetup::advance_target_limit, or PoseOptions::separated_advance is off. Their steps'
-// certificates stop at kSeparatedStepRelativeTolerance (or the options' width, if tighter).
-bool separated_steps_by_certificates(const ApproachSetup& setup, double target, const PoseOptions& options);
-
 struct PoseOptions {
   double tolerance = 0.0;  // absolute: certificate width and polishing target band
   // The steps' loose certificates' relative width (kStepRelativeTolerance; the level's,
@@ -198,6 +192,11 @@ struct PoseOptions {
   // way, less work).
   DeepCubeMemo* deep_zone_memo = nullptr;
 };
+
+// Whether a separated target (> 0) steps by certificates rather than by the separated advance: it is
+// beyond ApproachSetup::advance_target_limit, or PoseOptions::separated_advance is off. Their steps'
+// certificates stop at kSeparatedStepRelativeTolerance (or the options' width, if tighter).
+bool separated_steps_by_certificates(const ApproachSetup& setup, double target, const PoseOptions& options);
 
 // The deep-zone cover a penetrating level uses (PoseOptions::deep_cover): cubes of half-diagonal
 // at most |target| / 2 along the zone's boundary, at most 150,000 cubes evaluated (about a second;
