@@ -150,6 +150,10 @@ struct PoseOptions {
   // gaps proved over the whole segment from the last certificate's frontier (doc/poses.md, "Steps
   // proved over a segment"); off: for A/B measurements.
   bool segment_steps = true;
+  // After a segment's search runs out of its budget, segments are tried again once the gap has
+  // halved: at most this many times a pose (-1: after every failure; 1: once, as before session
+  // 85; for A/B measurements).
+  int segment_retries = -1;
   // Targets > 0: once the mover is certified above the target, advance by the pair traversal's
   // reach bounds (advance.h) without a certificate per step; off: a certificate per step (A/B).
   bool separated_advance = true;

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <memory>
@@ -12,10 +13,13 @@
 
 #include "distance/support_planes.h"
 #include "mesh/components.h"
+#include "mesh/read_mesh.h"
 #include "mesh/shapes.h"
+#include "mesh/validate_mesh.h"
 #include "placement/advance.h"
 #include "placement/clearance.h"
 #include "placement/place_pose.h"
+#include "sampling/sampling.h"
 #include "scene.h"
 #include "test_scale.h"
 
@@ -1375,6 +1379,61 @@ TEST(PlacePose, LevelsOfOneApproachShareTheContactAndContinueEachOther) {
   }
   EXPECT_GT(placed, 25);
   EXPECT_GT(chained, 5);
+}
+
+}  // namespace
+}  // namespace cdbench
+
+namespace cdbench {
+namespace {
+
+// Pinion moving against spool (CGAL's data) at -20 % of the maximum penetration, the approach of
+// the pose sets' 20 x 2 request where a gear's tooth slides at 1/20-1/10 of the advance towards
+// the target: its first segment searches run out of their budget, and with segments tried again
+// only once a pose (before session 85) the slide took 105 two-sided steps. Tried again after
+// every failure, once the gap has halved, they cross it in far fewer, to the same first crossing.
+TEST(PlacePose, SegmentsTriedAgainAfterEveryFailureCrossAGearSlide) {
+  const std::string dir = std::string(CDBENCH_DATA_DIR) + "/cgal/meshes/";
+  if (!std::ifstream(dir + "spool.off") || !std::ifstream(dir + "pinion.off"))
+    GTEST_SKIP() << "no CGAL data (scripts/fetch-cgal-data.sh)";
+  // As `cdbench poses` reads them (validate_mesh may reorient and weld).
+  const TriangleMesh spool = validate_mesh(read_polygon_soup(dir + "spool.off")).mesh;
+  const TriangleMesh pinion = validate_mesh(read_polygon_soup(dir + "pinion.off")).mesh;
+  const SignedDistance fixed(spool);
+  ApproachSetup setup = make_approach_setup(fixed, pinion);
+  const SweepMesh surface = make_sweep_mesh(spool.vertices, spool.faces);
+  attach_surface_sweep(setup, surface);
+  Eigen::Matrix3d R;
+  R << -0.36663014408024175, 0.37126857953801656, 0.85307794444559659, -0.85321984596295519, -0.49975781510094963,
+      -0.14919122192835482, 0.37094235658205943, -0.7825610315453666, 0.5;
+  const OrientationFrame frame = make_orientation_frame(setup, R);
+  const double target = -0.045909297315481046, max_penetration = 0.22954648657740523;
+  const std::vector<double> targets{-0.25 * target, 0.0, 0.25 * target, target};
+  PoseOptions base;
+  base.tolerance = 1.506100827590238e-06;
+  const std::vector<Eigen::Vector3d> dirs = sphere_fibonacci(20);
+  std::array<PoseOutcome, 2> p;
+  for (int mode = 0; mode < 2; ++mode) {
+    // As `cdbench poses` places approach 9 (orientation 0, direction 9 of 20): levels in
+    // descending order, each advance continuing from the previous level's pose.
+    ApproachMemo memo;
+    for (const double t : targets) {
+      const LevelDeepZone zone = make_level_deep_zone(fixed, t, max_penetration, true, 40);  // outlives opt
+      PoseOptions opt = zone.options(base);
+      opt.start = t > 0.0 ? PoseStart::Far : PoseStart::Surface;
+      opt.segment_retries = mode == 0 ? -1 : 1;
+      p[mode] = place_pose(setup, frame, &surface, dirs[9], t, opt, &memo);
+    }
+    SCOPED_TRACE("mode " + std::to_string(mode));
+    EXPECT_TRUE(p[mode].certified);
+    EXPECT_TRUE(p[mode].on_target);
+  }
+  // The same first crossing: c falls at about 1/20 of the advance there, so poses within the
+  // tolerance of the target lie within about 20 tolerances of each other along the line.
+  EXPECT_NEAR(p[0].lambda, p[1].lambda, 40.0 * base.tolerance);
+  // 61 steps (8 segments tried) against 105 (2).
+  EXPECT_GT(p[0].segment_tries, p[1].segment_tries + 2);
+  EXPECT_LT(10 * p[0].steps, 7 * p[1].steps) << p[0].steps << " " << p[1].steps;
 }
 
 }  // namespace
