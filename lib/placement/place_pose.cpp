@@ -358,7 +358,7 @@ std::uint64_t deep_zone_query_budget(const PoseOptions& options, std::uint64_t c
   return budget;
 }
 
-PoseOptions LevelDeepZone::options(const PoseOptions& base) const {
+PoseOptions LevelDeepZone::options(const PoseOptions& base) const& {
   PoseOptions o = base;
   o.deep_cover = cover.get();
   o.deep_zone_memo = memo.get();

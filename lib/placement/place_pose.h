@@ -240,8 +240,10 @@ struct LevelDeepZone {
   // kDeepStepRelativeTolerance where deep_cover_wanted, else kStepRelativeTolerance (set with or
   // without polishing and covers).
   double step_relative_tolerance = kStepRelativeTolerance;
-  // The options for this level's poses: `base` with its cover, memo and step tolerance.
-  PoseOptions options(const PoseOptions& base) const;
+  // The options for this level's poses: `base` with its cover, memo and step tolerance. They point
+  // into this zone, so not from a temporary (deleted below: such options would dangle).
+  PoseOptions options(const PoseOptions& base) const&;
+  PoseOptions options(const PoseOptions& base) const&& = delete;
 };
 LevelDeepZone make_level_deep_zone(const SignedDistance& fixed, double target, double max_penetration, bool polish,
                                    std::uint64_t approaches);

@@ -11,6 +11,7 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 #include "distance/deep_cover.h"
@@ -41,6 +42,16 @@ Scene zone_scene(int shape) {
   return Scene(shape == 0 ? plate_and_block() : make_torus(1.0, 0.4, 24, 12), make_icosphere(0.15, 1));
 }
 double zone_target(int shape) { return shape == 0 ? -0.05 : -0.12; }
+
+// A level's options point into its zone (cover, memo): taking them from a temporary zone, whose
+// cover and memo die with it, does not compile (a test of session 85 did so, and its poses read
+// freed memory).
+template <class Z, class = void>
+struct OptionsFrom : std::false_type {};
+template <class Z>
+struct OptionsFrom<Z, std::void_t<decltype(std::declval<Z>().options(PoseOptions{}))>> : std::true_type {};
+static_assert(OptionsFrom<const LevelDeepZone&>::value, "a kept zone gives its options");
+static_assert(!OptionsFrom<LevelDeepZone>::value, "a temporary zone must not give options");
 
 TEST(DeepJumps, OctreeBudgetDoublesAndTriesTheCapOnce) {
   PoseOptions o;
