@@ -581,7 +581,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // distance slowly (dino at -12 %: 284,142 cells for one landing, and the warm starts from that
   // frontier ran out of cells). A step's certificate is loose (PoseOptions::step_relative_tolerance;
   // tighter where a separated target steps by certificates); the reported pose's not.
-  const double step_width = separated_steps_by_certificates(setup, target, options)
+  const bool certificate_steps = separated_steps_by_certificates(setup, target, options);
+  const double step_width = certificate_steps
                                 ? std::min(options.step_relative_tolerance, kSeparatedStepRelativeTolerance)
                                 : options.step_relative_tolerance;
   const auto certify = [&](double lambda, bool loose, bool maybe_apart = false) {
@@ -771,7 +772,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           continue;
         }
       }
-      if (target > 0.0 && !separated_steps_by_certificates(setup, target, options)) {
+      if (target > 0.0 && !certificate_steps) {
         // c > target > 0: the mover's surface is outside F and apart from it. Advance by the pair
         // traversal's reach bound (advance.h), pose after pose without a certificate while the
         // steps stay longer than the tolerance, then certify where it stops (doc/poses.md).

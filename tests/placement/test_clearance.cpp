@@ -1381,12 +1381,6 @@ TEST(PlacePose, LevelsOfOneApproachShareTheContactAndContinueEachOther) {
   EXPECT_GT(chained, 5);
 }
 
-}  // namespace
-}  // namespace cdbench
-
-namespace cdbench {
-namespace {
-
 // Pinion moving against spool (CGAL's data) at -20 % of the maximum penetration, the approach of
 // the pose sets' 20 x 2 request where a gear's tooth slides at 1/20-1/10 of the advance towards
 // the target: its first segment searches run out of their budget, and with segments tried again
