@@ -9,22 +9,16 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "offset/offset_set.h"
+#include "sampling/pose_set_spec.h"
 #include "sweep/mesh_sweep.h"
 
 namespace cdbench {
 
-struct FloatPoseSetRequest {
-  MeshSource fixed;  // a valid closed solid
-  MeshSource mover;  // empty path: the fixed mesh is the mover
-  std::string levels, out;
-  std::size_t directions = 100, orientations = 10;
-  std::string direction_sampling = "fibonacci", orientation_sampling = "super-fibonacci";
-  std::uint64_t seed = 1;
+// The float pipeline's request: the pose set's spec and its grid.
+struct FloatPoseSetRequest : PoseSetSpec {
   int grid = 256;      // cells along the bounding box's longest side (used when voxel == 0)
   double voxel = 0.0;  // absolute voxel size; 0: from grid
   bool keep_offsets = false;  // write DIR/offsets/float_<level>.off (for inspection and validate --offsets)
-  std::string command_line;
 };
 
 struct FloatPoseSetResult {

@@ -6,18 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh_source.h"
 #include "core/triangle_mesh.h"
 #include "distance/max_penetration.h"
 #include "offset/offset_level.h"
 
 namespace cdbench {
-
-// The input mesh of an offset set as read by a command (for the manifest and its timings).
-struct MeshSource {
-  std::string path;
-  const TriangleMesh* mesh = nullptr;  // the validated closed solid
-  double seconds_read = 0.0, seconds_validate = 0.0;
-};
 
 struct OffsetSetRequest {
   MeshSource source;

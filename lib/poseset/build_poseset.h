@@ -10,6 +10,7 @@
 #include "core/interval.h"
 #include "offset/offset_set.h"
 #include "placement/place_pose.h"
+#include "sampling/pose_set_spec.h"
 
 namespace cdbench {
 
@@ -17,13 +18,8 @@ namespace cdbench {
 // (about 0.87 KB each with their parsed copy, measured; doc/poses.md).
 constexpr double kMaxPosesPerRun = 1e7;
 
-struct PoseSetRequest {
-  MeshSource fixed;  // a valid closed solid
-  MeshSource mover;  // empty path: the fixed mesh is the mover
-  std::string levels, out;
-  std::size_t directions = 100, orientations = 10;
-  std::string direction_sampling = "fibonacci", orientation_sampling = "super-fibonacci";
-  std::uint64_t seed = 1;
+// The certified pipeline's request: the pose set's spec and its own options.
+struct PoseSetRequest : PoseSetSpec {
   std::string shard = "0/1";
   bool resume = false, no_polish = false;
   StartPolicy start = StartPolicy::NoOffsets;  // --start auto | offset
@@ -36,7 +32,6 @@ struct PoseSetRequest {
   // targets need (max_penetration_tolerance_for).
   double max_penetration_tolerance = 1e-6;
   int max_steps = kDefaultMaxSteps;
-  std::string command_line;
 };
 
 struct PoseSetResult {

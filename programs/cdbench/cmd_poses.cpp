@@ -31,17 +31,10 @@ struct PosesCliOptions {
 // --pipeline float: the paper's grid + marching cubes + float sweeps; no certificate.
 int run_float_poses(const PosesCliOptions& opt) {
   FloatPoseSetRequest rq;
-  rq.levels = opt.request.levels;
-  rq.out = opt.request.out;
-  rq.directions = opt.request.directions;
-  rq.orientations = opt.request.orientations;
-  rq.direction_sampling = opt.request.direction_sampling;
-  rq.orientation_sampling = opt.request.orientation_sampling;
-  rq.seed = opt.request.seed;
+  static_cast<PoseSetSpec&>(rq) = opt.request;  // the spec both pipelines share
   rq.grid = opt.grid;
   rq.voxel = opt.voxel;
   rq.keep_offsets = opt.keep_offsets;
-  rq.command_line = opt.request.command_line;
   if (opt.request.resume || opt.request.no_polish || opt.request.shard != "0/1" || opt.request.start != StartPolicy::NoOffsets ||
       opt.request.parallel_mesher)
     throw InputError("--pipeline float: --resume, --shard, --start, --parallel-mesher and --no-polish belong to the certified "

@@ -3,7 +3,7 @@
 #include <string>
 
 #include "mesh/validate_mesh.h"
-#include "offset/offset_set.h"
+#include "core/mesh_source.h"
 
 namespace cdbench::cli {
 
@@ -13,7 +13,7 @@ struct LoadedMesh {
   double seconds_read = 0.0, seconds_validate = 0.0;
 };
 
-// The mesh as the library's offset sets record it.
+// The mesh as the library's offset and pose sets record it.
 inline MeshSource mesh_source(const LoadedMesh& loaded) {
   return {loaded.path, &loaded.validated.mesh, loaded.seconds_read, loaded.seconds_validate};
 }
