@@ -1381,10 +1381,11 @@ TEST(PlacePose, LevelsOfOneApproachShareTheContactAndContinueEachOther) {
   EXPECT_GT(chained, 5);
 }
 
-// Pinion moving against spool (CGAL's data) at -20 % of the maximum penetration, the approach of
-// the pose sets' 20 x 2 request where a gear's tooth slides at 1/20-1/10 of the advance towards
-// the target: its first segment searches run out of their budget, and with segments tried again
-// only once a pose (before session 85) the slide took 105 two-sided steps. Tried again after
+// Pinion moving against spool (CGAL's data) at -20 % of the maximum penetration, an approach of
+// the pose sets' 20 x 2 request where a gear's tooth slides slowly towards the target: its first
+// segment searches run out of their budget, and with segments tried again only once a pose
+// (before session 85) the slide took 114 two-sided steps (direction 9 until session 86, whose
+// shorter candidate lists changed that approach's steps; this one since). Tried again after
 // every failure, once the gap has halved, they cross it in far fewer, to the same first crossing.
 TEST(PlacePose, SegmentsTriedAgainAfterEveryFailureCrossAGearSlide) {
   const std::string dir = std::string(CDBENCH_DATA_DIR) + "/cgal/meshes/";
@@ -1408,7 +1409,7 @@ TEST(PlacePose, SegmentsTriedAgainAfterEveryFailureCrossAGearSlide) {
   const std::vector<Eigen::Vector3d> dirs = sphere_fibonacci(20);
   std::array<PoseOutcome, 2> p;
   for (int mode = 0; mode < 2; ++mode) {
-    // As `cdbench poses` places approach 9 (orientation 0, direction 9 of 20): levels in
+    // As `cdbench poses` places approach 12 (orientation 0, direction 12 of 20): levels in
     // descending order, each advance continuing from the previous level's pose.
     ApproachMemo memo;
     for (const double t : targets) {
@@ -1416,16 +1417,16 @@ TEST(PlacePose, SegmentsTriedAgainAfterEveryFailureCrossAGearSlide) {
       PoseOptions opt = zone.options(base);
       opt.start = t > 0.0 ? PoseStart::Far : PoseStart::Surface;
       opt.segment_retries = mode == 0 ? -1 : 1;
-      p[mode] = place_pose(setup, frame, &surface, dirs[9], t, opt, &memo);
+      p[mode] = place_pose(setup, frame, &surface, dirs[12], t, opt, &memo);
     }
     SCOPED_TRACE("mode " + std::to_string(mode));
     EXPECT_TRUE(p[mode].certified);
     EXPECT_TRUE(p[mode].on_target);
   }
-  // The same first crossing: c falls at about 1/20 of the advance there, so poses within the
-  // tolerance of the target lie within about 20 tolerances of each other along the line.
+  // The same first crossing: c falls slowly there, so poses within the tolerance of the target
+  // may lie tens of tolerances apart along the line.
   EXPECT_NEAR(p[0].lambda, p[1].lambda, 40.0 * base.tolerance);
-  // 61 steps (8 segments tried) against 105 (2).
+  // 79 steps (8 segments tried) against 144 (2).
   EXPECT_GT(p[0].segment_tries, p[1].segment_tries + 2);
   EXPECT_LT(10 * p[0].steps, 7 * p[1].steps) << p[0].steps << " " << p[1].steps;
 }
