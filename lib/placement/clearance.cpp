@@ -209,7 +209,7 @@ struct ParentCandidates {
   // 32 since session 86 (with kMaxSeparatingCandidates): pinion moving against spool 7-16 %
   // faster, a thin tube moving 0-5 %, CGAL's solids against themselves 1 % (doc/performance.md,
   // "Shorter candidate lists"). The branch and bound's lists and the segment search's alike.
-  static constexpr std::size_t kMaxCount = 32;
+  static constexpr std::size_t kMaxCount = kCandidateListLength;
   Vec3 m;
   double ud_hi = 0.0;   // upper end of dist(m, F)
   double radius = 0.0;
@@ -655,7 +655,7 @@ class BranchAndBound {
   // list is a cell far larger than its distance to F (a sliver across F), where a plane through
   // all of them seldom clears the cell, and gathering them took a tenth of pinion's -20 % time.
   // 32 since session 86 (64 before): a thin tube's slivers overflowed two gathers in three.
-  static constexpr std::size_t kMaxSeparatingCandidates = 32;
+  static constexpr std::size_t kMaxSeparatingCandidates = kCandidateListLength;
   // A crowded cell's list would overflow: its ball (radius ud + 2.5 r) holds the gather's (ud + 2 r).
   static_assert(kMaxSeparatingCandidates >= ParentCandidates::kMaxCount, "Cell::crowded implies a long list");
 

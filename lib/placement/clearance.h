@@ -11,6 +11,7 @@
 //    cell-to-F distance for cells proved disjoint, down to the requested tolerance;
 //  * then widened by twice the transform's rounding bound (ours vs exact, exact vs any other).
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -132,6 +133,12 @@ struct ClearanceResult {
   // The pair-distance path's nearest pair (fixed face, mover face), when it ran; -1 otherwise.
   std::int64_t nearest_pair_fixed = -1, nearest_pair_mover = -1;
 };
+
+// How many of F's triangles a certificate lists for a cell: for a split cell's children (a list
+// their queries scan instead of F's tree) and for a separating plane; a cell with more gets none.
+// 32 since session 86 (64 before; doc/performance.md, "Shorter candidate lists"). Certificates,
+// and so poses, depend on it: `cdbench poses` records it in its run key.
+constexpr std::size_t kCandidateListLength = 32;
 
 // ClearanceOptions::pair_budget for poses of unknown status (`cdbench certify`, `cdbench
 // validate`): 16 triangle pairs a triangle of the two meshes. Apart poses of CGAL's solids need far

@@ -307,7 +307,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // Every certificate since session 86 lists at most 32 of F's triangles for a split cell's
   // children and for a separating plane (64 before): cells may be bounded and split otherwise, so
   // intervals and polishing steps, and so poses, may differ within the tolerance.
-  run_key["candidate_list_length"] = 32;
+  run_key["candidate_list_length"] = kCandidateListLength;
   // Every certificate since 2026-12-03 (session 69) with tighter rounding bounds for near points and
   // placed cell corners, stopping at a cell smaller than its own rounding (1): intervals and
   // polishing steps, rarely poses, may differ within the tolerance from earlier binaries'.

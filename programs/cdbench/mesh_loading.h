@@ -2,8 +2,8 @@
 // Reading and validating a mesh for a subcommand, with timings.
 #include <string>
 
-#include "mesh/validate_mesh.h"
 #include "core/mesh_source.h"
+#include "mesh/validate_mesh.h"
 
 namespace cdbench::cli {
 
