@@ -12,6 +12,7 @@
 //    two-sided and segment tries, deep-zone jumps and octree cubes a pose): A/B runs compare it.
 // Usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]
 //                    [--no-support-planes] [--no-deep-cover] [--no-zone-octree] [--per-pose]
+//                    [--trace FILE]
 //   --no-separated-advance: targets > 0 advance by a certificate per step (the former way), for A/B.
 //   --no-sweep-certificate: the touching pose certified by a branch and bound (the former way), A/B.
 //   --no-support-planes: penetrating targets of a convex F without its supporting planes, A/B.
@@ -19,6 +20,9 @@
 //   --no-zone-octree: where a cover runs out of its budget, no octree about the mover's path, A/B.
 //   --per-pose: a line per polished pose (approach, level): its time and work, to find the poses
 //     that hold a level's time.
+//   --trace FILE: a CSV row per event of each polished pose (PolishEvent: every certificate with
+//     what it was for, its lambda in full precision, its interval and cells; every segment tried,
+//     with its verdict; every deep-zone query), to see where a slow pose's steps go.
 
 #include <algorithm>
 #include <chrono>
@@ -38,6 +42,8 @@
 #include "poseset/poseset_manifest.h"
 #include "placement/place_pose.h"
 #include "sampling/sampling.h"
+#include "util/atomic_file.h"
+#include "util/number_format.h"
 #include "guarded_main.h"
 
 using namespace cdbench;
@@ -49,17 +55,34 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_soup(path)).mesh; }
 
+const char* kTraceHeader = "approach,level,event,purpose,target,lambda,to,clearance_lo,clearance_hi,loose,warm,verdict,work,budget\n";
+
+// A --trace row: the event of approach `a` at level `level` (doubles in full precision, so that a
+// pose reproduces).
+std::string trace_row(std::size_t a, const std::string& level, const PolishEvent& e) {
+  const bool cert = e.kind == PolishEvent::Kind::certificate, seg = e.kind == PolishEvent::Kind::segment;
+  const char* event = cert ? "certificate" : seg ? "segment" : "zone-query";
+  std::string row = std::to_string(a) + "," + level + "," + event + "," + (cert ? to_string(e.purpose) : "") + "," +
+                    number_text(e.target) + "," + number_text(e.lambda) + "," + (cert ? "" : number_text(e.to)) + ",";
+  row += cert ? number_text(e.clearance.lo) + "," + number_text(e.clearance.hi) : ",";
+  row += std::string(",") + (cert ? (e.loose ? "1" : "0") : "") + "," + (cert ? (e.warm ? "1" : "0") : "") + "," +
+         (seg ? to_string(e.verdict) : "") + "," + std::to_string(e.work) + "," + (seg ? std::to_string(e.budget) : "") +
+         "\n";
+  return row;
+}
+
 }  // namespace
 
 static int run(int argc, char** argv) {
   const char* usage =
       "usage: bench_poses POSESET_DIR [--approaches M] [--no-separated-advance] [--no-sweep-certificate]\n"
-      "       [--no-support-planes] [--no-deep-cover] [--no-zone-octree] [--per-pose]\n"
+      "       [--no-support-planes] [--no-deep-cover] [--no-zone-octree] [--per-pose] [--trace FILE]\n"
       "  times certified polished poses of a pose set made by `cdbench poses` against FCL's conservative\n"
       "  advancement on the same approaches (M: how many, default 200); the --no-* switches select\n"
       "  former ways (A/B): the separated advance and the touching certificate by certificates, no\n"
       "  supporting planes, no built deep-zone cover, no deep-zone octree about the mover's path;\n"
-      "  --per-pose: a line per polished pose (approach, level) with its time and work\n";
+      "  --per-pose: a line per polished pose (approach, level) with its time and work\n"
+      "  --trace FILE: a CSV row per certificate, segment try and deep-zone query of each polished pose\n";
   if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
     std::fputs(usage, stdout);
     return 0;
@@ -72,6 +95,7 @@ static int run(int argc, char** argv) {
   std::size_t wanted = 200;
   bool separated_advance = true, no_sweep_certificate = false, support_planes = true, deep_covers = true,
        zone_octree = true, per_pose = false;
+  std::string trace_path;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--approaches") == 0 && i + 1 < argc) wanted = std::stoul(argv[++i]);
     else if (std::strcmp(argv[i], "--no-separated-advance") == 0) separated_advance = false;  // A/B
@@ -80,6 +104,7 @@ static int run(int argc, char** argv) {
     else if (std::strcmp(argv[i], "--no-deep-cover") == 0) deep_covers = false;  // A/B
     else if (std::strcmp(argv[i], "--no-zone-octree") == 0) zone_octree = false;  // A/B
     else if (std::strcmp(argv[i], "--per-pose") == 0) per_pose = true;
+    else if (std::strcmp(argv[i], "--trace") == 0 && i + 1 < argc) trace_path = argv[++i];
     else {
       std::fprintf(stderr, "bench_poses: unknown option '%s'\n%s", argv[i], usage);
       return 2;
@@ -156,6 +181,11 @@ static int run(int argc, char** argv) {
     const Vec3 t = pose_translation(f, d, lambda);
     return certify_clearance(fixed, mover, setup.components, f.orientation, t, copt).clearance;
   };
+  // --trace: rows gathered here, written whole at the end.
+  std::string trace_text = kTraceHeader;
+  std::size_t trace_approach = 0;
+  std::string trace_level;
+  const PolishTrace tracer = [&](const PolishEvent& e) { trace_text += trace_row(trace_approach, trace_level, e); };
   std::size_t current_orientation = static_cast<std::size_t>(-1);
   std::unique_ptr<OrientationFrame> frame;
   for (std::size_t k = 0; k < M; ++k) {
@@ -184,6 +214,11 @@ static int run(int argc, char** argv) {
       if (level_start[l] == PoseStart::Offset && !swept) continue;  // the level had no offset
       PoseOptions lpo = level_zone[l].options(po);
       lpo.start = level_start[l];
+      if (!trace_path.empty()) {
+        lpo.trace = &tracer;
+        trace_approach = a;
+        trace_level = ps["levels"][l]["spec"].get<std::string>();
+      }
       t0 = Clock::now();
       const PoseOutcome p = place_pose(setup, *frame, swept, d, level_target[l], lpo, &memo);
       const double pose_seconds = seconds_since(t0);
@@ -236,6 +271,7 @@ static int run(int argc, char** argv) {
     max_over = std::max(max_over, -err);
     max_under = std::max(max_under, err);
   }
+  if (!trace_path.empty()) write_file_atomically(trace_path, [&](std::ostream& os) { os << trace_text; });
   const double pps = ps["timings"]["poses_per_second"].get<double>();
   const std::size_t levels = ps["levels"].size();
   std::printf("pose set %s: %zu faces, %zu directions x %zu orientations x %zu levels\n", dir.c_str(),

@@ -1482,6 +1482,15 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   return r;
 }
 
+const char* to_string(SegmentVerdict v) {
+  switch (v) {
+    case SegmentVerdict::above: return "above";
+    case SegmentVerdict::below: return "below";
+    case SegmentVerdict::undecided: return "undecided";
+  }
+  return "?";
+}
+
 bool reaches_tolerance(const ClearanceResult& c, double tolerance) {
   const double lo = c.clearance.lo, hi = c.clearance.hi;
   return c.tolerance_reached && std::isfinite(lo) && std::isfinite(hi) &&

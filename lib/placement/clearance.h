@@ -170,6 +170,7 @@ enum class SegmentVerdict {
               // heuristic verdict, for steering: the crossing is likely in the first half)
   undecided,  // the budget of cell evaluations ran out, or a cell could not be split further
 };
+const char* to_string(SegmentVerdict v);  // "above", "below", "undecided"
 struct SegmentCheck {
   SegmentVerdict verdict = SegmentVerdict::undecided;
   std::uint64_t cells = 0;  // cells evaluated

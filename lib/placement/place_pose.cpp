@@ -470,6 +470,22 @@ const char* to_string(PoseStart s) {
   return "?";
 }
 
+const char* to_string(PolishPurpose p) {
+  switch (p) {
+    case PolishPurpose::contact: return "contact";
+    case PolishPurpose::far_start: return "far-start";
+    case PolishPurpose::landing: return "landing";
+    case PolishPurpose::planes: return "planes";
+    case PolishPurpose::advance: return "advance";
+    case PolishPurpose::segment_end: return "segment-end";
+    case PolishPurpose::two_sided: return "two-sided";
+    case PolishPurpose::step: return "step";
+    case PolishPurpose::tighten: return "tighten";
+    case PolishPurpose::report: return "report";
+  }
+  return "?";
+}
+
 const char* to_string(StartPolicy p) { return p == StartPolicy::Offsets ? "offset" : "auto"; }
 
 PoseStart planned_start(double target, bool polish, StartPolicy policy, double band) {
@@ -585,7 +601,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   const double step_width = certificate_steps
                                 ? std::min(options.step_relative_tolerance, kSeparatedStepRelativeTolerance)
                                 : options.step_relative_tolerance;
-  const auto certify = [&](double lambda, bool loose, bool maybe_apart = false) {
+  const auto certify = [&](PolishPurpose why, double lambda, bool loose, bool maybe_apart = false) {
     if (maybe_apart) copt.try_distance_path = true;
     copt.relative_tolerance = loose ? step_width : 0.0;
     copt.target = target;
@@ -594,6 +610,17 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     const bool cold = !frontier.valid;
     const ClearanceResult r = certify_clearance(*setup.fixed, *setup.mover, setup.components, frame.orientation, t, copt);
     out.clearance_cells += r.cells;
+    if (options.trace) {
+      PolishEvent e;
+      e.purpose = why;
+      e.target = target;
+      e.lambda = lambda;
+      e.clearance = r.clearance;
+      e.loose = loose;
+      e.warm = !cold;
+      e.work = r.cells;
+      (*options.trace)(e);
+    }
     if (!r.tolerance_reached && (r.rounding_floor || r.cells >= copt.max_cells)) ++exhausted;
     if (memo && cold && !r.separated && memo->cold_cells == 0) memo->cold_cells = std::max<std::uint64_t>(r.cells, 1);
     adopt(r);
@@ -635,7 +662,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       c = touching_certificate(frame, dir, lambda_exact, out.lambda, copt.tolerance, mc.moving_face, contact);
       // Against F itself the sweep certifies the pose; otherwise (an offset), or when the rounding
       // of t would not fit the tolerance, a certificate against F.
-      if (swept != setup.surface || !c.tolerance_reached) c = certify(out.lambda, false);
+      if (swept != setup.surface || !c.tolerance_reached) c = certify(PolishPurpose::contact, out.lambda, false);
       if (memo) {
         memo->contact->lambda = out.lambda;
         memo->contact->certificate = c;
@@ -646,7 +673,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     // Far away only the lower end matters (the first step); the raw clearance is then a wider
     // certified interval.
     out.lambda_raw = out.lambda = lambda_far;
-    c = certify(out.lambda, true);
+    c = certify(PolishPurpose::far_start, out.lambda, true);
   }
   out.contact = true;
   out.raw_clearance = c.clearance;
@@ -663,7 +690,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     if (!within(c.clearance) && !(c.clearance.lo > target)) {
       // Neither on target nor provably before the crossing: start far away.
       out.lambda = lambda_far;
-      c = certify(out.lambda, false, true);
+      c = certify(PolishPurpose::far_start, out.lambda, false, true);
     }
     if (memo && memo->last && memo->last->lambda < out.lambda && memo->last->certificate.clearance.lo > target &&
         !within(c.clearance)) {
@@ -707,8 +734,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // full-width landing's cells were refined to the tolerance about its minimum: the repaired
       // mannequin-devil's -20 % poses 18,600 -> 11,400 cells; doc/performance.md, "Loose
       // landings"). Full width where it may be on the target.
-      c = certify(out.lambda, true, true);
-      if (c.clearance.hi <= target + options.tolerance) c = certify(out.lambda, false, true);
+      c = certify(PolishPurpose::landing, out.lambda, true, true);
+      if (c.clearance.hi <= target + options.tolerance) c = certify(PolishPurpose::landing, out.lambda, false, true);
       if (!within(c.clearance) && !(c.clearance.lo > target)) {
         out.lambda = lambda0;
         c = c0;
@@ -744,7 +771,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       const double step = gap * (1.0 - 1e-9) - slack;
       if (!(step > 0.0)) {
         if (last_loose) {  // a loose certificate: tighten it before giving up
-          c = certify(out.lambda, false);
+          c = certify(PolishPurpose::tighten, out.lambda, false);
           continue;
         }
         break;
@@ -768,7 +795,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
             a = planes_step();
             if (!(a.h > 0.0)) break;
           }
-          c = certify(out.lambda, false);
+          c = certify(PolishPurpose::planes, out.lambda, false);
           continue;
         }
       }
@@ -796,7 +823,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           if (h <= options.tolerance || out.steps >= options.max_steps) break;
           h = 0.0;
         }
-        c = certify(out.lambda, false);
+        c = certify(PolishPurpose::advance, out.lambda, false);
         continue;
       }
       const double mid = 0.5 * (c.clearance.lo + c.clearance.hi);
@@ -839,8 +866,18 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         const double worth = out.lambda - 2.0 * std::max(0.0, c.clearance.lo - target);
         // c's fall over the flat run or over its last two steps, whichever is less, over the advance.
         const double run_slope = std::min(slope2, (run_from[1] - mid) / (run_from[0] - out.lambda));
+        const std::uint64_t cubes_before = out.zone_cubes;
         const double lk = jumps.contact(setup, frame, dir, out.lambda, gap, flat_steps, run_slope, worth, lambda_far,
                                         out.clearance_cells, &out.zone_cubes);
+        if (options.trace && (!std::isnan(lk) || out.zone_cubes > cubes_before)) {
+          PolishEvent e;
+          e.kind = PolishEvent::Kind::zone_query;
+          e.target = target;
+          e.lambda = out.lambda;
+          e.to = lk;
+          e.work = out.zone_cubes - cubes_before;
+          (*options.trace)(e);
+        }
         if (!std::isnan(lk)) {
           if (!(lk > -lambda_far)) return missed();  // the line never meets the zone
           if (lk < worth) {
@@ -912,9 +949,20 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           const SegmentCheck check =
               check_segment_above(*setup.fixed, frame.orientation, frontier, ta, tb, pad, target, budget);
           ++out.segment_tries;
+          if (options.trace) {
+            PolishEvent e;
+            e.kind = PolishEvent::Kind::segment;
+            e.target = target;
+            e.lambda = out.lambda;
+            e.to = out.lambda - h;
+            e.verdict = check.verdict;
+            e.work = check.cells;
+            e.budget = budget;
+            (*options.trace)(e);
+          }
           if (check.verdict == SegmentVerdict::above) {
             out.lambda -= h;
-            c = certify(out.lambda, true);
+            c = certify(PolishPurpose::segment_end, out.lambda, true);
             advanced = true;
             break;
           }
@@ -934,7 +982,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         const double h = 0.9 * 2.0 * gap / (1.0 + (spanned ? span_slope : slope));
         if (h > 1.2 * step && out.lambda - h >= -lambda_far) {
           const double slack2 = pose_rounding_slack(frame, std::abs(out.lambda) + h);
-          const ClearanceResult c2 = certify(out.lambda - h, true);
+          const ClearanceResult c2 = certify(PolishPurpose::two_sided, out.lambda - h, true);
           ++out.two_sided_tries;
           if ((gap + (c2.clearance.lo - target)) * (1.0 - 1e-9) - 2.0 * slack2 >= h) {
             out.lambda -= h;
@@ -946,13 +994,13 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       if (!advanced) {
         out.lambda -= step;
         if (out.lambda < -lambda_far) return missed();
-        c = certify(out.lambda, true);
+        c = certify(PolishPurpose::step, out.lambda, true);
       }
       ++out.steps;
       if (c.clearance.hi <= target + options.tolerance && last_loose)
-        c = certify(out.lambda, false);  // near the end: the reported certificate
+        c = certify(PolishPurpose::report, out.lambda, false);  // near the end: the reported certificate
     }
-    if (last_loose) c = certify(out.lambda, false);  // stopped early: report a full-width certificate
+    if (last_loose) c = certify(PolishPurpose::report, out.lambda, false);  // stopped early: report a full-width certificate
   }
   if (memo && options.polish && c.tolerance_reached && within(c.clearance))
     memo->last = ApproachMemo::OnTarget{target, out.lambda, c, frontier};

@@ -7,6 +7,7 @@
 // the tolerance of the target. See doc/poses.md.
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -133,6 +134,38 @@ constexpr double kDeepStepRelativeTolerance = 0.6;
 // slower; doc/performance.md, "Tighter steps on separated levels").
 constexpr double kSeparatedStepRelativeTolerance = 0.15;
 
+// What a certificate of a pose's polishing is for (PolishEvent): the raw pose's against F (an
+// offset's contact, or a contact not certified by the sweep), a far start's, a deep-zone jump's
+// landing, after supporting planes' or the separated advance's steps, a proved segment's end, a
+// two-sided step's far end, a plain Lipschitz step's, a loose one tightened before the advance
+// gives up, and the reported pose's full-width one.
+enum class PolishPurpose { contact, far_start, landing, planes, advance, segment_end, two_sided, step, tighten, report };
+const char* to_string(PolishPurpose p);
+
+// One event of a pose's polishing, reported as it happens to PoseOptions::trace (diagnostics:
+// where a slow pose's steps and cells go; `bench_poses --trace`). Nothing depends on it.
+struct PolishEvent {
+  // certificate: a certify_clearance run; segment: a check_segment_above try; zone_query: a
+  // deep-zone contact asked for a jump (its landing, when taken, is the next certificate).
+  enum class Kind { certificate, segment, zone_query };
+  Kind kind = Kind::certificate;
+  PolishPurpose purpose = PolishPurpose::step;  // certificate
+  double target = 0.0;
+  // certificate: its pose; segment: the segment's start; zone_query: the pose it was asked from.
+  double lambda = 0.0;
+  // segment: its end; zone_query: the contact found (NaN: none; beyond -lambda_far: the line
+  // misses the zone).
+  double to = 0.0;
+  Interval clearance;  // certificate
+  bool loose = false;  // certificate: a step's loose width (PoseOptions::step_relative_tolerance)
+  bool warm = false;   // certificate: started from the previous certificate's frontier
+  SegmentVerdict verdict = SegmentVerdict::undecided;  // segment
+  // certificate: branch-and-bound cells; segment: cells evaluated; zone_query: octree cubes.
+  std::uint64_t work = 0;
+  std::uint64_t budget = 0;  // segment: its budget of cells
+};
+using PolishTrace = std::function<void(const PolishEvent&)>;
+
 struct PoseOptions {
   double tolerance = 0.0;  // absolute: certificate width and polishing target band
   // The steps' loose certificates' relative width (kStepRelativeTolerance; the level's,
@@ -195,6 +228,8 @@ struct PoseOptions {
   // The level's cube verdicts shared by its poses' octree queries (optional; the same poses either
   // way, less work).
   DeepCubeMemo* deep_zone_memo = nullptr;
+  // Called with each event of the polishing (PolishEvent), when set (diagnostics only).
+  const PolishTrace* trace = nullptr;
 };
 
 // Whether a separated target (> 0) steps by certificates rather than by the separated advance: it is

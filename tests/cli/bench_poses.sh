@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # validation/bench_poses, whose tables doc/performance.md quotes: on a torus pose set it times every
 # level against FCL's conservative advancement, prints one --per-pose line per approach and level
-# (their work adding up to the level's "work a pose"), finds every contact FCL finds, and refuses
+# (their work adding up to the level's "work a pose"), writes a --trace CSV whose certificates'
+# cells add up to the same, finds every contact FCL finds, and refuses
 # bad usage and a folder that is not a pose set (exit 2, as every validation program: the file
 # named).
 . "$(dirname "$0")/common.sh"
@@ -10,7 +11,7 @@ meshes=$2
 bench=$3
 logged "$work/poses.txt" "pose set of the torus" \
   "$cdbench" poses "$meshes/torus.off" --levels=-30%,0,6% --directions 4 --orientations 2 -o "$work/set"
-logged "$work/bench.txt" "bench_poses" "$bench" "$work/set" --approaches 6 --per-pose
+logged "$work/bench.txt" "bench_poses" "$bench" "$work/set" --approaches 6 --per-pose --trace "$work/trace.csv"
 for level in -30% 0 6%; do
   grep -q "^$level " "$work/bench.txt" || { cat "$work/bench.txt"; fail "no row for level $level"; }
   [ "$(grep -c "^pose approach [0-9]* level $level:" "$work/bench.txt")" -eq 6 ] ||
@@ -26,7 +27,26 @@ cells = [int(c) for c in re.findall(r"^pose approach \d+ level -30%: .*?cells (\
 mean = float(re.search(r"^work a pose -30%: certificate cells ([0-9.]+)", text, re.M).group(1))
 sys.exit(0 if len(cells) == 6 and abs(sum(cells) / 6 - mean) <= 0.5 else 1)
 PY
+# The trace: a header, rows of the polished levels, each -30 % pose's certificate cells equal to
+# its per-pose line's.
+python3 - "$work/bench.txt" "$work/trace.csv" <<'PY' || fail "the trace does not match the per-pose lines"
+import csv, re, sys
+text = open(sys.argv[1]).read()
+per_pose = {int(a): int(c) for a, c in re.findall(r"^pose approach (\d+) level -30%: .*?cells (\d+),", text, re.M)}
+rows = list(csv.DictReader(open(sys.argv[2])))
+# Level 0's touching poses are certified by the exact sweep, with no branch and bound: no rows.
+assert rows and {r["level"] for r in rows} == {"-30%", "6%"}, {r["level"] for r in rows}
+assert all(r["event"] in ("certificate", "segment", "zone-query") for r in rows), "events"
+traced = {}
+for r in rows:
+    if r["level"] == "-30%" and r["event"] == "certificate":
+        traced[int(r["approach"])] = traced.get(int(r["approach"]), 0) + int(r["work"])
+assert traced == per_pose, (traced, per_pose)
+PY
 set +e
+"$bench" "$work/set" --approaches 6 --trace "$work/no/such/dir/trace.csv" > "$work/trace_err.txt" 2>&1
+[ $? -eq 2 ] || { cat "$work/trace_err.txt"; fail "a trace file that cannot be written must exit 2"; }
+grep -q "trace.csv" "$work/trace_err.txt" || { cat "$work/trace_err.txt"; fail "the trace file must be named"; }
 "$bench" "$work/set" --approaches 6 --no-such-option > "$work/usage.txt" 2>&1
 [ $? -eq 2 ] || fail "an unknown option must exit 2"
 "$bench" > /dev/null 2>&1

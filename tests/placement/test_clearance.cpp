@@ -1176,6 +1176,61 @@ TEST(PlacePose, SegmentStepsCrossASlowSlideBySlopesOverASpan) {
   EXPECT_LT(4 * p[0].steps, p[1].steps) << p[0].steps << " " << p[1].steps;
 }
 
+// The polishing's trace (PoseOptions::trace) reports every certificate, with what it was for, and
+// every segment tried, and changes nothing: on the slide above, the traced pose is the untraced
+// one, its certificates' cells add up to the pose's, its segment and two-sided events are the
+// pose's tries, and its last certificate is the pose's.
+TEST(PlacePose, TraceReportsEveryCertificateAndSegmentTry) {
+  const SignedDistance fixed(make_box(Vec3(-1, -1, -1), Vec3(6.0, 1, 0)));
+  const TriangleMesh mover = make_icosphere(0.05, 0);
+  ApproachSetup setup = make_approach_setup(fixed, mover);
+  setup.fixed_ref = Vec3(0.0, 0.0, -0.1);
+  const OrientationFrame frame = make_orientation_frame(setup, Eigen::Matrix3d::Identity());
+  const Vec3 dir = Vec3(1.0, 0.0, 0.05).normalized();
+  const double target = -0.1;
+  PoseOptions opt;
+  opt.tolerance = 1e-7;
+  opt.start = PoseStart::Far;
+  opt.support_planes = false;
+  const PoseOutcome plain = place_pose(setup, frame, nullptr, dir, target, opt);
+  std::vector<PolishEvent> events;
+  const PolishTrace trace = [&](const PolishEvent& e) { events.push_back(e); };
+  opt.trace = &trace;
+  const PoseOutcome traced = place_pose(setup, frame, nullptr, dir, target, opt);
+  ASSERT_TRUE(traced.on_target);
+  EXPECT_EQ(traced.lambda, plain.lambda);
+  EXPECT_EQ(traced.clearance.lo, plain.clearance.lo);
+  EXPECT_EQ(traced.clearance.hi, plain.clearance.hi);
+  EXPECT_EQ(traced.steps, plain.steps);
+  std::uint64_t cells = 0;
+  int segments = 0, two_sided = 0, certificates = 0;
+  const PolishEvent* last = nullptr;
+  for (const PolishEvent& e : events) {
+    EXPECT_EQ(e.target, target);
+    if (e.kind == PolishEvent::Kind::certificate) {
+      ++certificates;
+      cells += e.work;
+      two_sided += e.purpose == PolishPurpose::two_sided;
+      last = &e;
+    } else if (e.kind == PolishEvent::Kind::segment) {
+      ++segments;
+      EXPECT_LT(e.to, e.lambda);  // towards F
+      EXPECT_LE(e.work, e.budget + 1);
+    }
+  }
+  ASSERT_NE(last, nullptr);
+  EXPECT_EQ(events.front().purpose, PolishPurpose::far_start);
+  EXPECT_EQ(cells, traced.clearance_cells);
+  EXPECT_EQ(segments, traced.segment_tries);
+  EXPECT_GT(segments, 0);
+  EXPECT_EQ(two_sided, traced.two_sided_tries);
+  EXPECT_GT(two_sided, 0);
+  EXPECT_GE(certificates, traced.steps);
+  EXPECT_EQ(last->lambda, traced.lambda);
+  EXPECT_EQ(last->clearance.lo, traced.clearance.lo);
+  EXPECT_EQ(last->clearance.hi, traced.clearance.hi);
+}
+
 // Segments of poses proved above a floor (check_segment_above) agree with certificates of poses
 // sampled along them. Along chords inside a sphere the middle lies deeper than the ends (the depth
 // inside a convex solid is concave): among the floors tried are ones both ends' certificates clear
