@@ -110,6 +110,7 @@ static int run(int argc, char** argv) {
       return 2;
     }
   }
+  if (!trace_path.empty()) check_output_path(trace_path);  // before the run, not after it
   // The manifest reader names the file and key of any problem; a mesh the pose set was made
   // from is found and checked by its SHA-256 (locate_mesh), and read once when it is also the mover.
   const PoseSetManifest manifest = read_poseset_manifest(dir);

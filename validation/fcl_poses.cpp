@@ -7,8 +7,6 @@
 // Usage: fcl_poses POSESET_DIR -o OUT_DIR
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <string>
@@ -22,6 +20,7 @@
 #include "poseset/pose_csv.h"
 #include "poseset/poseset_manifest.h"
 #include "sampling/sampling.h"
+#include "util/atomic_file.h"
 
 using namespace cdbench;
 
@@ -47,9 +46,8 @@ int main(int argc, char** argv) {
     auto fcl_fixed = fcl_model<fcl::OBBRSS<double>>(fixed_mesh);
     auto fcl_mover = fcl_model<fcl::OBBRSS<double>>(mover);
     const double far = setup.fixed_radius + setup.mover_radius + 1e-3 * man.diagonal;
-    std::filesystem::create_directories(out);
-    std::ofstream csv(out + "/poses.csv");
-    csv << kPoseCsvHeader << "\n";
+    prepare_output_directory(out);
+    std::string csv = std::string(kPoseCsvHeader) + "\n";
     double seconds = 0.0;
     std::size_t placed = 0;
     for (std::size_t o = 0; o < K; ++o) {
@@ -79,7 +77,7 @@ int main(int argc, char** argv) {
           r.t = Vec3::Constant(nan);
           r.status = PoseStatus::NoContact;
         }
-        csv << format_pose_row(r);
+        csv += format_pose_row(r);
       }
     }
     nlohmann::json j;
@@ -96,7 +94,8 @@ int main(int argc, char** argv) {
     j["placement"] = {{"approach", "FCL conservativeAdvancementMeshOriented (OBBRSS, TranslationMotion) from the far "
                                     "start to the mirrored far end; the pose at its time of contact"},
                       {"source_poseset", dir}};
-    std::ofstream(out + "/poseset.json") << std::setw(2) << j << "\n";
+    write_file_atomically(out + "/poses.csv", [&](std::ostream& os) { os << csv; });
+    write_file_atomically(out + "/poseset.json", [&](std::ostream& os) { os << std::setw(2) << j << "\n"; });
     std::printf("fcl_poses: %zu approaches, %zu placed, %.3f ms per approach (one thread): %s\n", N * K, placed,
                 1e3 * seconds / (N * K), out.c_str());
     return 0;

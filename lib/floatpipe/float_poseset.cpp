@@ -137,10 +137,8 @@ FloatPoseSetResult build_float_poseset(const FloatPoseSetRequest& opt) {
   std::vector<double> level_seconds(L);
   std::vector<std::string> level_files(L);
   // The output folder only once the grid exists: a request that fails before leaves nothing.
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out, ec);
-  if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");
-  if (opt.keep_offsets) std::filesystem::create_directories(opt.out + "/offsets", ec);
+  prepare_output_directory(opt.out);
+  if (opt.keep_offsets) prepare_output_directory(opt.out + "/offsets");
   Timer t_iso;
   tbb::parallel_for(std::size_t(0), L, [&](std::size_t l) {
     Timer t;

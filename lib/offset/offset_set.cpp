@@ -71,9 +71,7 @@ OffsetSetResult write_offset_set(const OffsetSetRequest& r) {
   // A level too far out to mesh is an error before anything is written.
   for (std::size_t i = 0; i < r.distances.size(); ++i)
     check_offset_level_size(r.names[i], r.distances[i], diag, r.options.radius_relative);
-  std::error_code ec;
-  std::filesystem::create_directories(r.out_dir, ec);
-  if (!std::filesystem::is_directory(r.out_dir)) throw InputError(r.out_dir + ": cannot create the output directory");
+  prepare_output_directory(r.out_dir);
   OffsetOptions oo = r.options;
   std::mutex log_mutex;
   if (r.verbose)

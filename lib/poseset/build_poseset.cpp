@@ -138,9 +138,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   const bool mover_is_fixed = opt.mover.path.empty();
   const std::string mover_path = mover_is_fixed ? opt.fixed.path : opt.mover.path;
   const TriangleMesh& mover = mover_is_fixed ? fixed_mesh : *opt.mover.mesh;
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out, ec);
-  if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");
+  prepare_output_directory(opt.out);
 
   // Work that does not depend on the levels' distances runs beside what does, so that many
   // threads are not left to one phase's serial parts: the files' hashes (serial: 0.04 s for a

@@ -83,9 +83,7 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   Timer total;
   CertifyRunResult result;
   const UserPoseFile& file = *rq.poses;
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (!std::filesystem::is_directory(out_dir)) throw InputError(out_dir + ": cannot create the output directory");
+  prepare_output_directory(out_dir);
 
   const std::string fixed_sha = sha256_file(rq.fixed_path);
   const std::string mover_sha = rq.mover_is_fixed ? fixed_sha : sha256_file(rq.mover_path);

@@ -85,9 +85,7 @@ MergeResult merge_poseset_shards(const std::vector<std::string>& inputs, const s
     throw InputError("the shards hold " + std::to_string(lines.size()) + " poses, the run has " +
                      std::to_string(approaches * levels));
 
-  std::error_code ec;
-  std::filesystem::create_directories(out + "/offsets", ec);
-  if (!std::filesystem::is_directory(out + "/offsets")) throw InputError(out + ": cannot create the output directory");
+  prepare_output_directory(out + "/offsets");
   const std::filesystem::path src = std::filesystem::path(inputs[0]) / "offsets";
   if (std::filesystem::weakly_canonical(src) != std::filesystem::weakly_canonical(std::filesystem::path(out) / "offsets"))
     for (const auto& entry : std::filesystem::directory_iterator(src)) {

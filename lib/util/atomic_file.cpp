@@ -1,10 +1,12 @@
 #include "util/atomic_file.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <utility>
 
@@ -19,7 +21,40 @@ std::string temporary_name(const std::string& path) {
   return path + ".tmp." + std::to_string(static_cast<long>(getpid()));
 }
 
+// Creates and removes a file in `dir`: the only test of writability that also sees read-only mounts,
+// ACLs and full quotas as the later write will.
+void probe_directory(const std::string& dir, const std::string& named) {
+  const std::string probe = temporary_name((dir.empty() ? std::string(".") : dir) + "/.cdbench-write-probe");
+  const int slot = register_temporary_file(probe.c_str());
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  const int err = errno;
+  if (fd >= 0) {
+    ::close(fd);
+    std::remove(probe.c_str());
+  }
+  unregister_temporary_file(slot);
+  if (fd < 0) throw InputError(named + ": cannot write there: " + std::strerror(err));
+}
+
 }  // namespace
+
+void prepare_output_directory(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (!std::filesystem::is_directory(dir))
+    throw InputError(dir + ": cannot create the output directory" + (ec ? ": " + ec.message() : std::string()));
+  probe_directory(dir, dir + " (output directory)");
+}
+
+void check_output_path(const std::string& path) {
+  if (path.empty()) throw InputError("an output file's name is empty");
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a directory, not an output file");
+  const std::string parent = std::filesystem::path(path).parent_path().string();
+  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+    throw InputError(path + ": cannot write there: no directory '" + parent + "'");
+  probe_directory(parent, path);
+}
 
 void write_path_atomically(const std::string& path, const std::function<bool(const std::string&)>& write) {
   const std::string tmp = temporary_name(path);

@@ -32,4 +32,12 @@ class RemovedIfInterrupted {
 // write(tmp_path) must create tmp_path and return false (or throw) on failure.
 void write_path_atomically(const std::string& path, const std::function<bool(const std::string&)>& write);
 
+// For runs that write their outputs only when their work is done: fail before the work, not after.
+// prepare_output_directory creates `dir` (and its parents) if missing and checks that a file can be
+// created in it; check_output_path checks that write_file_atomically(path, ...) could write `path`
+// (its directory exists and takes a new file; `path` is not a directory). Both throw an InputError
+// naming the path and the reason; neither leaves anything behind but the created directory.
+void prepare_output_directory(const std::string& dir);
+void check_output_path(const std::string& path);
+
 }  // namespace cdbench

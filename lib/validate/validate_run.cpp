@@ -132,9 +132,7 @@ ValidateResult run_validate(const ValidateRequest& rq) {
     for (PoseRow& r : read_poseset_rows(ref)) ref_rows.emplace(r.pose, std::move(r));
     ref_json = ref.json;
   }
-  std::error_code ec;
-  std::filesystem::create_directories(rq.out, ec);
-  if (!std::filesystem::is_directory(rq.out)) throw InputError(rq.out + ": cannot create the output directory");
+  prepare_output_directory(rq.out);
 
   res.pipeline = pipeline_of(man.json);
   if (man.json.contains("grid") && man.json["grid"].is_object()) res.voxel = man.json["grid"].value("voxel", 0.0);

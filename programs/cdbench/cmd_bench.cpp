@@ -62,9 +62,7 @@ int run_bench(const BenchCliOptions& opt) {
   const TriangleMesh& mover = load_valid(ps.mover, opt.poseset, mover_holder);
   const std::vector<PoseRow> rows = placed_rows(read_poseset_rows(ps));
   if (rows.empty()) throw InputError(opt.poseset + "/poses.csv: no placed poses");
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out, ec);
-  if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");
+  prepare_output_directory(opt.out);
   if (opt.pin) pin_to_current_core();
 
   std::vector<ImplScore> scores;

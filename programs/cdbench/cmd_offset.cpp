@@ -47,9 +47,7 @@ int run_offset(const OffsetCliOptions& opt) {
   Timer total;
   const LoadedMesh loaded = load_mesh(opt.mesh);
   if (!report_if_not_solid(loaded)) return kExitInvalidMesh;
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out, ec);
-  if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");
+  prepare_output_directory(opt.out);
   const std::string input_sha = sha256_file(opt.mesh);
   const SignedDistance sdf(loaded.validated.mesh);
   const double diag = sdf.bbox().diagonal();

@@ -31,9 +31,7 @@ int run_score(const ScoreCliOptions& opt) {
   if (rows.empty()) throw InputError(opt.poseset + "/poses.csv: no placed poses");
   const AnswerFile file = read_answers_file(opt.answers);
   const MatchedAnswers matched = match_answers(file, rows);
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out, ec);
-  if (!std::filesystem::is_directory(opt.out)) throw InputError(opt.out + ": cannot create the output directory");
+  prepare_output_directory(opt.out);
 
   std::vector<ImplScore> scores = {score_answers(opt.name, ps, rows, matched.by_row, opt.surface_only)};
   scores[0].counts_tests = file.has_bv_tests;

@@ -9,6 +9,7 @@
 #include "mesh/validate_mesh.h"
 #include "mesh/write_mesh.h"
 #include "mesh_loading.h"
+#include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/timer.h"
 
@@ -23,6 +24,7 @@ struct SubdivideOptions {
 int run_subdivide(const SubdivideOptions& opt) {
   if (mesh_format_from_path(opt.output) != MeshFormat::Off)
     throw InputError(opt.output + ": the output must be an .off file");
+  check_output_path(opt.output);
   const LoadedMesh loaded = load_mesh(opt.input);
   if (!report_if_not_solid(loaded)) return kExitInvalidMesh;
   Timer timer;

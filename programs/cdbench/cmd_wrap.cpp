@@ -44,6 +44,8 @@ std::string json_path_for(const std::string& output) {
 int run_repair(const RepairCliOptions& opt, const char* command) {
   if (mesh_format_from_path(opt.output) != MeshFormat::Off)
     throw InputError(opt.output + ": the output must be an .off file");
+  check_output_path(opt.output);
+  check_output_path(json_path_for(opt.output));
   const PolygonSoup soup = read_polygon_soup(opt.input);
   RepairOptions ro;
   ro.weld_tolerance = opt.weld_tolerance;

@@ -47,6 +47,8 @@ set +e
 "$bench" "$work/set" --approaches 6 --trace "$work/no/such/dir/trace.csv" > "$work/trace_err.txt" 2>&1
 [ $? -eq 2 ] || { cat "$work/trace_err.txt"; fail "a trace file that cannot be written must exit 2"; }
 grep -q "trace.csv" "$work/trace_err.txt" || { cat "$work/trace_err.txt"; fail "the trace file must be named"; }
+! grep -q "certified polished pose" "$work/trace_err.txt" ||
+  { cat "$work/trace_err.txt"; fail "an unwritable trace file must be refused before the run"; }
 "$bench" "$work/set" --approaches 6 --no-such-option > "$work/usage.txt" 2>&1
 [ $? -eq 2 ] || fail "an unknown option must exit 2"
 "$bench" > /dev/null 2>&1

@@ -14,6 +14,13 @@ set +e
 rc=$?
 set -e
 [ "$rc" -eq 2 ] && grep -q "must be an .off file" "$work/s.txt" || { echo "subdivide to .stl: exit $rc"; exit 1; }
+# An output that cannot be written is refused before the work (no "input:" line), and named.
+set +e
+"$cdbench" subdivide "$mesh" "$work/no/such/dir/fine.off" > "$work/s.txt" 2>&1
+rc=$?
+set -e
+[ "$rc" -eq 2 ] && grep -q "no/such/dir/fine.off" "$work/s.txt" && ! grep -q "^input:" "$work/s.txt" ||
+  { cat "$work/s.txt"; echo "subdivide to a missing directory: exit $rc"; exit 1; }
 "$cdbench" "${args[@]}" -o "$work/a" > "$work/a.txt"
 grep -q '"status": "certified"' "$work/a/manifest.json"
 grep -q '"status": "empty"' "$work/a/manifest.json"

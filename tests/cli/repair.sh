@@ -44,6 +44,13 @@ rc=$?
 set -e
 [ "$rc" -eq 1 ] || fail "--no-wrap on an open surface: exit $rc"
 [ ! -e "$work/open-r.off" ] || fail "--no-wrap wrote an output"
+# An output that cannot be written is refused before the repair, and named.
+set +e
+"$cdbench" repair "$data/bad/open_surface.off" "$work/no/such/dir/r.off" > "$work/out.txt" 2>&1
+rc=$?
+set -e
+[ "$rc" -eq 2 ] && grep -q "no/such/dir/r.off" "$work/out.txt" && ! grep -q "^method:" "$work/out.txt" ||
+  { cat "$work/out.txt"; fail "repair to a missing directory: exit $rc"; }
 "$cdbench" repair "$data/bad/open_surface.off" "$work/open-r.off" --relative-alpha 10 > "$work/out.txt"
 grep -q "method:   alpha-wrap" "$work/out.txt" || fail "expected the wrap"
 "$cdbench" check "$work/open-r.off" --no-max-penetration > /dev/null || fail "wrap output invalid"

@@ -83,6 +83,45 @@ TEST_F(AtomicFile, MissingDirectoryIsAnInputError) {
   EXPECT_THROW(write_file_atomically("/nonexistent-dir/x.txt", [](std::ostream& o) { o << "x"; }), InputError);
 }
 
+// Runs that write their outputs at the end check them first (util/atomic_file.h). /proc takes no
+// new file even for root, so the refusals below hold whoever runs the tests.
+TEST_F(AtomicFile, OutputDirectoryIsCreatedAndProbedLeavingNothing) {
+  const std::string dir = temp_dir() + "/a/b";
+  prepare_output_directory(dir);
+  EXPECT_TRUE(std::filesystem::is_directory(dir));
+  EXPECT_TRUE(std::filesystem::is_empty(dir));  // the probe file is gone
+  prepare_output_directory(dir);                // an existing one is fine
+  try {
+    prepare_output_directory("/proc/self");
+    ADD_FAILURE() << "/proc/self accepted as an output directory";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/proc/self"), std::string::npos) << e.what();
+  }
+  const std::string file = temp_dir() + "/f";
+  write_file_atomically(file, [](std::ostream& o) { o << "x"; });
+  EXPECT_THROW(prepare_output_directory(file + "/sub"), InputError);  // under a file
+}
+
+TEST_F(AtomicFile, OutputPathIsCheckedBeforeTheWork) {
+  check_output_path(temp_dir() + "/new.csv");
+  EXPECT_FALSE(std::filesystem::exists(temp_dir() + "/new.csv"));
+  EXPECT_TRUE(std::filesystem::is_empty(temp_dir()));
+  const auto refused = [](const std::string& path, const std::string& why) {
+    try {
+      check_output_path(path);
+      ADD_FAILURE() << path << " accepted";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(path), std::string::npos) << what;
+      EXPECT_NE(what.find(why), std::string::npos) << what;
+    }
+  };
+  refused(temp_dir(), "is a directory");
+  refused(temp_dir() + "/missing/x.csv", "no directory");
+  refused("/proc/self/cdbench.csv", "cannot write there");
+  EXPECT_THROW(check_output_path(""), InputError);
+}
+
 TEST(Interval, OutwardRoundingMovesOneUlp) {
   EXPECT_GT(round_up(1.0), 1.0);
   EXPECT_LT(round_down(1.0), 1.0);
