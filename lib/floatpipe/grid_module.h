@@ -2,12 +2,12 @@
 // The OpenVDB side of GridSdf, built as a module (libcdbench_grid_vdb.so, grid_vdb.cpp) that
 // GridSdf loads on first use. Why: libopenvdb costs about 40 ms of dynamic linking at every start
 // of a program that links it (57,000 symbol bindings, doc/float-pipeline.md), and only the float
-// pipeline uses it. Both sides are built together by the same compiler (the module is
-// checked by kGridModuleAbi and the version), so C++ types cross the boundary.
+// pipeline uses it. Loaded by util/module_loader.h (checked by kGridModuleAbi and the version).
 #include <cstddef>
 #include <vector>
 
 #include "core/triangle_mesh.h"
+#include "util/module_loader.h"
 
 namespace cdbench {
 
@@ -28,14 +28,13 @@ class GridField {
 constexpr int kGridModuleAbi = 1;
 
 struct GridModule {
-  int abi;
-  const char* version;  // the cdbench version it was built with
+  ModuleHeader header;  // kGridModuleAbi, the cdbench version it was built with
   GridField* (*make)(const TriangleMesh& mesh, const GridSdfOptions& options);  // may throw
 };
 
-// The module's file name, and where it is looked for (grid_offsets.cpp): $CDBENCH_GRID_MODULE if
-// set, else next to the program as installed (<bindir>/../<libdir>/cdbench/), the install prefix's
-// <libdir>/cdbench/, and the build tree.
+// The module's file name; looked for (load_module) in $CDBENCH_GRID_MODULE if set, else next to the
+// program as installed (<bindir>/../<libdir>/cdbench/), the install prefix's <libdir>/cdbench/, and
+// the build tree.
 constexpr const char* kGridModuleFile = "libcdbench_grid_vdb.so";
 
 }  // namespace cdbench

@@ -97,6 +97,6 @@ GridField* make_vdb_field(const TriangleMesh& mesh, const GridSdfOptions& option
 }  // namespace cdbench
 
 extern "C" __attribute__((visibility("default"))) const cdbench::GridModule* cdbench_grid_module() {
-  static const cdbench::GridModule module{cdbench::kGridModuleAbi, CDBENCH_VERSION, &cdbench::make_vdb_field};
+  static const cdbench::GridModule module{{cdbench::kGridModuleAbi, CDBENCH_VERSION}, &cdbench::make_vdb_field};
   return &module;
 }

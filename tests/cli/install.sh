@@ -45,8 +45,13 @@ plugin="$work/plugin/libcdbench_fcl_obbrss.so"
 python3 "$src/tests/cli/random_poses.py" "$work/poses.csv" 30 11 0.5,1.3,1.5,2.2
 "$cdbench" certify "$meshes/sphere.off" "$work/poses.csv" --mover "$meshes/box.off" --tolerance 1e-4 -o "$work/set" \
   > /dev/null || fail "certify"
-"$cdbench" bench "$work/set" --impl "fcl-obbrss,plugin:$plugin" --repeat 1 -o "$work/bench" > "$work/bench.txt" \
-  || { cat "$work/bench.txt"; fail "bench with the plugin"; }
+# FCL's and Bullet's implementations: the installed module (lib/collide/peer_module.h), found next to
+# the installed program; the program itself links neither.
+LD_DEBUG=files "$cdbench" bench "$work/set" --impl "fcl-obbrss,plugin:$plugin" --repeat 1 -o "$work/bench" > "$work/bench.txt" \
+  2> "$work/bench_ld.txt" || { cat "$work/bench.txt"; tail -n 20 "$work/bench_ld.txt"; fail "bench with the plugin"; }
+grep -q "file=$work/prefix/bin/.*libcdbench_peers.so .*dynamically loaded" "$work/bench_ld.txt" ||
+  { grep peers "$work/bench_ld.txt"; fail "the installed program must load the installed peer module"; }
+! ldd "$cdbench" | grep -q -E "libfcl|Bullet" || fail "the program must not link FCL or Bullet (they are loaded by bench)"
 grep -q "fcl-obbrss-plugin" "$work/bench.txt" || fail "plugin not in the table"
 python3 - "$work/bench/results.csv" <<'PY' || fail "plugin verdicts differ from the built-in fcl-obbrss"
 import csv, sys

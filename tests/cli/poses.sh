@@ -93,6 +93,15 @@ if command -v gnuplot > /dev/null 2>&1; then
 fi
 "$bin" bench "$dir/a" --impl obb,nope -o "$dir/bench2" > "$dir/x.log" 2>&1
 [ $? -eq 2 ] && grep -q "unknown implementation 'nope'" "$dir/x.log" || fail "bench with an unknown implementation"
+# FCL and Bullet come from a module loaded when asked for (lib/collide/peer_module.h): without it
+# they are refused before any work (exit 3, the path named), and our own trees run without it.
+if "$bin" bench --help | grep -q "fcl-obbrss"; then
+  CDBENCH_PEER_MODULE="$dir/none.so" "$bin" bench "$dir/a" --impl obb,fcl-obbrss -o "$dir/bench3" > "$dir/x.log" 2>&1
+  [ $? -eq 3 ] && grep -q "$dir/none.so" "$dir/x.log" && [ ! -e "$dir/bench3" ] ||
+    { cat "$dir/x.log"; fail "bench without the peer module must name it, exit 3, write nothing"; }
+  CDBENCH_PEER_MODULE="$dir/none.so" "$bin" bench "$dir/a" --impl obb --repeat 1 -o "$dir/bench3" > "$dir/x.log" 2>&1 ||
+    { cat "$dir/x.log"; fail "our own trees must not need the peer module"; }
+fi
 "$bin" bench "$dir/a/offsets" -o "$dir/bench2" > "$dir/x.log" 2>&1
 [ $? -eq 2 ] && grep -q "poseset.json: cannot be read" "$dir/x.log" || fail "bench on a directory without a pose set"
 

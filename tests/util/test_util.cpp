@@ -18,6 +18,7 @@
 #include "util/error.h"
 #include "util/gnuplot.h"
 #include "util/large_pages.h"
+#include "util/module_loader.h"
 #include "util/progress.h"
 #include "util/least_key.h"
 #include "util/sha256.h"
@@ -120,6 +121,25 @@ TEST_F(AtomicFile, OutputPathIsCheckedBeforeTheWork) {
   refused(temp_dir() + "/missing/x.csv", "no directory");
   refused("/proc/self/cdbench.csv", "cannot write there");
   EXPECT_THROW(check_output_path(""), InputError);
+}
+
+// A module that cannot be loaded: every path tried is named with its reason, and the variable
+// that would name the right one (the CLI tests load the real modules, cli_float and cli_poses).
+TEST_F(AtomicFile, ModuleThatCannotBeLoadedNamesEveryPathTried) {
+  const std::string fake = temp_dir() + "/fake.so";
+  write_file_atomically(fake, [](std::ostream& o) { o << "not a library"; });
+  ModuleSearch s{"libcdbench_none.so", "CDBENCH_TEST_NO_SUCH_VARIABLE", "cdbench_none_module", 1, fake,
+                 "the test needs its module"};
+  try {
+    load_module(s);
+    ADD_FAILURE() << "a text file loaded as a module";
+  } catch (const SetupError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("the test needs its module libcdbench_none.so", 0), 0u) << what;
+    EXPECT_NE(what.find(fake + ": "), std::string::npos) << what;                     // the build tree's
+    EXPECT_NE(what.find("/libcdbench_none.so: "), std::string::npos) << what;         // the installed ones
+    EXPECT_NE(what.find("CDBENCH_TEST_NO_SUCH_VARIABLE"), std::string::npos) << what;  // how to name it
+  }
 }
 
 TEST(Interval, OutwardRoundingMovesOneUlp) {
