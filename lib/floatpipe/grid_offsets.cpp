@@ -1,7 +1,6 @@
 #include "floatpipe/grid_offsets.h"
 
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 #include <string>
 

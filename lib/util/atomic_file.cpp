@@ -41,7 +41,8 @@ void probe_directory(const std::string& dir, const std::string& named) {
 void prepare_output_directory(const std::string& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (!std::filesystem::is_directory(dir))
+  std::error_code stat_ec;  // a path that cannot even be looked at is refused too, not thrown past us
+  if (!std::filesystem::is_directory(dir, stat_ec))
     throw InputError(dir + ": cannot create the output directory" + (ec ? ": " + ec.message() : std::string()));
   probe_directory(dir, dir + " (output directory)");
 }

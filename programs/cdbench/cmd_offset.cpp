@@ -3,7 +3,6 @@
 #include <tbb/parallel_for.h>
 
 #include <atomic>
-#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>

@@ -1,5 +1,4 @@
 // cdbench score POSESET ANSWERS.csv -o DIR: verdicts of any implementation's answers.
-#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <memory>
