@@ -192,10 +192,26 @@ using CellBary = std::array<std::array<double, 2>, 3>;
 inline std::array<double, 2> bary_mid(const std::array<double, 2>& x, const std::array<double, 2>& y) {
   return {0.5 * (x[0] + y[0]), 0.5 * (x[1] + y[1])};
 }
-// A face cell's four children by its edges' midpoints.
-inline std::array<CellBary, 4> quarter_cell(const CellBary& b) {
+// A face cell's children by its edges' midpoints (dyadic, so exact in the barycentrics), given its
+// corners u in a frame that keeps lengths: a needle (one edge under half of each other) is cut
+// across its length into three, each about half as long, so that thin cells shrink where they are
+// long; any other cell into four. Only the shape of the subdivision depends on u (a heuristic).
+// Every child's corners are the parent's corners or its edges' midpoints.
+struct CellChildren {
+  std::array<CellBary, 4> cells;
+  int count;
+};
+CellChildren split_face_cell(const CellBary& b, const std::array<Vec3, 3>& u) {
+  std::array<double, 3> len2;
+  for (int k = 0; k < 3; ++k) len2[k] = (u[(k + 1) % 3] - u[k]).squaredNorm();
+  const int s = static_cast<int>(std::min_element(len2.begin(), len2.end()) - len2.begin());
+  if (4.0 * len2[s] < std::min(len2[(s + 1) % 3], len2[(s + 2) % 3])) {  // a needle on edge s
+    const auto &B = b[s], &C = b[(s + 1) % 3], &A = b[(s + 2) % 3];
+    const std::array<double, 2> M = bary_mid(A, B), N = bary_mid(A, C);
+    return {{{{{A, M, N}}, {{M, B, C}}, {{M, C, N}}, {}}}, 3};
+  }
   const std::array<double, 2> m01 = bary_mid(b[0], b[1]), m12 = bary_mid(b[1], b[2]), m20 = bary_mid(b[2], b[0]);
-  return {{{{b[0], m01, m20}}, {{m01, b[1], m12}}, {{m20, m12, b[2]}}, {{m01, m12, m20}}}};
+  return {{{{{b[0], m01, m20}}, {{m01, b[1], m12}}, {{m20, m12, b[2]}}, {{m01, m12, m20}}}}, 4};
 }
 
 // Triangles of F listed once for the four children of a split cell: every triangle within `radius`
@@ -369,22 +385,12 @@ class BranchAndBound {
             push(evaluate_face(hinted(whole_face(o_.boxes.order[node.first + i]), c), &c.ball));
         }
       } else {
-        // Children by edge midpoints (dyadic, so exact in the barycentrics): a needle (one edge
-        // under half of each other) is cut across its length into three, each about half as
-        // long, so that thin cells shrink where they are long; any other cell into four.
-        const auto& b = c.bary;
+        // Judged in the mover's own coordinates: the same at every pose and for every rounding of
+        // the rotation.
         const ParentCandidates* parent = list_candidates(c);
-        const int base = needle_base(c);
-        if (base >= 0) {
-          const auto &B = b[base], &C = b[(base + 1) % 3], &A = b[(base + 2) % 3];
-          const std::array<double, 2> M = bary_mid(A, B), N = bary_mid(A, C);
-          const std::array<std::array<std::array<double, 2>, 3>, 3> kids{{{{A, M, N}}, {{M, B, C}}, {{M, C, N}}}};
-          for (const auto& k : kids)
-            push(evaluate_face(hinted(Cell{0, 0, false, c.id, c.level + 1, k}, c), &c.ball, parent));
-        } else {
-          for (const CellBary& k : quarter_cell(b))
-            push(evaluate_face(hinted(Cell{0, 0, false, c.id, c.level + 1, k}, c), &c.ball, parent));
-        }
+        const CellChildren kids = split_face_cell(c.bary, own_corners(c));
+        for (int k = 0; k < kids.count; ++k)
+          push(evaluate_face(hinted(Cell{0, 0, false, c.id, c.level + 1, kids.cells[k]}, c), &c.ball, parent));
       }
     }
     double lower = min_discarded_;
@@ -624,17 +630,6 @@ class BranchAndBound {
     std::array<Vec3, 3> v;
     for (int k = 0; k < 3; ++k) v[k] = c.bary[k][0] * e1 + c.bary[k][1] * e2;
     return v;
-  }
-
-  // The edge k (corners k, k + 1) of a needle-shaped face cell, shorter than half of each other
-  // edge, or -1. Only the shape of the subdivision depends on it (a heuristic), judged in the
-  // mover's own coordinates: the same at every pose and for every rounding of the rotation.
-  int needle_base(const Cell& c) const {
-    const std::array<Vec3, 3> v = own_corners(c);
-    std::array<double, 3> len2;
-    for (int k = 0; k < 3; ++k) len2[k] = (v[(k + 1) % 3] - v[k]).squaredNorm();
-    const int s = static_cast<int>(std::min_element(len2.begin(), len2.end()) - len2.begin());
-    return 4.0 * len2[s] < std::min(len2[(s + 1) % 3], len2[(s + 2) % 3]) ? s : -1;
   }
 
   // The candidate list for the children of a face cell about to be split: the triangles within
@@ -1267,9 +1262,16 @@ class SegmentSearch {
       }
       return true;
     }
-    for (const CellBary& k : quarter_cell(c.bary))
-      stack_.push_back(Item{false, c.id, c.level + 1, k, c.witness, c.near_face, c.ball, c.list, c.seg, false,
-                            c.first_level});
+    // As the branch and bound splits it (needles across their length), judged in the rotated
+    // frame (the mover's own coordinates are not at hand; only the cost depends on it).
+    const Face& f = (*o_.faces)[c.id];
+    const Vec3 &p0 = o_.rotated[f[0]], e1 = o_.rotated[f[1]] - p0, e2 = o_.rotated[f[2]] - p0;
+    std::array<Vec3, 3> u;
+    for (int k = 0; k < 3; ++k) u[k] = c.bary[k][0] * e1 + c.bary[k][1] * e2;
+    const CellChildren kids = split_face_cell(c.bary, u);
+    for (int k = 0; k < kids.count; ++k)
+      stack_.push_back(Item{false, c.id, c.level + 1, kids.cells[k], c.witness, c.near_face, c.ball, c.list, c.seg,
+                            false, c.first_level});
     return true;
   }
 

@@ -160,6 +160,27 @@ class SlideHistory {
         return std::max(0.0, (poses_[j].mid_gap - mid_gap) / (poses_[j].lambda - lambda));
     return -1.0;
   }
+  // The least-squares slope of c's midpoints against lambda over the last kFitPoses poses (c's
+  // fall per unit advanced), at least 0; -1 with fewer poses. Where the gap holds still, no span
+  // resolves (a slide at 1/100 along a wall, a few per cent of the gap a step): the midpoints' noise
+  // is up to 3/8 of the gap each, and the secants over one or two steps read it as slopes of 0 to
+  // 0.6, while the fit over eight steps of about two gaps each sees through it.
+  double fitted_slope() const {
+    if (poses_.size() < kFitPoses) return -1.0;
+    const std::size_t first = poses_.size() - kFitPoses;
+    double ml = 0.0, mc = 0.0;
+    for (std::size_t j = first; j < poses_.size(); ++j) ml += poses_[j].lambda, mc += poses_[j].mid_gap;
+    ml /= static_cast<double>(kFitPoses);
+    mc /= static_cast<double>(kFitPoses);
+    double cov = 0.0, var = 0.0;
+    for (std::size_t j = first; j < poses_.size(); ++j) {
+      cov += (poses_[j].lambda - ml) * (poses_[j].mid_gap - mc);
+      var += (poses_[j].lambda - ml) * (poses_[j].lambda - ml);
+    }
+    return var > 0.0 ? std::max(0.0, cov / var) : -1.0;
+  }
+  // 8: 6 and 10 within 3 % of it (doc/performance.md, "Slides fitted over eight poses").
+  static constexpr std::size_t kFitPoses = 8;
   // 4: measured against 3 and 8 (doc/performance.md, "Slopes over a span").
   static constexpr double kSpanGaps = 4.0;
   static constexpr std::size_t kMaxBack = 128;
@@ -566,6 +587,9 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // A span's slope below this aims as if it were this (at most kMaxSegmentGaps anyway).
   constexpr double kSegmentSlopeFloor = 1.0 / 1024;
   constexpr double kMaxSegmentGaps = 512.0;
+  // A segment aimed from a fitted slope (SlideHistory::fitted_slope) spans at most this many gaps:
+  // 32 against 16, 24, 48 and 64 (doc/performance.md, "Slides fitted over eight poses").
+  constexpr double kFittedSegmentGaps = 32.0;
   constexpr std::uint64_t kMinSegmentBudget = 256;
   constexpr double kSegmentRetryGap = 0.5;
   bool last_loose = false;
@@ -916,9 +940,15 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       const double span_slope = history.slope(out.lambda, gap, mid - target);
       history.add(out.lambda, gap, mid - target);
       const bool spanned = span_slope >= 0.0;
-      const double segment_slope = spanned ? std::max(span_slope, kSegmentSlopeFloor) : slope2;
+      // Where none does, the fit over the last poses, aiming at most kFittedSegmentGaps (the fit
+      // of a slide that holds its gap reads about 0).
+      const double fit = spanned || !options.fitted_segments ? -1.0 : history.fitted_slope();
+      const bool fitted = fit >= 0.0 && fit <= kSegmentSlopeMax;
+      const double segment_slope = spanned  ? std::max(span_slope, kSegmentSlopeFloor)
+                                   : fitted ? std::max(fit, kSegmentAim / kFittedSegmentGaps)
+                                            : slope2;
       const bool segment_due =
-          spanned ? span_slope > 0.0 && span_slope <= kSegmentSlopeMax : steady;
+          spanned ? span_slope > 0.0 && span_slope <= kSegmentSlopeMax : steady || fitted;
       // A segment that ran out of its budget was mostly aimed across the crossing (a slope
       // underestimated by loose certificates); once the gap has fallen to kSegmentRetryGap of what
       // it was then, the crossing is nearer and the slope better known: segments are tried again

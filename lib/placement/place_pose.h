@@ -187,6 +187,10 @@ struct PoseOptions {
   // halved: at most this many times a pose (-1: after every failure; 1: once, as before session
   // 85; for A/B measurements).
   int segment_retries = -1;
+  // Where no span of poses resolves c's slope (a slide that holds its gap), segments are gated and
+  // aimed by a slope fitted over the last eight poses (since session 89); off: by the secants over
+  // the last two steps alone, as before (for A/B measurements).
+  bool fitted_segments = true;
   // Targets > 0: once the mover is certified above the target, advance by the pair traversal's
   // reach bounds (advance.h) without a certificate per step; off: a certificate per step (A/B).
   bool separated_advance = true;

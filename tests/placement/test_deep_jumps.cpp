@@ -572,9 +572,12 @@ TEST(DeepJumps, DeepLevelsStepAtALooserWidth) {
 
 // A plateau just above the target: at -0.0205, c = -0.02 is 2.4 % of |target| above it (no jump is
 // asked within a tenth of |target| on a short flat stretch), for about 1,500 two-sided steps;
-// after 64 flat steps the octree is asked and the pose jumps to the block.
+// after 64 flat steps the octree is asked and the pose jumps to the block. Without steps over a
+// segment: since session 89 a slope fitted over eight poses finds this flat plateau and segments
+// cross it on their own (203 steps without jumps, 22 with); the jump is for plateaus where their
+// proofs fail.
 TEST(DeepJumps, LongPlateauNearTheTargetJumps) {
-  const auto [plain, jumped] = across_the_plate(-0.0205);
+  const auto [plain, jumped] = across_the_plate(-0.0205, plate_and_block(), -1.0, false);
   EXPECT_GT(plain.steps, 500) << "the plateau this test is about";
   EXPECT_LT(jumped.steps + 300, plain.steps) << "plain " << plain.steps << " jumped " << jumped.steps;
 }
