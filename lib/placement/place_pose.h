@@ -179,8 +179,8 @@ struct PoseOptions {
   // Where c is flat (slope below 1/2), try steps of up to twice the gap proved from both ends
   // (doc/poses.md); off: one-sided Lipschitz steps only (for A/B measurements).
   bool two_sided_steps = true;
-  // Targets < 0, on a steady slide (c falling at 1/64 to 1/8 of the advance): steps of up to 64
-  // gaps proved over the whole segment from the last certificate's frontier (doc/poses.md, "Steps
+  // Targets < 0, on a steady slide (c falling at most 1/8 of the advance): steps of up to 512 gaps
+  // proved over the whole segment from the last certificate's frontier (doc/poses.md, "Steps
   // proved over a segment"); off: for A/B measurements.
   bool segment_steps = true;
   // After a segment's search runs out of its budget, segments are tried again once the gap has
