@@ -590,6 +590,8 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // A segment aimed from a fitted slope (SlideHistory::fitted_slope) spans at most this many gaps:
   // 32 against 16, 24, 48 and 64 (doc/performance.md, "Slides fitted over eight poses").
   constexpr double kFittedSegmentGaps = 32.0;
+  // A floor after a fall (below): c's fitted slope at most this after a fall steeper than that.
+  constexpr double kFloorFitSlope = 1.0 / 32, kFloorFallSlope = 1.0 / 8;
   constexpr std::uint64_t kMinSegmentBudget = 256;
   constexpr double kSegmentRetryGap = 0.5;
   bool last_loose = false;
@@ -876,8 +878,20 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         near_flat = std::min(near_flat, 1);
         near_from[0] = prev_lambda, near_from[1] = prev_mid;
       }
+      // Sooner on a floor after a fall: c flat over the last poses (their fitted slope at most
+      // kFloorFitSlope) after falling steeply (the slope over a span, back to a pose with 4 times
+      // the gap, above kFloorFallSlope). The mover's part in a wall has reached its saturated depth
+      // just above the target and stays there until the mover meets the deep zone, which the
+      // query finds (the thin tube against spool at -18 %: 20 two-sided steps of 250-450 cells on
+      // such floors; doc/performance.md, "Floors after a fall"). A slide that merely slows
+      // keeps kNearPlateauSteps (asked after 8 flat steps there too, spool's poses cost 4 % more).
+      const auto on_floor = [&] {
+        if (near_flat < static_cast<int>(SlideHistory::kFitPoses) || !options.floor_queries) return false;
+        const double fit = history.fitted_slope();
+        return fit >= 0.0 && fit <= kFloorFitSlope && history.slope(out.lambda, gap, mid - target) > kFloorFallSlope;
+      };
       const double* run_from = flat_from;
-      if (flat_steps < 2 && near_flat >= DeepZoneJumps::kNearPlateauSteps) {
+      if (flat_steps < 2 && (near_flat >= DeepZoneJumps::kNearPlateauSteps || on_floor())) {
         flat_steps = near_flat;
         run_from = near_from;
       }

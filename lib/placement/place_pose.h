@@ -191,6 +191,10 @@ struct PoseOptions {
   // aimed by a slope fitted over the last eight poses (since session 89); off: by the secants over
   // the last two steps alone, as before (for A/B measurements).
   bool fitted_segments = true;
+  // Targets < 0: where c rests on a floor after a steep fall (flat over the last eight poses, near
+  // the target), the deep zone is asked at once rather than after 20 flat steps (since session 89;
+  // doc/poses.md, "Deep-zone jumps"); off: for A/B measurements.
+  bool floor_queries = true;
   // Targets > 0: once the mover is certified above the target, advance by the pair traversal's
   // reach bounds (advance.h) without a certificate per step; off: a certificate per step (A/B).
   bool separated_advance = true;

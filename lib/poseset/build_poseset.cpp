@@ -264,14 +264,15 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // Plateaus within a tenth of |target| above it ask the zone too once 64 steps long (session 48:
   // 1; since session 57 steps over which the gap has not fallen to an eighth, and a jump of at
   // most 2 |target| keeps the certificate's frontier: 2; since session 58 a jump of at most 4
-  // |target|: 3; after 20 such steps instead of 64 since session 75: 4), and the octree walks the
+  // |target|: 3; after 20 such steps instead of 64 since session 75: 4; after 8 on a floor after a
+  // steep fall since session 89: 5), and the octree walks the
   // mover's oriented boxes (session 49: 1; since session 50 a split cube's children classified at
   // once, counted against the budget together: 2; since session 52 the test before a split
   // without the clipped extents, so other cubes split: 3; since session 80 undecided cubes the
   // mover comes near dropped by the regions beyond F's faces, so contacts may be later: 4): every
   // polished penetrating level; absent otherwise.
   if (std::any_of(zones.begin(), zones.end(), [](const LevelDeepZone& z) { return z.memo != nullptr; })) {
-    run_key["near_target_jumps"] = 4;
+    run_key["near_target_jumps"] = 5;
     run_key["oriented_zone_octree"] = 4;
   }
   // Penetrating levels' certificates since 2026-11-28 (session 34: no pair-distance path, leaves

@@ -1523,5 +1523,26 @@ TEST(PlacePose, SegmentsAimedByAFittedSlopeCrossAWallSlide) {
   EXPECT_LT(fit->clearance_cells + fit->zone_cubes, secants->clearance_cells + secants->zone_cubes);
 }
 
+// The thin tube against spool at -18 % (orientation 0, direction 0): c falls steeply onto a floor a
+// few per cent of |target| above the target (the tube's part in a wall at its saturated depth) and
+// rests there until the tube meets the deep zone. Asked for the zone's contact once c has been
+// flat over eight poses after such a fall, instead of after 20 flat steps: 22 steps instead of 50,
+// 5,416 certificate cells and cubes instead of 13,856, the same first crossing. (Over the 40
+// approaches of both orientations: 371,000 against 424,000, none worse.)
+TEST(PlacePose, FloorAfterAFallAsksTheDeepZoneSooner) {
+  const TriangleMesh tube = validate_mesh(make_tube(0.98, 1.0, 4.0, 128)).mesh;
+  const Eigen::Matrix3d R = spool_request_orientation(0);
+  constexpr double target = -0.041318367583932938;
+  const auto sooner = place_against_spool(tube, R, 0, target, [](PoseOptions& o) { o.floor_queries = true; });
+  if (!sooner) GTEST_SKIP() << "no CGAL data (scripts/fetch-cgal-data.sh)";
+  const auto later = place_against_spool(tube, R, 0, target, [](PoseOptions& o) { o.floor_queries = false; });
+  EXPECT_NEAR(sooner->lambda, later->lambda, 40 * 1.506100827590238e-06);
+  EXPECT_GE(sooner->cover_jumps, 1);
+  EXPECT_LT(3 * sooner->steps, 2 * later->steps) << sooner->steps << " " << later->steps;
+  EXPECT_LT(2 * (sooner->clearance_cells + sooner->zone_cubes), later->clearance_cells + later->zone_cubes)
+      << sooner->clearance_cells << " + " << sooner->zone_cubes << " against " << later->clearance_cells << " + "
+      << later->zone_cubes;
+}
+
 }  // namespace
 }  // namespace cdbench
