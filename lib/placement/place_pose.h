@@ -192,7 +192,7 @@ struct PoseOptions {
   // the last two steps alone, as before (for A/B measurements).
   bool fitted_segments = true;
   // Targets < 0: where c rests on a floor after a steep fall (flat over the last eight poses, near
-  // the target), the deep zone is asked at once rather than after 20 flat steps (since session 89;
+  // the target), the deep zone is asked after eight flat steps rather than 20 (since session 89;
   // doc/poses.md, "Deep-zone jumps"); off: for A/B measurements.
   bool floor_queries = true;
   // Targets > 0: once the mover is certified above the target, advance by the pair traversal's
