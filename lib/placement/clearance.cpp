@@ -197,6 +197,14 @@ inline std::array<double, 2> bary_mid(const std::array<double, 2>& x, const std:
 // across its length into three, each about half as long, so that thin cells shrink where they are
 // long; any other cell into four. Only the shape of the subdivision depends on u (a heuristic).
 // Every child's corners are the parent's corners or its edges' midpoints.
+// The corners of a face cell of `f` relative to its first vertex, from `vertices` (the mover's own
+// or its rotated ones).
+std::array<Vec3, 3> face_cell_corners(const std::vector<Vec3>& vertices, const Face& f, const CellBary& b) {
+  const Vec3 &p0 = vertices[f[0]], e1 = vertices[f[1]] - p0, e2 = vertices[f[2]] - p0;
+  std::array<Vec3, 3> v;
+  for (int k = 0; k < 3; ++k) v[k] = b[k][0] * e1 + b[k][1] * e2;
+  return v;
+}
 struct CellChildren {
   std::array<CellBary, 4> cells;
   int count;
@@ -625,11 +633,7 @@ class BranchAndBound {
 
   // The corners of a face cell in the mover's own coordinates, relative to the face's first vertex.
   std::array<Vec3, 3> own_corners(const Cell& c) const {
-    const Face& f = mover_.faces[c.id];
-    const Vec3 &p0 = mover_.vertices[f[0]], e1 = mover_.vertices[f[1]] - p0, e2 = mover_.vertices[f[2]] - p0;
-    std::array<Vec3, 3> v;
-    for (int k = 0; k < 3; ++k) v[k] = c.bary[k][0] * e1 + c.bary[k][1] * e2;
-    return v;
+    return face_cell_corners(mover_.vertices, mover_.faces[c.id], c.bary);
   }
 
   // The candidate list for the children of a face cell about to be split: the triangles within
@@ -1264,11 +1268,7 @@ class SegmentSearch {
     }
     // As the branch and bound splits it (needles across their length), judged in the rotated
     // frame (the mover's own coordinates are not at hand; only the cost depends on it).
-    const Face& f = (*o_.faces)[c.id];
-    const Vec3 &p0 = o_.rotated[f[0]], e1 = o_.rotated[f[1]] - p0, e2 = o_.rotated[f[2]] - p0;
-    std::array<Vec3, 3> u;
-    for (int k = 0; k < 3; ++k) u[k] = c.bary[k][0] * e1 + c.bary[k][1] * e2;
-    const CellChildren kids = split_face_cell(c.bary, u);
+    const CellChildren kids = split_face_cell(c.bary, face_cell_corners(o_.rotated, (*o_.faces)[c.id], c.bary));
     for (int k = 0; k < kids.count; ++k)
       stack_.push_back(Item{false, c.id, c.level + 1, kids.cells[k], c.witness, c.near_face, c.ball, c.list, c.seg,
                             false, c.first_level});

@@ -885,10 +885,12 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // query finds (the thin tube against spool at -18 %: 20 two-sided steps of 250-450 cells on
       // such floors; doc/performance.md, "Floors after a fall"). A slide that merely slows
       // keeps kNearPlateauSteps (asked after 8 flat steps there too, spool's poses cost 4 % more).
+      // Where a span resolves it, c's slope over it: here for the floors, below for the long steps.
+      const double span_slope = history.slope(out.lambda, gap, mid - target);
       const auto on_floor = [&] {
         if (near_flat < static_cast<int>(SlideHistory::kFitPoses) || !options.floor_queries) return false;
         const double fit = history.fitted_slope();
-        return fit >= 0.0 && fit <= kFloorFitSlope && history.slope(out.lambda, gap, mid - target) > kFloorFallSlope;
+        return fit >= 0.0 && fit <= kFloorFitSlope && span_slope > kFloorFallSlope;
       };
       const double* run_from = flat_from;
       if (flat_steps < 2 && (near_flat >= DeepZoneJumps::kNearPlateauSteps || on_floor())) {
@@ -951,7 +953,6 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // Where a span resolves it, its slope aims both kinds of long step and gates the segments
       // (spool with pinion moving: 4.6 % fewer instructions, doc/performance.md, "Slopes over a
       // span"); elsewhere the secants above, as before.
-      const double span_slope = history.slope(out.lambda, gap, mid - target);
       history.add(out.lambda, gap, mid - target);
       const bool spanned = span_slope >= 0.0;
       // Where none does, the fit over the last poses, aiming at most kFittedSegmentGaps (the fit

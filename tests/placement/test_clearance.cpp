@@ -1438,6 +1438,9 @@ TEST(PlacePose, LevelsOfOneApproachShareTheContactAndContinueEachOther) {
   EXPECT_GT(chained, 5);
 }
 
+// The request's tolerance: 1e-6 of spool's diagonal.
+constexpr double kSpoolTolerance = 1.506100827590238e-06;
+
 // An approach of `cdbench poses`' 20 x 2 request with spool (CGAL's data) fixed and `mover` moving:
 // spool's maximum penetration, the levels +1/4, 0, -1/4 and 1 times `target` in descending order,
 // each advance continuing from the previous level's pose; the deepest level's outcome. `ab` sets
@@ -1455,7 +1458,7 @@ std::optional<PoseOutcome> place_against_spool(const TriangleMesh& mover, const 
   const OrientationFrame frame = make_orientation_frame(setup, R);
   constexpr double max_penetration = 0.22954648657740523;
   PoseOptions base;
-  base.tolerance = 1.506100827590238e-06;  // 1e-6 of spool's diagonal
+  base.tolerance = kSpoolTolerance;
   const Eigen::Vector3d dir = sphere_fibonacci(20)[static_cast<std::size_t>(direction)];
   ApproachMemo memo;
   PoseOutcome p;
@@ -1497,7 +1500,7 @@ TEST(PlacePose, SegmentsTriedAgainAfterEveryFailureCrossATubeSlide) {
   const auto once = place_against_spool(tube, R, 11, target, [](PoseOptions& o) { o.segment_retries = 1; });
   // The same first crossing: c falls slowly there, so poses within the tolerance of the target
   // may lie tens of tolerances apart along the line.
-  EXPECT_NEAR(every->lambda, once->lambda, 40 * 1.506100827590238e-06);
+  EXPECT_NEAR(every->lambda, once->lambda, 40 * kSpoolTolerance);
   // 39 steps (6 segments tried) against 44 (3).
   EXPECT_GT(every->segment_tries, once->segment_tries + 1);
   EXPECT_LT(every->steps, once->steps) << every->steps << " " << once->steps;
@@ -1518,7 +1521,7 @@ TEST(PlacePose, SegmentsAimedByAFittedSlopeCrossAWallSlide) {
   const auto fit = place_against_spool(pinion, R, 4, target, [](PoseOptions& o) { o.fitted_segments = true; });
   if (!fit) GTEST_SKIP() << "no CGAL data (scripts/fetch-cgal-data.sh)";
   const auto secants = place_against_spool(pinion, R, 4, target, [](PoseOptions& o) { o.fitted_segments = false; });
-  EXPECT_NEAR(fit->lambda, secants->lambda, 40 * 1.506100827590238e-06);
+  EXPECT_NEAR(fit->lambda, secants->lambda, 40 * kSpoolTolerance);
   EXPECT_LT(2 * fit->steps, secants->steps) << fit->steps << " " << secants->steps;
   EXPECT_LT(fit->clearance_cells + fit->zone_cubes, secants->clearance_cells + secants->zone_cubes);
 }
@@ -1536,7 +1539,7 @@ TEST(PlacePose, FloorAfterAFallAsksTheDeepZoneSooner) {
   const auto sooner = place_against_spool(tube, R, 0, target, [](PoseOptions& o) { o.floor_queries = true; });
   if (!sooner) GTEST_SKIP() << "no CGAL data (scripts/fetch-cgal-data.sh)";
   const auto later = place_against_spool(tube, R, 0, target, [](PoseOptions& o) { o.floor_queries = false; });
-  EXPECT_NEAR(sooner->lambda, later->lambda, 40 * 1.506100827590238e-06);
+  EXPECT_NEAR(sooner->lambda, later->lambda, 40 * kSpoolTolerance);
   EXPECT_GE(sooner->cover_jumps, 1);
   EXPECT_LT(3 * sooner->steps, 2 * later->steps) << sooner->steps << " " << later->steps;
   EXPECT_LT(2 * (sooner->clearance_cells + sooner->zone_cubes), later->clearance_cells + later->zone_cubes)
