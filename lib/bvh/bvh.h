@@ -3,7 +3,8 @@
 // and the single traversal every query uses.
 //
 // Build: top-down, splitting each node's primitives at the median of their centroids along the
-// longest axis of the centroids' box (deterministic: ties broken by primitive index).
+// longest axis of the centroids' box (deterministic: ties broken by primitive index), or where the
+// binned surface-area heuristic puts the cut (BvhSplit::surface_area, F's distance tree).
 //
 // Traversal (traverse_nearest_first): depth-first, the child with the smaller policy bound first,
 // pruning every node whose bound exceeds the policy's current prune bound. A policy provides
@@ -25,9 +26,11 @@
 #include <tbb/parallel_invoke.h>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <vector>
 
 #include "core/aabb.h"
@@ -35,9 +38,26 @@
 
 namespace cdbench {
 
+// How a node's primitives are split in two.
+enum class BvhSplit {
+  median,        // at the median of the centroids along their box's longest axis
+  // Where the binned surface-area heuristic puts it (the least sum over the two halves of box area
+  // times count, 16 bins per axis), in subtrees of at most kBvhDeferredPrimitives primitives; the
+  // top of a larger tree stays median, for its parallel build. Leaves of one primitive only (the
+  // parallel build's numbering needs 2n - 1 nodes for n primitives whatever the shape). Tighter
+  // boxes for meshes of mixed triangle sizes (a CAD part's long slivers beside small faces): the
+  // distance queries visit fewer nodes (doc/performance.md, "Distance trees split by surface area").
+  surface_area,
+};
+
 struct BvhBuildOptions {
   std::uint32_t leaf_size = 1;  // primitives per leaf at most
+  BvhSplit split = BvhSplit::median;
 };
+
+// Larger trees are built in parallel: their top split at the median, subtrees of at most this
+// many primitives built whole on one thread each (build_bvh).
+inline constexpr std::uint32_t kBvhDeferredPrimitives = 8192;
 
 template <class BV>
 struct Bvh {
@@ -86,13 +106,73 @@ inline std::uint32_t median_split(std::vector<std::uint32_t>& order, const std::
   return mid;
 }
 
+// The split of order[begin, end) by the binned surface-area heuristic (BvhSplit::surface_area):
+// each axis's centroid span cut into kBins equal bins, the cut between bins with the least
+// area(left box) * left count + area(right box) * right count; ties to the first axis and cut.
+// Deterministic: the same order in gives the same order and middle out. The median split where
+// no cut parts the centroids (all in one bin along every axis).
+inline std::uint32_t surface_area_split(std::vector<std::uint32_t>& order, const std::vector<Eigen::Vector3d>& centroids,
+                                        const std::vector<Aabb>& boxes, std::uint32_t begin, std::uint32_t end) {
+  constexpr int kBins = 16;
+  Eigen::Vector3d lo = centroids[order[begin]], hi = lo;
+  for (std::uint32_t i = begin; i < end; ++i) {
+    lo = lo.cwiseMin(centroids[order[i]]);
+    hi = hi.cwiseMax(centroids[order[i]]);
+  }
+  const auto area = [](const Aabb& b) {
+    const Eigen::Vector3d e = b.hi - b.lo;
+    return e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
+  };
+  const auto bin_of = [&](std::uint32_t id, int axis, double scale) {
+    return std::min(kBins - 1, static_cast<int>((centroids[id][axis] - lo[axis]) * scale));
+  };
+  double best_cost = std::numeric_limits<double>::infinity();
+  int best_axis = -1, best_cut = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double extent = hi[axis] - lo[axis];
+    const double scale = kBins / extent;
+    if (!(extent > 0.0) || !std::isfinite(scale)) continue;  // (a subnormal extent: no bins)
+    std::array<Aabb, kBins> bin_box;
+    std::array<std::uint32_t, kBins> bin_count{};
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const int b = bin_of(order[i], axis, scale);
+      ++bin_count[b];
+      bin_box[b].extend(boxes[order[i]]);
+    }
+    // right_cost[c]: the cost of bins c.. (cut before bin c), 0 where empty.
+    std::array<double, kBins> right_cost{};
+    Aabb right;
+    std::uint32_t right_count = 0;
+    for (int b = kBins - 1; b > 0; --b) {
+      if (bin_count[b] > 0) right.extend(bin_box[b]);
+      right_count += bin_count[b];
+      right_cost[b] = right_count > 0 ? area(right) * right_count : 0.0;
+    }
+    Aabb left;
+    std::uint32_t left_count = 0;
+    for (int c = 1; c < kBins; ++c) {
+      if (bin_count[c - 1] > 0) left.extend(bin_box[c - 1]);
+      left_count += bin_count[c - 1];
+      if (left_count == 0 || left_count == end - begin) continue;
+      const double cost = area(left) * left_count + right_cost[c];
+      if (cost < best_cost) best_cost = cost, best_axis = axis, best_cut = c;
+    }
+  }
+  if (best_axis < 0) return median_split(order, centroids, begin, end);
+  const double scale = kBins / (hi[best_axis] - lo[best_axis]);
+  const auto mid = std::partition(order.begin() + begin, order.begin() + end,
+                                  [&](std::uint32_t id) { return bin_of(id, best_axis, scale) < best_cut; });
+  return static_cast<std::uint32_t>(mid - order.begin());
+}
+
 // Builds the subtree of `task` (its node already allocated in `nodes`): median split of the
-// centroids, each node fitted before its split, children allocated in pairs as they are split
-// (alloc_pair() returns the index of a new pair (left, left + 1) in `nodes`), left subtree first.
+// centroids (given the primitives' `boxes`, the surface-area split), each node fitted before its
+// split, children allocated in pairs as they are split (alloc_pair() returns the index of a new
+// pair (left, left + 1) in `nodes`), left subtree first.
 template <class BV, class Fit, class AllocPair>
 void build_subtree(typename Bvh<BV>::NodeArray& nodes, std::vector<std::uint32_t>& order,
                    const std::vector<Eigen::Vector3d>& centroids, const Fit& fit, std::uint32_t leaf_size,
-                   BuildTask root, AllocPair&& alloc_pair) {
+                   BuildTask root, AllocPair&& alloc_pair, const std::vector<Aabb>* boxes = nullptr) {
   std::vector<BuildTask> stack{root};
   while (!stack.empty()) {
     const BuildTask task = stack.back();
@@ -104,7 +184,8 @@ void build_subtree(typename Bvh<BV>::NodeArray& nodes, std::vector<std::uint32_t
       nodes[task.node].count = count;
       continue;
     }
-    const std::uint32_t mid = median_split(order, centroids, task.begin, task.end);
+    const std::uint32_t mid = boxes ? surface_area_split(order, centroids, *boxes, task.begin, task.end)
+                                    : median_split(order, centroids, task.begin, task.end);
     const std::uint32_t left = alloc_pair();
     nodes[task.node].first = left;
     nodes[task.node].count = 0;
@@ -176,12 +257,17 @@ void split_top(typename Bvh<BV>::NodeArray& nodes, std::vector<std::uint32_t>& o
 // count. A top node's volume is fitted from a copy of its primitives in the order they had before
 // its split, the order a serial build fits them in. (Fitted serially, the top's volumes over
 // 832,000 triangles took most of a 3 s build of spheres, boxes and oriented boxes.)
+// `boxes`: the primitives' boxes, for BvhSplit::surface_area (ignored by the median split).
 template <class BV, class Fit>
-Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit, const BvhBuildOptions& options = {}) {
+Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit, const BvhBuildOptions& options = {},
+                  const std::vector<Aabb>* boxes = nullptr) {
   Bvh<BV> bvh;
   const std::uint32_t n = static_cast<std::uint32_t>(centroids.size());
   if (n == 0) return bvh;
   const std::uint32_t leaf_size = std::max<std::uint32_t>(1, options.leaf_size);
+  if (options.split == BvhSplit::surface_area && (leaf_size != 1 || !boxes || boxes->size() != n))
+    throw std::invalid_argument("build_bvh: the surface-area split needs leaves of one primitive and their boxes");
+  if (options.split != BvhSplit::surface_area) boxes = nullptr;
   bvh.order.resize(n);
   std::iota(bvh.order.begin(), bvh.order.end(), 0u);
   bvh.nodes.reserve(2 * n);
@@ -192,9 +278,9 @@ Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit,
     bvh.nodes.emplace_back();
     return left;
   };
-  constexpr std::uint32_t kDefer = 8192;
+  constexpr std::uint32_t kDefer = kBvhDeferredPrimitives;
   if (n <= kDefer) {
-    detail::build_subtree<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, {0, 0, n}, append_pair);
+    detail::build_subtree<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, {0, 0, n}, append_pair, boxes);
     return bvh;
   }
   bvh.nodes.resize(detail::subtree_nodes(n, leaf_size, kDefer));
@@ -219,11 +305,14 @@ Bvh<BV> build_bvh(const std::vector<Eigen::Vector3d>& centroids, const Fit& fit,
     }
     const std::size_t k = i - fits.size();
     std::uint32_t next = base[k];
-    detail::build_subtree<BV>(bvh.nodes, bvh.order, centroids, fit, leaf_size, deferred[k], [&next] {
-                                const std::uint32_t left = next;
-                                next += 2;
-                                return left;
-                              });
+    detail::build_subtree<BV>(
+        bvh.nodes, bvh.order, centroids, fit, leaf_size, deferred[k],
+        [&next] {
+          const std::uint32_t left = next;
+          next += 2;
+          return left;
+        },
+        boxes);
   });
   return bvh;
 }
@@ -238,6 +327,12 @@ Bvh<BV> build_triangle_bvh(const std::vector<Eigen::Vector3d>& vertices, const T
   std::vector<Eigen::Vector3d> centroids(triangles.size());
   for (std::size_t f = 0; f < triangles.size(); ++f)
     centroids[f] = (vertices[triangles[f][0]] + vertices[triangles[f][1]] + vertices[triangles[f][2]]) / 3.0;
+  std::vector<Aabb> boxes;
+  if (options.split == BvhSplit::surface_area) {
+    boxes.resize(triangles.size());
+    for (std::size_t f = 0; f < triangles.size(); ++f)
+      for (int c = 0; c < 3; ++c) boxes[f].extend(vertices[triangles[f][c]]);
+  }
   // Each thread gathers into one buffer for the whole build: a fresh one per node allocated about
   // 70 bytes per triangle per level of the tree, mostly above malloc's mmap threshold, and the
   // kernel cleared every page of it (at 832,000 triangles, a third of the sweep tree's build).
@@ -258,7 +353,7 @@ Bvh<BV> build_triangle_bvh(const std::vector<Eigen::Vector3d>& vertices, const T
         const Eigen::Vector3d* q = corners.data();
         return fit_points(static_cast<int>(3 * n), [q](int k) -> const Eigen::Vector3d& { return q[k]; });
       },
-      options);
+      options, &boxes);
 }
 
 // The box of a leaf's triangles' corners (exact: min and max do not round).
