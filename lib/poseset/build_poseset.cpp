@@ -321,11 +321,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // positive threshold (1): the same cells set aside, so the same poses wherever compared; keyed
   // because a cell's lower bound, kept in a warm start's frontier, may differ.
   run_key["capped_cell_distances"] = 1;
-  // F's distance tree split by the surface-area heuristic since session 90 (1): its capped gathers
-  // (the sparse depth bound's triangles) and its queries' tie-breaks see triangles in another
-  // order, so bounds, the maximum penetration's interval, steps and poses may differ within the
-  // tolerance from earlier binaries'.
-  run_key["distance_tree"] = 1;
+  // F's distance tree and the sweep trees (F's, each orientation's mover's) split by the
+  // surface-area heuristic since session 90 (1): the distance tree's capped gathers (the sparse
+  // depth bound's triangles) and the queries' tie-breaks see triangles in another order, the deep
+  // zone's octree walks other volumes, so bounds, the maximum penetration's interval, steps and
+  // poses may differ within the tolerance from earlier binaries'.
+  run_key["surface_area_trees"] = 1;
   // Movers of at least 2^18 faces since session 73: each orientation's box tree is the mover's own
   // tree's shape refitted (1), so poses may differ within the tolerance from earlier binaries';
   // absent for smaller movers, whose poses are unchanged.
