@@ -192,11 +192,6 @@ using CellBary = std::array<std::array<double, 2>, 3>;
 inline std::array<double, 2> bary_mid(const std::array<double, 2>& x, const std::array<double, 2>& y) {
   return {0.5 * (x[0] + y[0]), 0.5 * (x[1] + y[1])};
 }
-// A face cell's children by its edges' midpoints (dyadic, so exact in the barycentrics), given its
-// corners u in a frame that keeps lengths: a needle (one edge under half of each other) is cut
-// across its length into three, each about half as long, so that thin cells shrink where they are
-// long; any other cell into four. Only the shape of the subdivision depends on u (a heuristic).
-// Every child's corners are the parent's corners or its edges' midpoints.
 // The corners of a face cell of `f` relative to its first vertex, from `vertices` (the mover's own
 // or its rotated ones).
 std::array<Vec3, 3> face_cell_corners(const std::vector<Vec3>& vertices, const Face& f, const CellBary& b) {
@@ -205,6 +200,11 @@ std::array<Vec3, 3> face_cell_corners(const std::vector<Vec3>& vertices, const F
   for (int k = 0; k < 3; ++k) v[k] = b[k][0] * e1 + b[k][1] * e2;
   return v;
 }
+// A face cell's children by its edges' midpoints (dyadic, so exact in the barycentrics), given its
+// corners u in a frame that keeps lengths: a needle (one edge under half of each other) is cut
+// across its length into three, each about half as long, so that thin cells shrink where they are
+// long; any other cell into four. Only the shape of the subdivision depends on u (a heuristic).
+// Every child's corners are the parent's corners or its edges' midpoints.
 struct CellChildren {
   std::array<CellBary, 4> cells;
   int count;
