@@ -1162,20 +1162,32 @@ class SegmentSearch {
       : fixed_(fixed), o_(o), ta_(ta), tb_(tb), pad_(pad),
         floor_(floor) {}
 
-  SegmentCheck run(const ClearanceFrontier& f, std::uint64_t budget) {
+  // end: when not null, receives the leaves at tb (see check_segment_above).
+  SegmentCheck run(const ClearanceFrontier& f, std::uint64_t budget, ClearanceFrontier* end) {
     // Every point of a frontier cell moves by at most this from where its bound was evaluated.
     const double shift =
         up(up(std::max((ta_ - f.t).norm(), (tb_ - f.t).norm()) * (1.0 + 1e-12)) + up(f.transform_error + pad_));
     stack_.clear();
     lists_.clear();
     lowest_.clear();
+    end_ = end;
+    if (end_) {
+      end_->valid = false;
+      end_->cells.clear();
+      end_->depth.clear();
+    }
+    std::vector<std::int32_t> renumber(end_ ? f.depth.size() : 0, -1);
     for (const ClearanceFrontier::Cell& w : f.cells) {
-      if (down(w.lower - shift) > floor_) continue;
+      const double shifted = down(w.lower - shift);
       // The translated depth bound is convex in D (the square root of a maximum of convex
       // quadratics plus convex rounding terms), so over the segment it is largest at an end.
-      if (w.depth >= 0 && std::min(translated_lower(f.depth[w.depth], ta_, pad_),
-                                   translated_lower(f.depth[w.depth], tb_, pad_)) > floor_)
+      const bool deep_bound = w.depth >= 0 && (end_ || !(shifted > floor_));
+      const double at_b = deep_bound ? translated_lower(f.depth[w.depth], tb_, pad_) : -kInf;
+      if (shifted > floor_ || (deep_bound && std::min(translated_lower(f.depth[w.depth], ta_, pad_), at_b) > floor_)) {
+        // Set aside: both bounds hold at tb (within pad_ of the exact pose there).
+        if (end_) keep_aside(f, w, std::max(shifted, at_b), renumber);
         continue;
+      }
       stack_.push_back(
           Item{w.is_node, w.id, w.level, w.bary, w.witness, w.near_face, w.ball, -1, {0.0, 1.0}, false, w.level});
       lowest_.push_back(w.lower);
@@ -1205,7 +1217,12 @@ class SegmentSearch {
       stack_.pop_back();
       ++r.cells;
       const Verdict v = c.is_node ? node_clear(c) : face_clear(c);
-      if (v == Verdict::clear) continue;
+      if (v == Verdict::clear) {
+        // Its bound holds over its part of the segment; the parts that reach tb cover the cell there.
+        if (end_ && c.seg[1] == 1.0)
+          end_->cells.push_back({c.bound, c.is_node, c.id, c.level, c.bary, c.ball, -1, c.near_face, c.witness});
+        continue;
+      }
       if (v == Verdict::below) {
         r.verdict = SegmentVerdict::below;
         return r;
@@ -1213,10 +1230,31 @@ class SegmentSearch {
       if (!split(c)) return r;
     }
     r.verdict = SegmentVerdict::above;
+    if (end_) {
+      end_->t = tb_;
+      end_->transform_error = o_.transform_error(tb_);
+      end_->valid = true;
+    }
     return r;
   }
 
  private:
+  // A frontier cell set aside at once, into end_ with its bound at tb and its translated depth
+  // bound (renumber: f.depth's indices in end_->depth, -1 until kept).
+  void keep_aside(const ClearanceFrontier& f, const ClearanceFrontier::Cell& w, double lower,
+                  std::vector<std::int32_t>& renumber) {
+    ClearanceFrontier::Cell k = w;
+    k.lower = lower;
+    if (w.depth >= 0) {
+      if (renumber[w.depth] < 0) {
+        renumber[w.depth] = static_cast<std::int32_t>(end_->depth.size());
+        end_->depth.push_back(f.depth[w.depth]);
+      }
+      k.depth = renumber[w.depth];
+    }
+    end_->cells.push_back(k);
+  }
+
   enum class Verdict { clear, split, below };
   struct Item {
     bool is_node;
@@ -1230,6 +1268,7 @@ class SegmentSearch {
     std::array<double, 2> seg;  // its part of the segment: the poses at[x], x in [seg[0], seg[1]]
     bool along = false;  // when evaluated: to be split along the segment rather than across
     int first_level = 0;  // the level of the frontier cell it is a part of
+    double bound = -kInf;  // when cleared: a lower bound of s over its prism (clear())
   };
   // A face cell split this many times below its frontier cell, or a part of the segment this short,
   // is not split further (the segment is left undecided: such a cell is almost surely at a
@@ -1279,7 +1318,10 @@ class SegmentSearch {
   // rounding eta and pad_ (the exact poses' distance from the computed ends): a point of an exact
   // prism lies within eta + pad_ of the same combination of the computed corners.
   Verdict clear(Item& c, const Vec3* v, int nv, double eta) {
-    const auto ok = [&](double depth) { return down(-up(up(depth + eta) + pad_)) > floor_; };
+    const auto ok = [&](double depth) {
+      c.bound = down(-up(up(depth + eta) + pad_));
+      return c.bound > floor_;
+    };
     // s >= -d_f everywhere (inside s = -dist, outside s >= 0) and d_f is convex: its largest value
     // over the corners bounds the hull.
     const auto corner_max = [&](std::uint32_t f) { return max_distance_upper_near(v, nv, fixed_.mesh(), f); };
@@ -1308,7 +1350,10 @@ class SegmentSearch {
         side = fixed_.side(m, ud);
         if (side != 0) c.ball = SideBall{m, ud.lo, side};
       }
-      if (side > 0 && may_clear_outside) return Verdict::clear;  // s(m) >= ud.lo, 1-Lipschitz
+      if (side > 0 && may_clear_outside) {  // s(m) >= ud.lo, 1-Lipschitz
+        c.bound = down(down(ud.lo - r) - up(eta + pad_));
+        return Verdict::clear;
+      }
       if (side < 0 && may_be_below) return Verdict::below;
     }
     if (ok(corner_max(nearest))) return Verdict::clear;
@@ -1381,6 +1426,7 @@ class SegmentSearch {
   std::vector<double> lowest_;
   std::vector<ParentCandidates> lists_;
   std::vector<std::uint32_t> ids_;
+  ClearanceFrontier* end_ = nullptr;
 };
 
 // Whether the hinted point of the mover's surface (ClearanceOptions::hint_face) lies strictly inside
@@ -1527,9 +1573,11 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
 }
 
 SegmentCheck check_segment_above(const SignedDistance& fixed, const MoverOrientation& o, const ClearanceFrontier& f,
-                                 const Vec3& ta, const Vec3& tb, double pad, double floor, std::uint64_t budget) {
+                                 const Vec3& ta, const Vec3& tb, double pad, double floor, std::uint64_t budget,
+                                 ClearanceFrontier* end) {
+  if (end) end->valid = false;
   if (!f.valid) return {};
   SegmentSearch s(fixed, o, ta, tb, pad, floor);
-  return s.run(f, budget);
+  return s.run(f, budget, end);
 }
 }  // namespace cdbench

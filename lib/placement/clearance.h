@@ -175,8 +175,12 @@ struct SegmentCheck {
   SegmentVerdict verdict = SegmentVerdict::undecided;
   std::uint64_t cells = 0;  // cells evaluated
 };
+// end: when not null, and the verdict is `above`, the search's leaves at tb as a frontier there (a
+// warm start for a certificate at tb: each leaf's bound over its part of the segment that reaches
+// tb, each frontier cell set aside at once by its bound shifted to tb); invalid otherwise.
 SegmentCheck check_segment_above(const SignedDistance& fixed, const MoverOrientation& o, const ClearanceFrontier& f,
-                                 const Vec3& ta, const Vec3& tb, double pad, double floor, std::uint64_t budget);
+                                 const Vec3& ta, const Vec3& tb, double pad, double floor, std::uint64_t budget,
+                                 ClearanceFrontier* end = nullptr);
 
 // F's supporting planes where they pay as a certificate's first try and for steps
 // (ClearanceOptions::support, halfspace_advance): F convex with at most 1,024 distinct face planes.

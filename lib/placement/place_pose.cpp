@@ -545,6 +545,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   copt.max_cells = options.max_cells;
   copt.try_distance_path = target >= 0.0;  // see adopt() below
   ClearanceFrontier frontier;  // the previous certificate's search, a warm start for the next pose
+  ClearanceFrontier segment_end;  // a segment's leaves at its end (check_segment_above)
   copt.frontier = &frontier;
   // Separated targets: the pair traversals (separated advance, pair-distance path) on the sweep
   // trees when F's is attached, until a separated advance finds that their oriented boxes do not
@@ -992,7 +993,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           const std::uint64_t budget =
               std::max(kMinSegmentBudget, static_cast<std::uint64_t>(k * static_cast<double>(c.cells)));
           const SegmentCheck check =
-              check_segment_above(*setup.fixed, frame.orientation, frontier, ta, tb, pad, target, budget);
+              check_segment_above(*setup.fixed, frame.orientation, frontier, ta, tb, pad, target, budget, &segment_end);
           ++out.segment_tries;
           if (options.trace) {
             PolishEvent e;
@@ -1007,6 +1008,9 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           }
           if (check.verdict == SegmentVerdict::above) {
             out.lambda -= h;
+            // Its certificate starts from the search's leaves there, not from this frontier shifted
+            // by h (doc/poses.md, "The certificate at a segment's end").
+            if (segment_end.valid) std::swap(frontier, segment_end);
             c = certify(PolishPurpose::segment_end, out.lambda, true);
             advanced = true;
             break;

@@ -1278,6 +1278,123 @@ TEST(Clearance, SegmentsProvedAboveAFloorAgreeWithSampledPoses) {
   EXPECT_GT(above, n / 2);
 }
 
+// The leaves of a segment proved above a floor, at its end (check_segment_above's `end`): they cover
+// the mover's surface once (a node's faces whole, each face's cells adding up to it), each cell's
+// bound holds at every sampled point of the cell placed at the end pose, and a certificate there
+// warm-started from them agrees with a cold one and with dense sampling. Chords inside a sphere
+// (the depth concave along them), across a torus's tube (the depth along them rises and falls), and
+// along a sphere's surface with the mover's cap inside (faces entering F, whose parts of the segment
+// are split along it).
+TEST(Clearance, SegmentLeavesAtTheEndBoundEveryCellThere) {
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int above = 0, leaves = 0, warm_checked = 0;
+  for (int shape = 0; shape < 3; ++shape) {
+    Case c(shape == 1 ? make_torus(1.0, 0.4, 24, 12) : make_icosphere(1.0, 3),
+           shape == 1 ? make_icosphere(0.12, 1) : make_icosphere(0.05, 1));
+    const int n = test_scale::cases(10);
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Matrix3d R = random_rotation(rng);
+      const MoverOrientation o = make_mover_orientation(c.mover, R);
+      Vec3 ta, tb;
+      if (shape == 0) {
+        const Vec3 a = random_direction(rng);
+        Vec3 side = random_direction(rng);
+        side = (side - side.dot(a) * a).normalized();
+        const double angle = 0.02 + 0.1 * u(rng), radius = 0.8 + 0.1 * u(rng);
+        ta = radius * a;
+        tb = radius * (std::cos(angle) * a + std::sin(angle) * side);
+      } else if (shape == 1) {  // about the tube's core circle, tilted out of its plane
+        const double phi = 6.283185307179586 * u(rng), dphi = 0.05 + 0.1 * u(rng);
+        ta = Vec3(std::cos(phi), std::sin(phi), 0.1 * (u(rng) - 0.5));
+        tb = Vec3(std::cos(phi + dphi), std::sin(phi + dphi), 0.1 * (u(rng) - 0.5));
+      } else {  // along the sphere's surface, the mover's cap inside F (its faces far outside at ta
+                // come near the floor only about tb: their parts of the segment are split along it)
+        const Vec3 a = random_direction(rng);
+        Vec3 side = random_direction(rng);
+        side = (side - side.dot(a) * a).normalized();
+        ta = (1.04 + 0.009 * u(rng)) * a;
+        tb = (1.03 + 0.01 * u(rng)) * (a + (0.08 + 0.04 * u(rng)) * side).normalized();
+      }
+      ClearanceFrontier frontier, end;
+      ClearanceOptions opt;
+      opt.tolerance = 1e-6;
+      opt.frontier = &frontier;
+      const ClearanceResult ca = certify_clearance(c.fixed, c.mover, c.comps, o, ta, opt);
+      const ClearanceResult cb = c.run(R, tb, 1e-6), cm = c.run(R, 0.5 * (ta + tb), 1e-6);
+      const double least = std::min({ca.clearance.lo, cb.clearance.lo, cm.clearance.lo});
+      const double pad = 2.0 * std::max(o.transform_error(ta), o.transform_error(tb));
+      for (double floor : {least - 1e-3, least - 3e-2}) {
+        const SegmentCheck check = check_segment_above(c.fixed, o, frontier, ta, tb, pad, floor, 50000, &end);
+        SCOPED_TRACE(::testing::Message() << std::setprecision(17) << "shape " << shape << " case " << k << " floor "
+                                          << floor << " ta " << ta.transpose() << " tb " << tb.transpose());
+        ASSERT_EQ(end.valid, check.verdict == SegmentVerdict::above);
+        if (!end.valid) continue;
+        ++above;
+        ASSERT_EQ(end.t, tb);
+        const std::vector<Vec3> P = o.placed(tb);
+        std::vector<double> area(c.mover.faces.size(), 0.0);
+        // Every sampled point of a mover face's part (barycentric corners b) at tb is at least `lower`.
+        const auto sample = [&](std::uint32_t f, const std::array<std::array<double, 2>, 3>& b, double lower) {
+          const Vec3 &p0 = P[c.mover.faces[f][0]], e1 = P[c.mover.faces[f][1]] - p0, e2 = P[c.mover.faces[f][2]] - p0;
+          constexpr int m = 6;
+          for (int i = 0; i <= m; ++i)
+            for (int j = 0; i + j <= m; ++j) {
+              const double w1 = double(i) / m, w2 = double(j) / m, w0 = 1.0 - w1 - w2;
+              const double beta = w0 * b[0][0] + w1 * b[1][0] + w2 * b[2][0];
+              const double gamma = w0 * b[0][1] + w1 * b[1][1] + w2 * b[2][1];
+              const double s = c.fixed.signed_distance(p0 + beta * e1 + gamma * e2).hi;
+              ASSERT_GE(s, lower) << "face " << f << " at (" << beta << ", " << gamma << ")";
+            }
+        };
+        const std::array<std::array<double, 2>, 3> whole = {{{0, 0}, {1, 0}, {0, 1}}};
+        for (const ClearanceFrontier::Cell& cell : end.cells) {
+          ASSERT_GT(cell.lower, -1e300);
+          if (!cell.is_node) {
+            const auto& b = cell.bary;
+            area[cell.id] += 0.5 * std::abs((b[1][0] - b[0][0]) * (b[2][1] - b[0][1]) -
+                                            (b[2][0] - b[0][0]) * (b[1][1] - b[0][1]));
+            sample(cell.id, b, cell.lower);
+            continue;
+          }
+          std::vector<std::uint32_t> stack{cell.id};
+          while (!stack.empty()) {
+            const auto& node = o.boxes.nodes[stack.back()];
+            stack.pop_back();
+            if (node.count == 0) {
+              stack.push_back(node.first);
+              stack.push_back(node.first + 1);
+              continue;
+            }
+            for (std::uint32_t i = 0; i < node.count; ++i) {
+              const std::uint32_t f = o.boxes.order[node.first + i];
+              area[f] += 0.5;
+              sample(f, whole, cell.lower);
+            }
+          }
+        }
+        for (std::size_t f = 0; f < area.size(); ++f) ASSERT_NEAR(area[f], 0.5, 1e-12) << "face " << f;
+        leaves += static_cast<int>(end.cells.size());
+        ClearanceOptions warm;
+        warm.tolerance = 1e-6;
+        warm.frontier = &end;
+        const ClearanceResult w = certify_clearance(c.fixed, c.mover, c.comps, o, tb, warm);
+        const Interval ref = sampled_enclosure(c.fixed, P, c.mover.faces, 8);
+        EXPECT_TRUE(w.tolerance_reached);
+        EXPECT_LE(w.clearance.lo, cb.clearance.hi);
+        EXPECT_GE(w.clearance.hi, cb.clearance.lo);
+        EXPECT_LE(w.clearance.lo, ref.hi);
+        EXPECT_GE(w.clearance.hi, ref.lo);
+        EXPECT_GT(w.clearance.lo, floor);
+        ++warm_checked;
+      }
+    }
+  }
+  EXPECT_GT(above, 10);
+  EXPECT_GT(leaves, 10 * above);
+  EXPECT_EQ(warm_checked, above);
+}
+
 // Without polishing, the raw pose against the surface itself is the exact first contact: its
 // certified clearance must be 0 up to the rounding of the stored translation and the tolerance
 // (an independent check of the sweep against the clearance certificate).
@@ -1488,20 +1605,22 @@ Eigen::Matrix3d spool_request_orientation(int k) {
 
 // Segments tried again after every failure (once the gap has halved since), not once per pose: a
 // thin tube (1,024 slivers 4 long, wall 2 % of its radius) moving against spool at -18 %
-// (orientation 1, direction 11), where segment searches still run out of their budget. Until
+// (orientation 0, direction 8), where segment searches still run out of their budget. Until
 // session 89 the test placed pinion against spool, whose segment searches have not run out since
-// they split needle cells across their length (both rules then give the same advance there).
+// they split needle cells across their length (both rules then give the same advance there); until
+// session 91 orientation 1, direction 11, where since segments hand their leaves to the certificate
+// at their end both rules advance alike (of the 40 approaches, 5 differ, each in favour of retries).
 TEST(PlacePose, SegmentsTriedAgainAfterEveryFailureCrossATubeSlide) {
   const TriangleMesh tube = validate_mesh(make_tube(0.98, 1.0, 4.0, 128)).mesh;
-  const Eigen::Matrix3d R = spool_request_orientation(1);
+  const Eigen::Matrix3d R = spool_request_orientation(0);
   constexpr double target = -0.041318367583932938;
-  const auto every = place_against_spool(tube, R, 11, target, [](PoseOptions& o) { o.segment_retries = -1; });
+  const auto every = place_against_spool(tube, R, 8, target, [](PoseOptions& o) { o.segment_retries = -1; });
   if (!every) GTEST_SKIP() << "no CGAL data (scripts/fetch-cgal-data.sh)";
-  const auto once = place_against_spool(tube, R, 11, target, [](PoseOptions& o) { o.segment_retries = 1; });
+  const auto once = place_against_spool(tube, R, 8, target, [](PoseOptions& o) { o.segment_retries = 1; });
   // The same first crossing: c falls slowly there, so poses within the tolerance of the target
   // may lie tens of tolerances apart along the line.
   EXPECT_NEAR(every->lambda, once->lambda, 40 * kSpoolTolerance);
-  // 39 steps (6 segments tried) against 44 (3).
+  // 20 steps (8 segments tried) against 62 (3).
   EXPECT_GT(every->segment_tries, once->segment_tries + 1);
   EXPECT_LT(every->steps, once->steps) << every->steps << " " << once->steps;
 }
