@@ -261,6 +261,18 @@ double translated_lower(const CellDepthBound& d, const Vec3& t, double rounding_
   return down(-up(depth * (1.0 + 1e-15)));
 }
 
+// A kept cell's translated depth bound d (an index into `from`, or -1) as an index into `to`, where
+// each bound of `from` is copied once (renumber: from's indices in `to`, -1 until copied).
+std::int32_t keep_depth_bound(std::int32_t d, const std::vector<CellDepthBound>& from, std::vector<CellDepthBound>& to,
+                              std::vector<std::int32_t>& renumber) {
+  if (d < 0) return -1;
+  if (renumber[d] < 0) {
+    renumber[d] = static_cast<std::int32_t>(to.size());
+    to.push_back(from[d]);
+  }
+  return renumber[d];
+}
+
 // The side of x, when x certainly lies in the ball (0 otherwise). The computed norm's relative
 // error is a few ulps; the factor covers it.
 int side_from_ball(const SideBall* b, const Vec3& x) {
@@ -418,14 +430,7 @@ class BranchAndBound {
     f.depth.clear();
     std::vector<std::int32_t> renumber(depth_.size(), -1);  // only the bounds of kept cells
     const auto keep = [&](const Cell& c) {
-      std::int32_t d = -1;
-      if (c.depth >= 0) {
-        if (renumber[c.depth] < 0) {
-          renumber[c.depth] = static_cast<std::int32_t>(f.depth.size());
-          f.depth.push_back(depth_[c.depth]);
-        }
-        d = renumber[c.depth];
-      }
+      const std::int32_t d = keep_depth_bound(c.depth, depth_, f.depth, renumber);
       f.cells.push_back({c.lower, c.is_node, c.id, c.level, c.bary, c.ball, d, c.near_face, c.witness});
     };
     for (const Cell& c : discarded_) keep(c);
@@ -1171,8 +1176,7 @@ class SegmentSearch {
     lists_.clear();
     lowest_.clear();
     end_ = end;
-    if (end_) {
-      end_->valid = false;
+    if (end_) {  // (left invalid by check_segment_above until the verdict is `above`)
       end_->cells.clear();
       end_->depth.clear();
     }
@@ -1181,11 +1185,18 @@ class SegmentSearch {
       const double shifted = down(w.lower - shift);
       // The translated depth bound is convex in D (the square root of a maximum of convex
       // quadratics plus convex rounding terms), so over the segment it is largest at an end.
-      const bool deep_bound = w.depth >= 0 && (end_ || !(shifted > floor_));
+      const bool deep_bound = w.depth >= 0 && !(shifted > floor_);
       const double at_b = deep_bound ? translated_lower(f.depth[w.depth], tb_, pad_) : -kInf;
       if (shifted > floor_ || (deep_bound && std::min(translated_lower(f.depth[w.depth], ta_, pad_), at_b) > floor_)) {
-        // Set aside: both bounds hold at tb (within pad_ of the exact pose there).
-        if (end_) keep_aside(f, w, std::max(shifted, at_b), renumber);
+        // Set aside: both bounds hold at tb (within pad_ of the exact pose there). Its translated
+        // depth bound is kept, and the certificate's warm start evaluates it at tb as it does for
+        // any frontier cell, so it is not evaluated here where the shifted bound sets the cell aside.
+        if (end_) {
+          ClearanceFrontier::Cell k = w;
+          k.lower = std::max(shifted, at_b);
+          k.depth = keep_depth_bound(w.depth, f.depth, end_->depth, renumber);
+          end_->cells.push_back(k);
+        }
         continue;
       }
       stack_.push_back(
@@ -1239,22 +1250,6 @@ class SegmentSearch {
   }
 
  private:
-  // A frontier cell set aside at once, into end_ with its bound at tb and its translated depth
-  // bound (renumber: f.depth's indices in end_->depth, -1 until kept).
-  void keep_aside(const ClearanceFrontier& f, const ClearanceFrontier::Cell& w, double lower,
-                  std::vector<std::int32_t>& renumber) {
-    ClearanceFrontier::Cell k = w;
-    k.lower = lower;
-    if (w.depth >= 0) {
-      if (renumber[w.depth] < 0) {
-        renumber[w.depth] = static_cast<std::int32_t>(end_->depth.size());
-        end_->depth.push_back(f.depth[w.depth]);
-      }
-      k.depth = renumber[w.depth];
-    }
-    end_->cells.push_back(k);
-  }
-
   enum class Verdict { clear, split, below };
   struct Item {
     bool is_node;

@@ -177,7 +177,8 @@ struct SegmentCheck {
 };
 // end: when not null, and the verdict is `above`, the search's leaves at tb as a frontier there (a
 // warm start for a certificate at tb: each leaf's bound over its part of the segment that reaches
-// tb, each frontier cell set aside at once by its bound shifted to tb); invalid otherwise.
+// tb, each frontier cell set aside at once by the bound that set it aside, at tb, with its
+// translated depth bound); invalid otherwise.
 SegmentCheck check_segment_above(const SignedDistance& fixed, const MoverOrientation& o, const ClearanceFrontier& f,
                                  const Vec3& ta, const Vec3& tb, double pad, double floor, std::uint64_t budget,
                                  ClearanceFrontier* end = nullptr);
