@@ -551,9 +551,14 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // trees when F's is attached, until a separated advance finds that their oriented boxes do not
   // pay (ObbTrial): the box trees, built per orientation with world-aligned splits, are then
   // cheaper for this pose's other traversals (rounded parts); on long, tilted triangles (machined
-  // parts) the oriented boxes prune most pairs. Penetrating targets keep the box trees.
+  // parts) the oriented boxes prune most pairs. Penetrating targets: on the sweep trees too. Their
+  // pair-distance path runs only where the mover may lie apart (a deep-zone jump's landing, a far
+  // start, the poses after one certified apart), and there the box trees of a thin tube's 4-long
+  // slivers overlap most of F: one landing outside bunny00 visited 4.9 million pairs (1.9 s, the
+  // level's other 40 poses took 2.4 s), 1,366 on the sweep trees (doc/performance.md, "Landings
+  // apart on the sweep trees").
   const SweepTrees trees{setup.surface, &frame.swept, frame.t0};
-  if (setup.surface && target > 0.0) copt.sweep_trees = &trees;
+  if (setup.surface && target != 0.0) copt.sweep_trees = &trees;
   // Penetrating targets with a convex F: its supporting planes step and certify, where they pay
   // (support_planes_for; doc/poses.md, "Supporting planes").
   const SupportPlanes* support = options.support_planes && target < 0.0 ? setup.support.get() : nullptr;

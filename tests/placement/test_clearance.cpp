@@ -1510,6 +1510,64 @@ TEST(Clearance, RelativeToleranceAndNoDistancePathStayRigorous) {
   EXPECT_GT(loose_cheaper, 10);
 }
 
+// A thin tube's 4-long slivers about a finely faceted sphere, at a penetrating target with a
+// step's relative tolerance (a deep-zone jump's landing): the pair-distance path on the sweep
+// trees, whose oriented boxes fit the slivers, encloses the same clearance as on each orientation's
+// box trees and as a tight certificate, from apart to penetrating poses, and visits fewer pairs
+// where the tube lies apart (place_pose runs it there on the sweep trees; doc/performance.md,
+// "Landings apart on the sweep trees").
+TEST(Clearance, SliverPairsApartOnTheSweepTreesAgreeWithTheBoxTrees) {
+  std::mt19937_64 rng(59);
+  std::uniform_real_distribution<double> w(0.0, 1.0);
+  Case c(make_icosphere(0.5, 3), make_tube(0.09, 0.1, 4.0, 48));
+  const SweepMesh surface = make_sweep_mesh(c.fixed.mesh().vertices, c.fixed.mesh().faces);
+  const SweepMesh own = make_sweep_mesh(c.mover.vertices, c.mover.faces);
+  std::uint64_t box_pairs = 0, sweep_pairs = 0;
+  int apart = 0, inside = 0;
+  for (int k = 0; k < 16; ++k) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const MoverOrientation o = make_mover_orientation(c.mover, R);
+    // The tube's axis passes the sphere's centre at `gap` beyond its radius (the wall's outer
+    // face at gap - 0.1 from it), its middle beside the centre.
+    const Vec3 axis = R.col(2);
+    Vec3 n = axis.cross(random_direction(rng)).normalized();
+    const double gap = k % 4 == 3 ? 0.05 * w(rng) : 0.1 + 0.3 * w(rng);
+    const Vec3 t = (0.5 + gap) * n - 2.0 * axis + (0.4 * w(rng) - 0.2) * axis;
+    const Vec3 t0 = t + Vec3(0.2, -0.1, 0.3);
+    const SweepMesh mover_at_t0 = placed_sweep_mesh(own, R, t0, o.placed(t0), o.transform_error(t0));
+    const SweepTrees trees{&surface, &mover_at_t0, t0};
+    ClearanceOptions tight;
+    tight.tolerance = 1e-7;
+    const ClearanceResult ref = certify_clearance(c.fixed, c.mover, c.comps, o, t, tight);
+    ClearanceOptions opt;
+    opt.tolerance = 1e-7;
+    opt.relative_tolerance = 0.25;
+    opt.target = -0.1;
+    const ClearanceResult on_boxes = certify_clearance(c.fixed, c.mover, c.comps, o, t, opt);
+    opt.sweep_trees = &trees;
+    const ClearanceResult on_sweep = certify_clearance(c.fixed, c.mover, c.comps, o, t, opt);
+    SCOPED_TRACE("case " + std::to_string(k));
+    for (const ClearanceResult* r : {&on_boxes, &on_sweep}) {
+      EXPECT_TRUE(r->tolerance_reached);
+      EXPECT_LE(r->clearance.lo, ref.clearance.hi) << std::setprecision(17) << r->clearance.lo << " " << ref.clearance.hi;
+      EXPECT_GE(r->clearance.hi, ref.clearance.lo) << std::setprecision(17) << r->clearance.hi << " " << ref.clearance.lo;
+      EXPECT_LE(r->clearance.width(), std::max(1e-7, 0.25 * (r->clearance.hi - opt.target)) * 1.001 + 1e-12);
+    }
+    EXPECT_EQ(on_boxes.separated, on_sweep.separated);
+    if (ref.clearance.lo > 0.0) {
+      EXPECT_TRUE(on_sweep.separated);
+      ++apart;
+      box_pairs += on_boxes.pair_tests;
+      sweep_pairs += on_sweep.pair_tests;
+    } else {
+      inside += ref.clearance.hi < 0.0;
+    }
+  }
+  EXPECT_GT(apart, 8);
+  EXPECT_GT(inside, 1);
+  EXPECT_LT(2 * sweep_pairs, box_pairs) << sweep_pairs << " against " << box_pairs;
+}
+
 // The levels of one approach placed in descending target order with a shared memo: the raw contact
 // is computed once and reused as is, lower targets continue from the last pose on target, and
 // every pose is still on target and on the first crossing (no pose between it and the far start
