@@ -406,6 +406,12 @@ double long_face_share(const TriangleMesh& m) {
   return static_cast<double>(n) / static_cast<double>(m.faces.size());
 }
 
+bool long_faces_keep_sweep_trees(const TriangleMesh& fixed, const TriangleMesh& mover) {
+  const bool same = mover.vertices == fixed.vertices && mover.faces == fixed.faces;
+  const double fixed_share = long_face_share(fixed);
+  return std::max(fixed_share, same ? fixed_share : long_face_share(mover)) >= 0.25;
+}
+
 void attach_surface_sweep(ApproachSetup& setup, const SweepMesh& surface) {
   const TriangleMesh& F = setup.fixed->mesh();
   if (surface.vertices != F.vertices || surface.faces != F.faces)
@@ -438,7 +444,7 @@ ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMes
     s.advance_target_limit = D > 0.0 ? std::min(12.0 * e, 1650.0 * e * e / D) : 0.0;
   }
   const double fixed_share = long_face_share(fixed.mesh());
-  s.keep_sweep_trees = std::max(fixed_share, same ? fixed_share : long_face_share(mover)) >= 0.25;
+  s.keep_sweep_trees = long_faces_keep_sweep_trees(fixed.mesh(), mover);
   // Only a convex F: there the planes' bound is exact wherever s < 0. A non-convex F's hull faces
   // bound only the parts of a penetration near them.
   s.hull = hull_planes_for(fixed.mesh());

@@ -60,6 +60,10 @@ struct ApproachSetup {
 // The share of m's faces whose longest edge exceeds a quarter of m's bounding-box diagonal (0 for
 // an empty mesh).
 double long_face_share(const TriangleMesh& m);
+// Whether pair traversals between F and the mover keep the sweep trees whatever their oriented
+// boxes prune (ApproachSetup::keep_sweep_trees; `cdbench certify` too): a quarter or more of F's
+// or the mover's faces are long.
+bool long_faces_keep_sweep_trees(const TriangleMesh& fixed, const TriangleMesh& mover);
 // mover_sweep: the mover's sweep mesh in its own coordinates when the caller has it (the fixed
 // surface's, when the mover is the fixed mesh); built here otherwise.
 ApproachSetup make_approach_setup(const SignedDistance& fixed, const TriangleMesh& mover,

@@ -60,10 +60,13 @@ int run_certify_command(const CertifyCliOptions& opt) {
   std::cout << std::left << std::setw(28) << "level" << std::setw(8) << "poses" << std::setw(11) << "certified"
             << std::setw(11) << "separated" << std::setw(13) << "penetrating" << std::setw(11) << "straddle0"
             << "clearance range\n";
-  for (const CertifyLevelCounts& l : r.levels)
+  for (const CertifyLevelCounts& l : r.levels) {
     std::cout << std::left << std::setw(28) << l.spec << std::setw(8) << l.poses << std::setw(11) << l.certified
-              << std::setw(11) << l.separated << std::setw(13) << l.penetrating << std::setw(11) << l.straddling << "["
-              << number_text(l.clearance_min, 9) << ", " << number_text(l.clearance_max, 9) << "]\n";
+              << std::setw(11) << l.separated << std::setw(13) << l.penetrating << std::setw(11) << l.straddling;
+    // A level index the file skips has no poses, so no range.
+    if (l.poses == 0) std::cout << "-\n";
+    else std::cout << "[" << number_text(l.clearance_min, 9) << ", " << number_text(l.clearance_max, 9) << "]\n";
+  }
   std::cout << "time:            " << std::fixed << std::setprecision(1) << r.seconds_total << " s (max penetration "
             << r.seconds_max_penetration << " s, poses " << r.seconds_poses << " s)\n";
   std::cout << "pose set:        " << opt.out << "/poses.csv, " << opt.out << "/poseset.json\n";

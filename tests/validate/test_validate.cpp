@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <nlohmann/json.hpp>
 
@@ -25,8 +26,10 @@ struct Case {
 };
 
 // Writes a bundle of poses (R = I, dir = +z) and a one-level-per-target manifest.
+// R and base: every pose's rotation, and its translation less (0, 0, z).
 void write_bundle(const std::string& dir, const std::vector<Case>& cases, const std::vector<double>& targets,
-                  const TriangleMesh& fixed, const TriangleMesh& mover, PoseStatus status) {
+                  const TriangleMesh& fixed, const TriangleMesh& mover, PoseStatus status,
+                  const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity(), const Vec3& base = Vec3::Zero()) {
   std::filesystem::create_directories(dir);
   std::ofstream csv(dir + "/poses.csv");
   csv << kPoseCsvHeader << "\n";
@@ -35,7 +38,8 @@ void write_bundle(const std::string& dir, const std::vector<Case>& cases, const 
     r.pose = c.pose;
     r.level = static_cast<int>(std::find(targets.begin(), targets.end(), c.target) - targets.begin());
     r.target = c.target;
-    r.t = std::isnan(c.z) ? Vec3::Constant(kNaN) : Vec3(0, 0, c.z);
+    r.R = R;
+    r.t = std::isnan(c.z) ? Vec3::Constant(kNaN) : Vec3(base + Vec3(0, 0, c.z));
     r.dir = Vec3(0, 0, 1);
     r.clearance_lo = r.clearance_hi = r.raw_clearance_lo = r.raw_clearance_hi = kNaN;
     r.status = std::isnan(c.z) ? PoseStatus::NoContact : status;
@@ -162,6 +166,47 @@ TEST(Validate, CountsWrongSignsAndMissedContacts) {
   int n = 0;
   while (std::getline(csv, line)) ++n;
   EXPECT_EQ(n, 9);
+}
+
+// A thin tube of 4-long slivers, tilted, beside a finely faceted sphere with its wall 0.05-0.1
+// apart: validate's certificates of these separated poses come from the pair-distance path, on the
+// sweep trees where either mesh has long faces (as `cdbench certify`). They are a few ulps wide, and
+// agree with the distance of the tube's outer wall from the sphere. On the box trees the path ran
+// out of its budget (16 pairs a triangle) and the branch and bound's interval was the tolerance
+// wide.
+TEST(Validate, SeparatedSliverPosesGetTightCertificates) {
+  const std::string dir = testing::TempDir() + "/validate_tube";
+  std::filesystem::remove_all(dir);
+  const TriangleMesh sphere = make_icosphere(0.5, 3);
+  const TriangleMesh tube = make_tube(0.09, 0.1, 4.0, 48);
+  // The tube's axis tilted by 0.6 rad about y (its slivers' world-aligned boxes are then wide).
+  const double a = 0.6;
+  Eigen::Matrix3d R;
+  R << std::cos(a), 0, std::sin(a), 0, 1, 0, -std::sin(a), 0, std::cos(a);
+  const Vec3 axis = R.col(2);
+  const Vec3 side = R.col(0);  // perpendicular to the axis, in the x-z plane
+  std::vector<Case> cases;
+  for (std::uint64_t k = 0; k < 4; ++k) cases.push_back({k, 0.1, 0.0});
+  ValidateRequest rq;
+  rq.fixed = &sphere;
+  rq.mover = &tube;
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    // The axis at 0.65 + 0.05 k from the centre, its middle beside it: the wall 0.05 + 0.05 k apart.
+    const Vec3 base = (0.65 + 0.05 * static_cast<double>(k)) * side - 2.0 * axis;
+    const std::string set = dir + "/set" + std::to_string(k);
+    write_bundle(set, {cases[k]}, {0.1}, sphere, tube, PoseStatus::Float, R, base);
+    rq.poseset = set;
+    rq.out = dir + "/out" + std::to_string(k);
+    const ValidateResult v = run_validate(rq);
+    ASSERT_EQ(v.poses.size(), 1u);
+    const Interval c = v.poses[0].clearance;
+    EXPECT_TRUE(v.poses[0].certified);
+    // The sphere's facets lie within 0.5 (1 - cos(half an edge's angle)) < 0.002 inside it.
+    const double wall = 0.05 + 0.05 * static_cast<double>(k);
+    EXPECT_GE(c.lo, wall - 1e-12) << k;
+    EXPECT_LE(c.hi, wall + 0.002) << k;
+    EXPECT_LT(c.hi - c.lo, 1e-12) << std::setprecision(17) << k << ": [" << c.lo << ", " << c.hi << "]";
+  }
 }
 
 }  // namespace
