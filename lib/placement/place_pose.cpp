@@ -560,9 +560,11 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   // parts) the oriented boxes prune most pairs. Penetrating targets: on the sweep trees too. Their
   // pair-distance path runs only where the mover may lie apart (a deep-zone jump's landing, a far
   // start, the poses after one certified apart), and there the box trees of a thin tube's 4-long
-  // slivers overlap most of F: one landing outside bunny00 visited 4.9 million pairs (1.9 s, the
-  // level's other 40 poses took 2.4 s), 1,366 on the sweep trees (doc/performance.md, "Landings
-  // apart on the sweep trees").
+  // slivers overlap most of F: one landing outside bunny00 visited 4.9 million pairs (1.9 s; the
+  // level's 39 other poses took about 2.3 s), 1,366 on the sweep trees (doc/performance.md,
+  // "Landings apart on the sweep trees"). The touching target keeps the box trees: its pose is
+  // certified by the sweep, and this path runs there only when that certificate falls short of
+  // the tolerance (far from the origin).
   const SweepTrees trees{setup.surface, &frame.swept, frame.t0};
   if (setup.surface && target != 0.0) copt.sweep_trees = &trees;
   // Penetrating targets with a convex F: its supporting planes step and certify, where they pay

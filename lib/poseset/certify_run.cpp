@@ -144,7 +144,7 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   // boxes prune the sliver pairs whose world-aligned boxes overlap across the whole mesh (a thin
   // tube about bunny00: 40 separated poses 17.2 -> 0.3 s, 40 penetrating ones 14.4 -> 2.7 s).
   // Elsewhere the box trees: armadillo against itself took 5.4 s on them, 6.4 s on the sweep trees
-  // (doc/validate-your-library.md, "Widths"). Speed only.
+  // (doc/performance.md, "Landings apart on the sweep trees"). Speed only.
   std::optional<SweepMesh> surface, mover_own;
   if (sweep) {
     surface = make_sweep_mesh(sdf.mesh().vertices, sdf.mesh().faces);
