@@ -379,8 +379,20 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
   for (std::size_t j = 0; j < n; ++j) {
     const Vec3 v = c - nearest[j];
     const double len = v.norm();
-    if (!(len > 0.0)) return kInf;
-    g[j] = v / len;
+    if (len > 0.0) {
+      g[j] = v / len;
+      continue;
+    }
+    // c lies on this triangle, where its distance has no gradient: the triangle's normal stands in
+    // (either way round; the weights only steer, any weights give a valid bound). A cell lying on F
+    // (a mover resting face-on on a face that does not support F) thus keeps the bound of the
+    // triangle it lies on, and of the planar patch beyond its edges (below); it had none, and was
+    // split down to the tolerance (doc/poses.md, "Cells lying on F").
+    const Face& f = m.faces[ids[j]];
+    const Vec3 normal = (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]);
+    const double nl = normal.norm();
+    if (!(nl > 0.0) || !std::isfinite(nl)) return kInf;
+    g[j] = normal / nl;
   }
   // Weights near the min-norm point of conv{g_j} (heuristic: only tightness depends on them).
   thread_local std::vector<double> lambda;

@@ -71,6 +71,12 @@ constexpr std::size_t kMaxDepthTriangles = 49;
 
 enum class DepthWeights { converged, sparse };
 
+// Since session 93 a centre c lying exactly on one of the triangles (where that triangle's distance
+// has no gradient) weights it by its normal instead of giving no bound: a cell lying on F keeps the
+// bound of the triangle and planar patch it lies on. Run keys carry this value (certificates, and
+// so poses, may differ within the tolerance from earlier binaries').
+constexpr int kOnSurfaceDepthBounds = 1;
+
 // c: a point of the cell (its centre); radius: the triangles considered are those within radius
 // of c (any subset gives a valid bound; it must reach the nearest ones to be tight). Returns +inf
 // when no triangle qualifies. `candidate` (optional) receives the lambda-weighted mean of the

@@ -18,6 +18,7 @@
 #include <tbb/collaborative_call_once.h>
 #include <tbb/parallel_invoke.h>
 
+#include "distance/depth_bound.h"
 #include "distance/max_penetration.h"
 #include "mesh/read_mesh.h"
 #include "offset/level_list.h"
@@ -343,6 +344,10 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   if (std::any_of(targets.begin(), targets.end(),
                   [&](double t) { return separated_steps_by_certificates(setup, t, PoseOptions{}); }))
     run_key["separated_certificate_steps"] = 1;
+  // Every certificate since session 93 keeps the depth bound of a cell centred exactly on F
+  // (kOnSurfaceDepthBounds; it had none): the pose sets compared were byte-identical, but a
+  // certificate, and so a polished pose, may differ within the tolerance from earlier binaries'.
+  run_key["on_surface_depth_bounds"] = kOnSurfaceDepthBounds;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);
 

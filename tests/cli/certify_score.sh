@@ -202,7 +202,50 @@ for r in rows:
     assert 0.04 < lo <= hi < 0.26 and hi - lo < 1e-12, (r["pose"], lo, hi)
 PY
 
+# A cube resting face-on on the step of an L-shaped part (a face that does not support the part),
+# on it, over its edge, in the corner, turned about the vertical, and pushed in by 1e-3: every
+# pose certified at the default tolerance, its interval holding 0 (or -1e-3). Before session 93
+# the resting faces' cells, centred exactly on F, had no depth bound: four of the five resting
+# poses ran out of cells (8 s) and were reported uncertified.
+python3 - "$work" <<'PY'
+import math, sys
+w = sys.argv[1]
+profile = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
+V = [(x, y, z) for y in (0.0, 1.0) for (x, z) in profile]
+F = [(0, k, k + 1) for k in range(1, 5)] + [(6, 7 + k, 6 + k) for k in range(1, 5)]
+for i in range(6):
+    j = (i + 1) % 6
+    F += [(i, i + 6, j + 6), (i, j + 6, j)]
+cube = [(x, y, z) for z in (0, 0.5) for y in (0, 0.5) for x in (0, 0.5)]
+CF = [(0, 2, 1), (1, 2, 3), (4, 5, 6), (5, 7, 6), (0, 1, 4), (1, 5, 4), (2, 6, 3), (3, 6, 7), (0, 4, 2), (2, 4, 6),
+      (1, 3, 5), (3, 7, 5)]
+for name, vs, fs in (("step", V, F), ("cube", cube, CF)):
+    with open("%s/%s.off" % (w, name), "w") as f:
+        f.write("OFF\n%d %d 0\n" % (len(vs), len(fs)))
+        f.writelines("%r %r %r\n" % tuple(map(float, v)) for v in vs)
+        f.writelines("3 %d %d %d\n" % t for t in fs)
+c, s = math.cos(0.7), math.sin(0.7)
+I = "1,0,0,0,1,0,0,0,1"
+rows = [(I, "1.2,0.2,1"), (I, "1.75,0.2,1"), (I, "1,0.25,1"), ("%r,%r,0,%r,%r,0,0,0,1" % (c, -s, s, c), "1.6,0.1,1"),
+        (I, "1.2,0.2,0.999")]
+with open(w + "/resting.csv", "w") as f:
+    f.write("pose,r00,r01,r02,r10,r11,r12,r20,r21,r22,tx,ty,tz\n")
+    f.writelines("%d,%s,%s\n" % (i, R, t) for i, (R, t) in enumerate(rows))
+PY
+logged "$work/rest.txt" "certify cubes resting on a step" \
+  "$cdbench" certify "$work/step.off" "$work/resting.csv" --mover "$work/cube.off" -o "$work/rest"
+python3 - "$work" <<'PY' || fail "cubes resting on a step: certified, holding the exact clearance"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1] + "/rest/poses.csv")))
+assert len(rows) == 5 and all(r["status"] == "certified" for r in rows), [r["status"] for r in rows]
+for r in rows:
+    lo, hi = float(r["clearance_lo"]), float(r["clearance_hi"])
+    exact = -1e-3 if r["pose"] == "4" else 0.0
+    assert lo <= exact + 1e-12 and exact - 1e-12 <= hi and hi - lo <= 3e-6, (r["pose"], lo, hi)
+PY
+
 if [ -n "$check_poses" ] && [ -x "$check_poses" ]; then
   "$check_poses" "$work/m" --poses 8 --grid 8 || fail "independent check of the certify bundle"
+  "$check_poses" "$work/rest" --poses 5 || fail "independent check of the resting cubes"
 fi
 echo "certify and score: all checks passed"

@@ -423,6 +423,35 @@ TEST(PlanarPatch, ExactOnThePlaneAcrossSharedEdges) {
   EXPECT_FALSE(patch_covers_cell(m, top, normal, 1.0, w.data(), 3));
 }
 
+// A flat cell lying on F (a mover face resting on the L slab's top, z = 1), its centre exactly on
+// one of F's triangles, where that triangle's distance has no gradient: the depth there is 0, and
+// the bound must say so, within one triangle and, with planar patches, across shared edges. Before
+// session 93 it gave no bound at all (+inf), and the branch and bound split such cells down to the
+// tolerance (a cube resting face-on on a step was not certified within the work limit).
+TEST(PlanarPatch, ACellLyingOnFKeepsItsBound) {
+  const TriangleMesh m = make_cube_solid(l_slab(), Eigen::Matrix3d::Identity());
+  const SignedDistance sdf(m);
+  const Vec3 normal(0, 0, 1);
+  std::vector<std::uint32_t> scratch;
+  // Within one triangle of the square [0, 1]^2 (either diagonal): the triangle alone is exact.
+  const std::array<Vec3, 3> inside{Vec3(0.375, 0.0625, 1), Vec3(0.625, 0.0625, 1), Vec3(0.5, 0.25, 1)};
+  const Vec3 c(0.5, 0.125, 1);  // the centroid, exactly
+  EXPECT_LE(depth_upper_bound(sdf, c, 1.0, inside.data(), 3, scratch, nullptr, &normal), 1e-12);
+  // Across the shared edges of four top triangles (ExactOnThePlaneAcrossSharedEdges's cell, lifted
+  // onto the face): the patch is exact.
+  const std::array<Vec3, 3> across{Vec3(0.8, 0.7, 1), Vec3(1.3, 0.8, 1), Vec3(0.9, 1.3, 1)};
+  const Vec3 on(0.96875, 0.9375, 1);  // a point of the cell, on F
+  EXPECT_LE(depth_upper_bound(sdf, on, 1.0, across.data(), 3, scratch, nullptr, &normal, nullptr, nullptr, 1e-12),
+            1e-12);
+  // Still a bound where the cell leaves F's top: over the missing corner (x, y > 2) every point of
+  // the cell is within the bound of F (checked exactly at sampled points).
+  const std::array<Vec3, 3> off{Vec3(1.75, 1.5, 1), Vec3(2.5, 1.75, 1), Vec3(1.5, 2.5, 1)};
+  const Vec3 at(1.75, 1.75, 1);
+  const double b = depth_upper_bound(sdf, at, 2.0, off.data(), 3, scratch, nullptr, &normal, nullptr, nullptr, 1e-12);
+  ASSERT_LT(b, 1.0);
+  for (const Vec3& x : samples(off)) EXPECT_TRUE(within(exact_squared_distance(x, m), b)) << x.transpose();
+}
+
 // patch_covers_cell against dense sampling: random cells over the top face of the L slab with
 // random triangles removed (holes and notches); whenever it claims coverage, every sampled point's
 // projection lies in a remaining triangle (exact 2-D predicates). It must claim it often.

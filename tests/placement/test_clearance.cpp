@@ -202,6 +202,57 @@ TEST(Clearance, CellsAcrossAThinWallWithKnownAnswers) {
   EXPECT_LE(b.clearance.width(), tol * 1.001);
 }
 
+// A cube resting face-on on a step of an L-shaped part (the step's face, z = 1, does not support
+// the part: its upper arm rises above that plane, so no hull plane bounds it): on the step, over
+// its edge, in the corner against the wall, turned about the vertical (z stays exact), and pushed
+// into the step by 1e-3. The exact clearance is 0, or minus the push. The cells of the resting
+// face are centred exactly on F, where the depth bound gave no bound before session 93: the cells
+// were split towards the tolerance until the work limit (`cdbench certify` of such poses: 400,000
+// cells, 8 s, intervals 3e-4 to 7e-4 wide, uncertified).
+TEST(Clearance, CubesRestingFaceOnAStepWithKnownAnswers) {
+  // The L profile (x, z) = (0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2), extruded along y in [0, 1].
+  TriangleMesh step;
+  const double profile[6][2] = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  for (double y : {0.0, 1.0})
+    for (const auto& p : profile) step.vertices.push_back(Vec3(p[0], y, p[1]));
+  for (std::uint32_t k = 1; k < 5; ++k) {  // the two L-shaped caps, fans from (0, 0)
+    step.faces.push_back({0, k, k + 1});
+    step.faces.push_back({6, 7 + k, 6 + k});
+  }
+  for (std::uint32_t i = 0; i < 6; ++i) {  // the six sides
+    const std::uint32_t j = (i + 1) % 6;
+    step.faces.push_back({i, i + 6, j + 6});
+    step.faces.push_back({i, j + 6, j});
+  }
+  ASSERT_TRUE(validate_mesh(step).report.valid());
+  Case c(step, make_box(Vec3(0, 0, 0), Vec3(0.5, 0.5, 0.5)));
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double tol = 1e-7;
+  struct Pose {
+    const char* what;
+    Eigen::Matrix3d R;
+    Vec3 t;
+    double clearance;
+  };
+  const std::vector<Pose> poses{
+      {"on the step", I, Vec3(1.2, 0.2, 1), 0.0},
+      {"over the step's edge", I, Vec3(1.75, 0.2, 1), 0.0},
+      {"in the corner against the wall", I, Vec3(1, 0.25, 1), 0.0},
+      {"flush with the side", I, Vec3(1.25, 0, 1), 0.0},
+      {"turned", Eigen::AngleAxisd(0.7, Vec3(0, 0, 1)).toRotationMatrix(), Vec3(1.6, 0.1, 1), 0.0},
+      {"pushed in", I, Vec3(1.2, 0.2, 0.999), -1e-3}};
+  for (const Pose& p : poses) {
+    SCOPED_TRACE(p.what);
+    const ClearanceResult r = c.run(p.R, p.t, tol);
+    // Rounded rotations and translations: the exact answer up to a few ulps.
+    EXPECT_LE(r.clearance.lo, p.clearance + 1e-12) << std::setprecision(17) << r.clearance.lo;
+    EXPECT_GE(r.clearance.hi, p.clearance - 1e-12) << std::setprecision(17) << r.clearance.hi;
+    EXPECT_TRUE(r.tolerance_reached);
+    EXPECT_LE(r.clearance.width(), tol * 1.001);
+    EXPECT_LT(r.cells, 5000u) << "cells lying on F split towards the tolerance";
+  }
+}
+
 // The same known answer with a needle tetrahedron (faces 6 long and 0.26 wide: needle cells, cut
 // across their length, centred at the middle of a median): its vertex pushed into a box's top face
 // at three tilts; the exact clearance is -push.
