@@ -379,17 +379,20 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
   for (std::size_t j = 0; j < n; ++j) {
     const Vec3 v = c - nearest[j];
     const double len = v.norm();
-    if (len > 0.0) {
+    const Face& f = m.faces[ids[j]];
+    const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &cc = m.vertices[f[2]];
+    if (len > closest_point_error(a, b, cc) + 4e-16 * c.cwiseAbs().maxCoeff()) {
       g[j] = v / len;
       continue;
     }
-    // c lies on this triangle, where its distance has no gradient: the triangle's normal stands in
-    // (either way round; the weights only steer, any weights give a valid bound). A cell lying on F
-    // (a mover resting face-on on a face that does not support F) thus keeps the bound of the
-    // triangle it lies on, and of the planar patch beyond its edges (below); it had none, and was
-    // split down to the tolerance (doc/poses.md, "Cells lying on F").
-    const Face& f = m.faces[ids[j]];
-    const Vec3 normal = (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]);
+    // c lies on this triangle up to the nearest point's rounding, where its distance has no
+    // gradient (or only rounding's): the triangle's normal stands in (either way round; the weights
+    // only steer, any weights give a valid bound). A cell lying on F (a mover resting face-on on a
+    // face that does not support F, or coinciding with F) thus keeps the bound of the triangle it
+    // lies on, and of the planar patch beyond its edges (below); it had none (exactly on F) or one
+    // weighted by rounding noise, and was split towards the tolerance (doc/poses.md, "Cells lying
+    // on F").
+    const Vec3 normal = (b - a).cross(cc - a);
     const double nl = normal.norm();
     if (!(nl > 0.0) || !std::isfinite(nl)) return kInf;
     g[j] = normal / nl;

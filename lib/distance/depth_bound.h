@@ -72,10 +72,12 @@ constexpr std::size_t kMaxDepthTriangles = 49;
 enum class DepthWeights { converged, sparse };
 
 // Since session 93 a centre c lying exactly on one of the triangles (where that triangle's distance
-// has no gradient) weights it by its normal instead of giving no bound: a cell lying on F keeps the
-// bound of the triangle and planar patch it lies on. Run keys carry this value (certificates, and
-// so poses, may differ within the tolerance from earlier binaries').
-constexpr int kOnSurfaceDepthBounds = 1;
+// has no gradient) weights it by its normal instead of giving no bound (1), and so does a centre
+// off it by the nearest point's rounding only, whose gradient is rounding noise, while the branch
+// and bound no longer splits a cell proved outside F by a hair without its depth bound (2): a cell
+// lying on F keeps the bound of the triangle and planar patch it lies on. Run keys carry this
+// value (certificates, and so poses, may differ within the tolerance from earlier binaries').
+constexpr int kOnSurfaceDepthBounds = 2;
 
 // c: a point of the cell (its centre); radius: the triangles considered are those within radius
 // of c (any subset gives a valid bound; it must reach the nearest ones to be tight). Returns +inf

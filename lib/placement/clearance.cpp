@@ -735,8 +735,11 @@ class BranchAndBound {
       // mover face across a thin wall). Such a cell is split without it; only the bound's by-products
       // (its worst corner certified, a warm start's moments) are lost (doc/performance.md,
       // "Post-jump certificates").
+      // Except a cell centred on F up to rounding (proved outside by a hair): it may lie on F (a
+      // resting or coinciding face), where the depth bound is 0 (doc/poses.md, "Cells lying on F").
+      const bool on_f = !getenv("NOONF") && ud.hi <= 4.0 * eta_m + 1e-13 * m.cwiseAbs().maxCoeff();
       const bool depth_hopeless = s.lo > 0.0 && threshold() < 0.0 &&
-                                  (down(ud.lo - eta_m) > -threshold() || r > 2.0 * -threshold());
+                                  (down(ud.lo - eta_m) > -threshold() || (r > 2.0 * -threshold() && !on_f));
       if (lower < threshold() && (s.hi < 0.0 || !(dlo > eta_m)) && !depth_hopeless) {
         Vec3 normal = (v[1] - v[0]).cross(v[2] - v[0]);
         const double len = normal.norm();

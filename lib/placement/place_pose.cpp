@@ -670,8 +670,11 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
   if (!far_start) {
     if (swept == nullptr) throw std::invalid_argument("place_pose: no surface to sweep against");
     if (memo && memo->contact && memo->contact->swept == swept) {
-      // The same raw pose as an earlier level's: its contact and certificate (with no relative
-      // tolerance the target plays no part in it), taken over as they were.
+      // The same raw pose as an earlier level's: its contact and certificate, taken over as they
+      // were. The certificate, at full width, is valid for every level; where the branch and bound
+      // made it (not the sweep), its far cells' margins followed the first level's target, so a
+      // level placed alone may get another interval for the same pose (the levels of an approach
+      // are always placed together, so the output does not depend on it).
       const ApproachMemo::Contact& k = *memo->contact;
       if (!k.hit) {
         out.reason = "no-contact";

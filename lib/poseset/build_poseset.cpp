@@ -344,9 +344,10 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   if (std::any_of(targets.begin(), targets.end(),
                   [&](double t) { return separated_steps_by_certificates(setup, t, PoseOptions{}); }))
     run_key["separated_certificate_steps"] = 1;
-  // Every certificate since session 93 keeps the depth bound of a cell centred exactly on F
-  // (kOnSurfaceDepthBounds; it had none): the pose sets compared were byte-identical, but a
-  // certificate, and so a polished pose, may differ within the tolerance from earlier binaries'.
+  // Every certificate since session 93 keeps the depth bound of a cell centred on F, exactly (1)
+  // or up to rounding (2) (kOnSurfaceDepthBounds; it had none, or one weighted by rounding): the
+  // pose sets compared were byte-identical, but a certificate, and so a polished pose, may differ
+  // within the tolerance from earlier binaries'.
   run_key["on_surface_depth_bounds"] = kOnSurfaceDepthBounds;
   PoseJournal journal(opt.out, "poses", run_key, opt.resume, "poses");
   std::map<std::uint64_t, std::string> done_rows = whole_approaches(journal.done(), L);

@@ -101,9 +101,9 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   // Since session 92: separated poses' intervals may then be a few ulps wide where earlier binaries
   // ran out of the pair budget (doc/validate-your-library.md, "Widths"); their journals lack the key.
   if (sweep) run_key["sweep_tree_pairs"] = 1;
-  // Since session 93 a cell centred exactly on F keeps its depth bound: a mover resting face-on
-  // on a face that does not support F is certified where earlier binaries ran out of cells
-  // (doc/poses.md, "Cells lying on F"); their journals lack the key.
+  // Since session 93 a cell centred on F keeps its depth bound: a mover resting face-on on a face
+  // that does not support F, or coinciding with F, is certified where earlier binaries ran out of
+  // cells (doc/poses.md, "Cells lying on F"); their journals lack the key or have 1.
   run_key["on_surface_depth_bounds"] = kOnSurfaceDepthBounds;
   PoseJournal journal(out_dir, "certify", run_key, rq.resume, "certify");
 

@@ -9,13 +9,18 @@
 namespace cdbench::testing {
 
 // A random rotation (normalised random quaternion) and a random unit direction.
+// The draws are sequenced (last coordinate first, the order g++ chose for the unsequenced
+// arguments these helpers had until session 93): as arguments of one call their order was
+// unspecified, and an unrelated edit of a test file changed it, and so every scenario drawn.
 inline Eigen::Matrix3d random_rotation(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  return Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+  const double w = u(rng), z = u(rng), y = u(rng), x = u(rng);
+  return Eigen::Quaterniond(Eigen::Vector4d(x, y, z, w).normalized()).toRotationMatrix();
 }
 inline Vec3 random_direction(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  return Vec3(u(rng), u(rng), u(rng)).normalized();
+  const double z = u(rng), y = u(rng), x = u(rng);
+  return Vec3(x, y, z).normalized();
 }
 
 // A fixed solid, a mover and the fixed surface's sweep mesh (the surface start's contact).
