@@ -737,7 +737,7 @@ class BranchAndBound {
       // "Post-jump certificates").
       // Except a cell centred on F up to rounding (proved outside by a hair): it may lie on F (a
       // resting or coinciding face), where the depth bound is 0 (doc/poses.md, "Cells lying on F").
-      const bool on_f = !getenv("NOONF") && ud.hi <= 4.0 * eta_m + 1e-13 * m.cwiseAbs().maxCoeff();
+      const bool on_f = ud.hi <= 4.0 * eta_m + 1e-13 * m.cwiseAbs().maxCoeff();
       const bool depth_hopeless = s.lo > 0.0 && threshold() < 0.0 &&
                                   (down(ud.lo - eta_m) > -threshold() || (r > 2.0 * -threshold() && !on_f));
       if (lower < threshold() && (s.hi < 0.0 || !(dlo > eta_m)) && !depth_hopeless) {
