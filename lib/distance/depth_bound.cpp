@@ -391,11 +391,10 @@ double depth_upper_bound_among(const SignedDistance& sdf, const Vec3& c, std::ve
     // face that does not support F, or coinciding with F) thus keeps the bound of the triangle it
     // lies on, and of the planar patch beyond its edges (below); it had none (exactly on F) or one
     // weighted by rounding noise, and was split towards the tolerance (doc/poses.md, "Cells lying
-    // on F").
-    const Vec3 normal = (b - a).cross(cc - a);
-    const double nl = normal.norm();
-    if (!(nl > 0.0) || !std::isfinite(nl)) return kInf;
-    g[j] = normal / nl;
+    // on F"). The stored plane's unit normal (make_triangle_plane; a degenerate triangle has none).
+    const TrianglePlane& plane = sdf.planes()[ids[j]];
+    if (!(plane.eps < kInf)) return kInf;
+    g[j] = plane.n;
   }
   // Weights near the min-norm point of conv{g_j} (heuristic: only tightness depends on them).
   thread_local std::vector<double> lambda;

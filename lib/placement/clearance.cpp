@@ -737,9 +737,9 @@ class BranchAndBound {
       // "Post-jump certificates").
       // Except a cell centred on F up to rounding (proved outside by a hair): it may lie on F (a
       // resting or coinciding face), where the depth bound is 0 (doc/poses.md, "Cells lying on F").
-      const bool on_f = ud.hi <= 4.0 * eta_m + 1e-13 * m.cwiseAbs().maxCoeff();
+      const auto on_f = [&] { return ud.hi <= 4.0 * eta_m + 1e-13 * m.cwiseAbs().maxCoeff(); };
       const bool depth_hopeless = s.lo > 0.0 && threshold() < 0.0 &&
-                                  (down(ud.lo - eta_m) > -threshold() || (r > 2.0 * -threshold() && !on_f));
+                                  (down(ud.lo - eta_m) > -threshold() || (r > 2.0 * -threshold() && !on_f()));
       if (lower < threshold() && (s.hi < 0.0 || !(dlo > eta_m)) && !depth_hopeless) {
         Vec3 normal = (v[1] - v[0]).cross(v[2] - v[0]);
         const double len = normal.norm();
