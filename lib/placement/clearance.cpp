@@ -309,8 +309,10 @@ class BranchAndBound {
   // mover: the mover mesh in its own coordinates (the cells' shape is judged there, so that every
   // pose and rotation splits a cell the same way).
   BranchAndBound(const SignedDistance& fixed, const TriangleMesh& mover, const MoverOrientation& o, const PlacedView& P,
-                 const Vec3& t, const ClearanceOptions& opt, bool keep_frontier)
+                 const Vec3& t, const ClearanceOptions& opt, bool keep_frontier,
+                 const CoincidentFaces* coincident = nullptr)
       : fixed_(fixed), mover_(mover), o_(o), P_(P), t_(t), hull_(opt.hull && !opt.hull->empty() ? opt.hull : nullptr),
+        coincident_(coincident),
         tol_(opt.tolerance), rel_(opt.relative_tolerance),
         target_(opt.target), keep_discarded_(keep_frontier), store_(scratch_.get()), heap_(store_.heap),
         discarded_(store_.discarded), depth_(store_.depth), ids_(store_.ids),
@@ -511,6 +513,7 @@ class BranchAndBound {
   // hint: a triangle of F likely near the node's centre (unsigned_distance's hint), or -1.
   Cell evaluate_node(std::uint32_t n, const SideBall* parent = nullptr, std::int64_t hint = -1) {
     Cell c{0, 0, true, n, 0, {}};
+    if (coincident_ && faces_on_f(*coincident_, o_.boxes, *o_.faces, P_, n)) return on_f(c);
     const Aabb box = moved(o_.boxes.nodes[n].bv, t_);
     const Vec3 centre = box.center();
     // Half diagonal, plus the rounding of the centre, rounded up.
@@ -664,6 +667,7 @@ class BranchAndBound {
   static_assert(kMaxSeparatingCandidates >= ParentCandidates::kMaxCount, "Cell::crowded implies a long list");
 
   Cell evaluate_face(Cell c, const SideBall* parent = nullptr, const ParentCandidates* list = nullptr) {
+    if (coincident_ && face_on_f(*coincident_, *o_.faces, P_, c.id)) return on_f(c);
     const FaceGeometry geo = geometry(c);
     const auto& v = geo.v;
     const Vec3& m = geo.m;
@@ -1098,6 +1102,20 @@ class BranchAndBound {
     return down(-max_distance_upper_near(corners, n, fixed_.mesh(), f) - eta);
   }
 
+  // A cell of faces placed onto F's faces (coincident_faces.h): s = 0 at each of its points, exactly
+  // for the placed triangles the search bounds (the transform's rounding is widened for after it).
+  Cell on_f(Cell c) {
+    std::uint32_t face = c.id;
+    if (c.is_node) {
+      std::uint32_t n = c.id;
+      while (o_.boxes.nodes[n].count == 0) n = o_.boxes.nodes[n].first;
+      face = o_.boxes.order[o_.boxes.nodes[n].first];
+    }
+    offer_upper(0.0, face, c.is_node ? std::array<double, 2>{0.0, 0.0} : c.bary[0]);
+    c.lower = 0.0;
+    return c;
+  }
+
   // A certified value of s at a mover surface point (face, barycentrics): the upper end so far.
   void offer_upper(double value, std::uint32_t face, const std::array<double, 2>& bary) {
     if (value < upper_) {
@@ -1113,6 +1131,7 @@ class BranchAndBound {
   const PlacedView P_;
   const Vec3& t_;
   const SupportPlanes* hull_;
+  const CoincidentFaces* coincident_;
   double tol_, rel_, target_;
   double upper_ = kInf;
   std::int64_t argmin_face_ = -1;
@@ -1451,6 +1470,19 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
                                   const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
                                   const Vec3& t, const ClearanceOptions& options) {
   ClearanceResult r;
+  // Faces placed onto F's faces are looked up only where some vertex is placed onto one of F's.
+  const CoincidentFaces* coincident =
+      options.coincident && options.coincident->any_vertex(orientation.placed_view(t), orientation.rotated.size())
+          ? options.coincident
+          : nullptr;
+  if (coincident && faces_on_f(*coincident, orientation.boxes, mover.faces, orientation.placed_view(t), 0)) {
+    // Every face lies on F: s = 0 on the whole placed surface.
+    r.clearance = {0.0, 0.0};
+    r.argmin_face = orientation.boxes.order[0];
+    if (options.frontier) options.frontier->valid = false;
+    widen_for_transform(r, orientation, t);
+    return r;
+  }
   if (options.support && !options.support->empty() &&
       halfspace_certificate(fixed, *options.support, orientation, t, options, r)) {
     if (options.frontier) options.frontier->valid = false;
@@ -1519,7 +1551,7 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     r.clearance = sqrt_interval({dist.min_lo_sq, dist.best_hi_sq});
     if (options.frontier) options.frontier->valid = false;
   } else {
-    BranchAndBound bb(fixed, mover, orientation, P, t, options, options.frontier != nullptr);
+    BranchAndBound bb(fixed, mover, orientation, P, t, options, options.frontier != nullptr, coincident);
     const ClearanceFrontier* warm = options.frontier && options.frontier->valid ? options.frontier : nullptr;
     bb.run(options.max_cells, options.hint_face, options.hint_beta, options.hint_gamma, warm, r);
     if (options.frontier) bb.export_frontier(*options.frontier);

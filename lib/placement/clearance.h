@@ -20,6 +20,7 @@
 #include "distance/depth_bound.h"
 #include "distance/signed_distance.h"
 #include "distance/support_planes.h"
+#include "placement/coincident_faces.h"
 #include "placement/mover.h"
 #include "sweep/mesh_sweep.h"
 
@@ -115,6 +116,11 @@ struct ClearanceOptions {
   // In/out: when valid, the branch and bound starts from it; replaced by this run's frontier
   // (invalidated when the distance path decides).
   ClearanceFrontier* frontier = nullptr;
+  // F's faces by their corners (coincident_faces.h): a mover face placed exactly onto one of them
+  // is settled at s = 0, a node of such faces at once, and a mover lying wholly on F gets [0, 0]
+  // before any other path. For poses of unknown status (`cdbench certify`, `validate`: a part
+  // against itself at the identity); approaches never place faces so. Speed only.
+  const CoincidentFaces* coincident = nullptr;
 };
 
 struct ClearanceResult {

@@ -105,6 +105,9 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   // that does not support F, or coinciding with F, is certified where earlier binaries ran out of
   // cells (doc/poses.md, "Cells lying on F"); their journals lack the key or have 1.
   run_key["on_surface_depth_bounds"] = kOnSurfaceDepthBounds;
+  // Since session 94 mover faces placed exactly onto F's faces are settled at s = 0 (doc/poses.md,
+  // "Faces placed onto F's faces"): such poses' intervals differ from earlier binaries'.
+  run_key["coincident_faces"] = 1;
   PoseJournal journal(out_dir, "certify", run_key, rq.resume, "certify");
 
   const SignedDistance sdf(*rq.fixed);
@@ -137,6 +140,8 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   co.tolerance = result.tolerance;
   co.max_cells = rq.max_cells;
   co.pair_budget = unknown_pose_pair_budget(sdf.mesh(), *rq.mover);  // validate-your-library.md, "Widths"
+  const CoincidentFaces coincident(sdf.mesh());  // a part against itself at the identity (speed only)
+  co.coincident = &coincident;
   // A convex F's planes certify penetrating poses at once (tried first; separated ones go on).
   const std::shared_ptr<const SupportPlanes> hull = hull_planes_for(sdf.mesh());
   const std::shared_ptr<const SupportPlanes> support = support_planes_for(hull, *rq.mover);

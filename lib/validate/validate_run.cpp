@@ -189,9 +189,11 @@ ValidateResult run_validate(const ValidateRequest& rq) {
   ClearanceOptions co;
   co.tolerance = res.tolerance;
   co.max_cells = rq.max_cells;
-  // As `cdbench certify`: the pair-distance path within 16 pairs a triangle, F's supporting planes
-  // (speed only).
+  // As `cdbench certify`: the pair-distance path within 16 pairs a triangle, faces placed onto F's,
+  // F's supporting planes (speed only).
   co.pair_budget = unknown_pose_pair_budget(sdf.mesh(), *rq.mover);
+  const CoincidentFaces coincident(sdf.mesh());  // faces placed onto F's (speed only)
+  co.coincident = &coincident;
   const std::shared_ptr<const SupportPlanes> hull = hull_planes_for(sdf.mesh());
   const std::shared_ptr<const SupportPlanes> support = support_planes_for(hull, *rq.mover);
   co.support = support.get();
