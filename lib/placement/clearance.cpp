@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
+#include <utility>
 
 #include "core/interval.h"
 #include "distance/depth_bound.h"
@@ -732,6 +734,13 @@ class BranchAndBound {
           if (lower < upper_) offer_corner(c, v[corner], corner, list, up(ud.hi + r), nearest, eta);
         }
       }
+      // No plane where F is not convex at the contact, nor at a centre on F: a face hinged on F's
+      // edges from outside. The sign from the centre, or where that lies on F (an edge midpoint on
+      // the hinge), from the centroid (eta_m covers either's rounding): a ball about the exact
+      // point, free of F and outside it, meets the open cell.
+      if (lower < threshold() && coincident_ && !(s.hi < 0.0) && interior_apart(c.id, v, eta) &&
+          (s.lo > eta_m || (++queries_, fixed_.signed_distance(Vec3((v[0] + v[1] + v[2]) / 3.0)).lo > eta_m)))
+        lower = std::max(lower, 0.0);
       // The depth bound sets a cell aside only when -bound >= threshold < 0, and the bound is at
       // least the distance of each point of the cell: where its centre lies outside F farther than
       // -threshold it cannot (eta_m: the computed centre's offset from the cell). Nor, measured,
@@ -1102,6 +1111,32 @@ class BranchAndBound {
     return down(-max_distance_upper_near(corners, n, fixed_.mesh(), f) - eta);
   }
 
+  // Whether the relative interior of a cell of mover face f (corners v within eta of the exact
+  // ones) misses F's surface: that of the face meets it at most in the triangles
+  // triangles_meeting_interior lists (computed once a face), and the cell, within the face, is
+  // certified apart from each. Then s keeps one sign on the open cell; a caller whose cell centre
+  // lies outside F by more than its rounding has s >= 0 on the whole cell (doc/poses.md, "Faces
+  // hinged on F's edges").
+  bool interior_apart(std::uint32_t f, const std::array<Vec3, 3>& v, double eta) {
+    auto it = interior_lists_.find(f);
+    if (it == interior_lists_.end()) {
+      const Face& x = (*o_.faces)[f];
+      std::vector<std::uint32_t> ids;
+      const bool ok = triangles_meeting_interior(fixed_, P_[x[0]], P_[x[1]], P_[x[2]], kMaxInteriorTriangles, ids);
+      it = interior_lists_.emplace(f, std::make_pair(ok, std::move(ids))).first;
+    }
+    if (!it->second.first) return false;
+    const double eta_sq = up(eta * eta);
+    const auto& V = fixed_.mesh().vertices;
+    for (const std::uint32_t id : it->second.second) {
+      const Face& t = fixed_.mesh().faces[id];
+      if (!(triangle_triangle_squared_distance(V[t[0]], V[t[1]], V[t[2]], v[0], v[1], v[2]).lo > eta_sq)) return false;
+    }
+    return true;
+  }
+  static constexpr std::size_t kMaxInteriorTriangles = 16;
+
+
   // A cell of faces placed onto F's faces (coincident_faces.h): s = 0 at each of its points, exactly
   // for the placed triangles the search bounds (the transform's rounding is widened for after it).
   Cell on_f(Cell c) {
@@ -1132,6 +1167,8 @@ class BranchAndBound {
   const Vec3& t_;
   const SupportPlanes* hull_;
   const CoincidentFaces* coincident_;
+  // Per mover face, with coincident_: whether triangles_meeting_interior succeeded, and its list.
+  std::unordered_map<std::uint32_t, std::pair<bool, std::vector<std::uint32_t>>> interior_lists_;
   double tol_, rel_, target_;
   double upper_ = kInf;
   std::int64_t argmin_face_ = -1;

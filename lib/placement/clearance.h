@@ -118,8 +118,9 @@ struct ClearanceOptions {
   ClearanceFrontier* frontier = nullptr;
   // F's faces by their corners (coincident_faces.h): a mover face placed exactly onto one of them
   // is settled at s = 0, a node of such faces at once, and a mover lying wholly on F gets [0, 0]
-  // before any other path. For poses of unknown status (`cdbench certify`, `validate`: a part
-  // against itself at the identity); approaches never place faces so. Speed only.
+  // before any other path; with it, a cell of a face hinged on F's edges from outside is set aside
+  // at s >= 0 (triangles_meeting_interior). For poses of unknown status (`cdbench certify`,
+  // `validate`: a part against itself at the identity); approaches never place faces so. Speed only.
   const CoincidentFaces* coincident = nullptr;
 };
 

@@ -4,6 +4,8 @@
 #include <array>
 #include <cstring>
 
+#include "distance/exact_predicates.h"
+
 namespace cdbench {
 
 namespace {
@@ -88,6 +90,54 @@ bool faces_on_f(const CoincidentFaces& index, const Bvh<Aabb>& boxes, const std:
     }
     for (std::uint32_t i = 0; i < node.count; ++i)
       if (!face_on_f(index, faces, P, boxes.order[node.first + i])) return false;
+  }
+  return true;
+}
+
+namespace {
+
+// Whether the plane of pqr (not degenerate) has the corners of abc on one closed side, and those in
+// it all among `allowed` (null: any, but not all three): then it meets abc at most in a corner or
+// an edge in it.
+bool supports(const Vec3& p, const Vec3& q, const Vec3& r, const std::array<const Vec3*, 3>& abc,
+              const std::array<const Vec3*, 3>* allowed) {
+  bool above = false, below = false;
+  int in_plane = 0;
+  for (const Vec3* x : abc) {
+    const int o = orientation_sign(p, q, r, *x);
+    above |= o > 0;
+    below |= o < 0;
+    if (o == 0) {
+      ++in_plane;
+      if (allowed && *x != *(*allowed)[0] && *x != *(*allowed)[1] && *x != *(*allowed)[2]) return false;
+    }
+  }
+  return !(above && below) && in_plane < 3;
+}
+
+}  // namespace
+
+bool triangles_meeting_interior(const SignedDistance& fixed, const Vec3& a, const Vec3& b, const Vec3& c,
+                                std::size_t max_count, std::vector<std::uint32_t>& out) {
+  out.clear();
+  if (corners_collinear(a, b, c)) return false;
+  Aabb box;
+  box.extend(a);
+  box.extend(b);
+  box.extend(c);
+  std::vector<std::uint32_t> near;
+  if (!fixed.triangles_meeting_box(box, 4 * max_count, near)) return false;
+  const std::array<const Vec3*, 3> abc{&a, &b, &c};
+  const auto& V = fixed.mesh().vertices;
+  for (const std::uint32_t id : near) {
+    const Face& f = fixed.mesh().faces[id];
+    const Vec3 &p = V[f[0]], &q = V[f[1]], &r = V[f[2]];
+    if (!triangles_intersect(p, q, r, a, b, c)) continue;
+    const std::array<const Vec3*, 3> pqr{&p, &q, &r};
+    if (!corners_collinear(p, q, r) && supports(p, q, r, abc, nullptr)) continue;
+    if (supports(a, b, c, pqr, &abc)) continue;
+    out.push_back(id);
+    if (out.size() > max_count) return false;
   }
   return true;
 }

@@ -18,6 +18,7 @@
 #include "core/aabb.h"
 #include "core/pose_transform.h"
 #include "core/triangle_mesh.h"
+#include "distance/signed_distance.h"
 
 namespace cdbench {
 
@@ -61,5 +62,15 @@ inline bool face_on_f(const CoincidentFaces& index, const std::vector<Face>& fac
   const Face& x = faces[f];
   return index.contains(P[x[0]], P[x[1]], P[x[2]]);
 }
+
+// F's triangles that may meet the relative interior of the triangle abc (exact predicates on the
+// doubles): every triangle of F that meets the open triangle is listed (a certified superset).
+// Dropped are those apart from abc, those whose plane supports abc (abc on one closed side, not
+// in it: they meet abc at most in the corners or the edge in that plane), and those abc's plane
+// supports with only corners of abc in it. A mover face hinged on an edge of F from outside (it
+// coincides with F but for a vertex pushed out) lists only the triangles about its two ends that
+// it straddles. False (out partial) for a degenerate abc or more than max_count triangles.
+bool triangles_meeting_interior(const SignedDistance& fixed, const Vec3& a, const Vec3& b, const Vec3& c,
+                                std::size_t max_count, std::vector<std::uint32_t>& out);
 
 }  // namespace cdbench

@@ -105,9 +105,10 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   // that does not support F, or coinciding with F, is certified where earlier binaries ran out of
   // cells (doc/poses.md, "Cells lying on F"); their journals lack the key or have 1.
   run_key["on_surface_depth_bounds"] = kOnSurfaceDepthBounds;
-  // Since session 94 mover faces placed exactly onto F's faces are settled at s = 0 (doc/poses.md,
-  // "Faces placed onto F's faces"): such poses' intervals differ from earlier binaries'.
-  run_key["coincident_faces"] = 1;
+  // Since session 94 mover faces placed exactly onto F's faces are settled at s = 0 (1), and cells
+  // of faces hinged on F's edges from outside at s >= 0 (2) (doc/poses.md, "Faces placed onto F's
+  // faces", "Faces hinged on F's edges"): such poses' intervals differ from earlier binaries'.
+  run_key["coincident_faces"] = 2;
   PoseJournal journal(out_dir, "certify", run_key, rq.resume, "certify");
 
   const SignedDistance sdf(*rq.fixed);
