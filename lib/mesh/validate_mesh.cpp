@@ -401,7 +401,7 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
     return 3 * static_cast<std::size_t>(face);
   };
   struct EdgeBlock {
-    std::size_t boundary = 0, nonmanifold = 0, undirected = 0;
+    std::size_t boundary = 0, nonmanifold = 0;
     std::size_t first_boundary = SIZE_MAX, first_nonmanifold = SIZE_MAX, nonmanifold_faces = 0;  // edge indices
     std::vector<Adjacent> adjacency;
   };
@@ -414,7 +414,6 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
       std::size_t j = i;
       while (j < end && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
       const std::size_t n = j - i;
-      ++out.undirected;
       for (std::size_t k = i + 1; k < j; ++k) components.unite_concurrent(edges[i].face, edges[k].face);
       if (n == 1) {
         if (out.boundary++ == 0) out.first_boundary = i;
@@ -432,7 +431,7 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
       i = j;
     }
   });
-  std::size_t boundary = 0, nonmanifold = 0, undirected = 0;
+  std::size_t boundary = 0, nonmanifold = 0;
   std::string boundary_example, nonmanifold_example;
   std::vector<Adjacent> adjacency;
   // Described only for the first example (formatting every edge cost seconds on 832K faces).
@@ -449,7 +448,6 @@ ValidatedMesh validate_mesh(PolygonSoup soup, const ValidateOptions& options) {
       nonmanifold_example = where(b.first_nonmanifold) + ", shared by " + std::to_string(b.nonmanifold_faces) + " faces";
     boundary += b.boundary;
     nonmanifold += b.nonmanifold;
-    undirected += b.undirected;
     offset[k + 1] = offset[k] + b.adjacency.size();
   }
   adjacency.resize(offset.back());
