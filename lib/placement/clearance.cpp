@@ -1136,7 +1136,6 @@ class BranchAndBound {
   }
   static constexpr std::size_t kMaxInteriorTriangles = 16;
 
-
   // A cell of faces placed onto F's faces (coincident_faces.h): s = 0 at each of its points, exactly
   // for the placed triangles the search bounds (the transform's rounding is widened for after it).
   Cell on_f(Cell c) {
