@@ -1506,12 +1506,11 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
                                   const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
                                   const Vec3& t, const ClearanceOptions& options) {
   ClearanceResult r;
+  const PlacedView P = orientation.placed_view(t);
   // Faces placed onto F's faces are looked up only where some vertex is placed onto one of F's.
   const CoincidentFaces* coincident =
-      options.coincident && options.coincident->any_vertex(orientation.placed_view(t), orientation.rotated.size())
-          ? options.coincident
-          : nullptr;
-  if (coincident && faces_on_f(*coincident, orientation.boxes, mover.faces, orientation.placed_view(t), 0)) {
+      options.coincident && options.coincident->any_vertex(P, orientation.rotated.size()) ? options.coincident : nullptr;
+  if (coincident && faces_on_f(*coincident, orientation.boxes, mover.faces, P, 0)) {
     // Every face lies on F: s = 0 on the whole placed surface.
     r.clearance = {0.0, 0.0};
     r.argmin_face = orientation.boxes.order[0];
@@ -1525,7 +1524,6 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     widen_for_transform(r, orientation, t);
     return r;
   }
-  const PlacedView P = orientation.placed_view(t);
   const SweepTrees* trees =
       options.sweep_trees && options.sweep_trees->fixed && options.sweep_trees->mover ? options.sweep_trees : nullptr;
   const auto pair_traversal = [&](DistancePolicy& policy) {

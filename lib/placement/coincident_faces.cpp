@@ -33,6 +33,11 @@ std::size_t CoincidentFaces::KeyHash::operator()(const Key& k) const {
 
 CoincidentFaces::Key CoincidentFaces::key_of(const Vec3& p) { return {bits(p[0]), bits(p[1]), bits(p[2])}; }
 
+std::array<std::size_t, 2> CoincidentFaces::filter_slots(const Key& k) const {
+  const std::uint64_t h = KeyHash()(k);
+  return {static_cast<std::size_t>(h) & filter_mask_, static_cast<std::size_t>(h >> 32) & filter_mask_};
+}
+
 CoincidentFaces::CoincidentFaces(const TriangleMesh& fixed) {
   vertex_.reserve(fixed.vertices.size());
   std::size_t bits = 64;
@@ -42,9 +47,7 @@ CoincidentFaces::CoincidentFaces(const TriangleMesh& fixed) {
   std::vector<std::uint32_t> id(fixed.vertices.size());
   for (std::size_t v = 0; v < fixed.vertices.size(); ++v) {
     const Key k = key_of(fixed.vertices[v]);
-    const std::uint64_t h = KeyHash()(k);
-    for (const std::size_t b : {static_cast<std::size_t>(h) & filter_mask_, static_cast<std::size_t>(h >> 32) & filter_mask_})
-      filter_[b / 64] |= std::uint64_t(1) << (b % 64);
+    for (const std::size_t b : filter_slots(k)) filter_[b / 64] |= std::uint64_t(1) << (b % 64);
     id[v] = vertex_.emplace(k, static_cast<std::uint32_t>(v)).first->second;
   }
   faces_.reserve(fixed.faces.size());
@@ -70,9 +73,9 @@ bool CoincidentFaces::contains(const Vec3& a, const Vec3& b, const Vec3& c) cons
 bool CoincidentFaces::any_vertex(const PlacedView& P, std::size_t n) const {
   for (std::size_t v = 0; v < n; ++v) {
     const Key k = key_of(P[v]);
-    const std::uint64_t h = KeyHash()(k);
-    const std::size_t b0 = static_cast<std::size_t>(h) & filter_mask_, b1 = static_cast<std::size_t>(h >> 32) & filter_mask_;
-    if ((filter_[b0 / 64] >> (b0 % 64) & 1) && (filter_[b1 / 64] >> (b1 % 64) & 1) && vertex_.count(k)) return true;
+    const std::array<std::size_t, 2> b = filter_slots(k);
+    if ((filter_[b[0] / 64] >> (b[0] % 64) & 1) && (filter_[b[1] / 64] >> (b[1] % 64) & 1) && vertex_.count(k))
+      return true;
   }
   return false;
 }

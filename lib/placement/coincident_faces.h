@@ -8,6 +8,7 @@
 // each such face towards the tolerance (armadillo x16 against itself at the identity ran out of
 // its 400,000 cells). Recognition only chooses which valid bound a cell gets (doc/poses.md, "Faces
 // placed onto F's faces").
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <unordered_map>
@@ -42,6 +43,8 @@ class CoincidentFaces {
     std::size_t operator()(const Key& k) const;
   };
   static Key key_of(const Vec3& p);
+  // The two bits of the filter (below) a key sets.
+  std::array<std::size_t, 2> filter_slots(const Key& k) const;
   // F's vertices by coordinates (the first of any that share them) and its faces by their sorted
   // vertices so numbered.
   std::unordered_map<Key, std::uint32_t, KeyHash> vertex_;

@@ -51,16 +51,20 @@ echo "nested mover: 3 poses certified penetrating; at the centre [$(sed -n 2p "$
 # limit (exit 1, tolerance-not-reached, [-0.0134, 3.2e-15]); session 93 bounded each cell by the
 # triangle it lies on (certified in 6.1 s); since session 94 every face placed onto one of F's faces
 # is settled at s = 0 before any cell (ClearanceOptions::coincident), so ten cells are plenty.
-printf 'pose,qw,qx,qy,qz,tx,ty,tz\n0,1,0,0,0,0,0,0\n' > "$work/same.csv"
-"$cdbench" certify "$meshes/torus.off" "$work/same.csv" --max-cells 10 -o "$work/s" > "$work/s.txt" 2>&1 ||
-  { cat "$work/s.txt"; fail "coincident meshes: not certified"; }
-python3 - "$work/s/poses.csv" <<'PY' || fail "coincident meshes: the interval must hold 0, a few ulps wide"
+# certified_about_zero DIR WHAT: DIR's one pose is certified, its interval holding 0, a few ulps wide.
+certified_about_zero() {
+  python3 - "$1/poses.csv" <<'PY' || fail "$2: the interval must hold 0, a few ulps wide"
 import csv, sys
 r = list(csv.DictReader(open(sys.argv[1])))[0]
 lo, hi = float(r["clearance_lo"]), float(r["clearance_hi"])
 assert r["status"] == "certified" and lo <= 0 <= hi and hi - lo < 1e-12, r
 PY
-echo "coincident meshes: [$(sed -n 2p "$work/s/poses.csv" | cut -d, -f19,20)] holds 0, certified"
+  echo "$2: [$(sed -n 2p "$1/poses.csv" | cut -d, -f19,20)] holds 0, certified"
+}
+printf 'pose,qw,qx,qy,qz,tx,ty,tz\n0,1,0,0,0,0,0,0\n' > "$work/same.csv"
+"$cdbench" certify "$meshes/torus.off" "$work/same.csv" --max-cells 10 -o "$work/s" > "$work/s.txt" 2>&1 ||
+  { cat "$work/s.txt"; fail "coincident meshes: not certified"; }
+certified_about_zero "$work/s" "coincident meshes"
 # The same torus written in another order (vertices and faces shuffled, each face's corners turned,
 # the coordinates' text unchanged): its faces are F's, found by their coordinates (CGAL's blobby
 # against blobby-shuffled: uncertified after 72 s before session 94).
@@ -82,13 +86,7 @@ with open(sys.argv[2], "w") as out:
 PY
 "$cdbench" certify "$meshes/torus.off" --mover "$work/shuffled.off" "$work/same.csv" --max-cells 10 -o "$work/sh" \
   > "$work/sh.txt" 2>&1 || { cat "$work/sh.txt"; fail "a shuffled copy at the identity: not certified"; }
-python3 - "$work/sh/poses.csv" <<'PY' || fail "a shuffled copy: the interval must hold 0, a few ulps wide"
-import csv, sys
-r = list(csv.DictReader(open(sys.argv[1])))[0]
-lo, hi = float(r["clearance_lo"]), float(r["clearance_hi"])
-assert r["status"] == "certified" and lo <= 0 <= hi and hi - lo < 1e-12, r
-PY
-echo "a shuffled copy at the identity: [$(sed -n 2p "$work/sh/poses.csv" | cut -d, -f19,20)] holds 0, certified"
+certified_about_zero "$work/sh" "a shuffled copy at the identity"
 # A convex F (the sphere): every face supports it, and each cell's plane bound is exact on F, so
 # the coincident pose is certified, its interval holding 0 (ClearanceOptions::hull).
 "$cdbench" certify "$meshes/sphere.off" "$work/same.csv" --max-cells 20000 -o "$work/c" > "$work/c.txt" 2>&1 ||
