@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 
@@ -312,9 +313,9 @@ class BranchAndBound {
   // pose and rotation splits a cell the same way).
   BranchAndBound(const SignedDistance& fixed, const TriangleMesh& mover, const MoverOrientation& o, const PlacedView& P,
                  const Vec3& t, const ClearanceOptions& opt, bool keep_frontier,
-                 const CoincidentFaces* coincident = nullptr)
+                 PlacedMatches* matches = nullptr)
       : fixed_(fixed), mover_(mover), o_(o), P_(P), t_(t), hull_(opt.hull && !opt.hull->empty() ? opt.hull : nullptr),
-        coincident_(coincident),
+        matches_(matches),
         tol_(opt.tolerance), rel_(opt.relative_tolerance),
         target_(opt.target), keep_discarded_(keep_frontier), store_(scratch_.get()), heap_(store_.heap),
         discarded_(store_.discarded), depth_(store_.depth), ids_(store_.ids),
@@ -515,7 +516,8 @@ class BranchAndBound {
   // hint: a triangle of F likely near the node's centre (unsigned_distance's hint), or -1.
   Cell evaluate_node(std::uint32_t n, const SideBall* parent = nullptr, std::int64_t hint = -1) {
     Cell c{0, 0, true, n, 0, {}};
-    if (coincident_ && faces_on_f(*coincident_, o_.boxes, *o_.faces, P_, n)) return on_f(c);
+    if (matches_)
+      if (const double e = matches_->node(n); settles(e)) return on_f(c, e);
     const Aabb box = moved(o_.boxes.nodes[n].bv, t_);
     const Vec3 centre = box.center();
     // Half diagonal, plus the rounding of the centre, rounded up.
@@ -669,7 +671,8 @@ class BranchAndBound {
   static_assert(kMaxSeparatingCandidates >= ParentCandidates::kMaxCount, "Cell::crowded implies a long list");
 
   Cell evaluate_face(Cell c, const SideBall* parent = nullptr, const ParentCandidates* list = nullptr) {
-    if (coincident_ && face_on_f(*coincident_, *o_.faces, P_, c.id)) return on_f(c);
+    if (matches_)
+      if (const double e = matches_->face(c.id); settles(e)) return on_f(c, e);
     const FaceGeometry geo = geometry(c);
     const auto& v = geo.v;
     const Vec3& m = geo.m;
@@ -738,7 +741,7 @@ class BranchAndBound {
       // edges from outside. The sign from the centre, or where that lies on F (an edge midpoint on
       // the hinge), from the centroid (eta_m covers either's rounding): a ball about the exact
       // point, free of F and outside it, meets the open cell.
-      if (lower < threshold() && coincident_ && !(s.hi < 0.0) && interior_apart(c.id, v, eta) &&
+      if (lower < threshold() && matches_ && !(s.hi < 0.0) && interior_apart(c.id, v, eta) &&
           (s.lo > eta_m || (++queries_, fixed_.signed_distance(Vec3((v[0] + v[1] + v[2]) / 3.0)).lo > eta_m)))
         lower = std::max(lower, 0.0);
       // The depth bound sets a cell aside only when -bound >= threshold < 0, and the bound is at
@@ -1136,19 +1139,21 @@ class BranchAndBound {
   }
   static constexpr std::size_t kMaxInteriorTriangles = 16;
 
-  // A cell of faces placed onto F's faces (coincident_faces.h): s = 0 at each of its points, exactly
-  // for the placed triangles the search bounds (the transform's rounding is widened for after it).
-  Cell on_f(Cell c) {
+  // A cell of faces placed onto F's faces (coincident_faces.h), up to e: |s| <= e at each of its
+  // points, for the placed triangles the search bounds (the transform's rounding is widened for
+  // after it); e = 0 for F's faces exactly.
+  Cell on_f(Cell c, double e) {
     std::uint32_t face = c.id;
     if (c.is_node) {
       std::uint32_t n = c.id;
       while (o_.boxes.nodes[n].count == 0) n = o_.boxes.nodes[n].first;
       face = o_.boxes.order[o_.boxes.nodes[n].first];
     }
-    offer_upper(0.0, face, c.is_node ? std::array<double, 2>{0.0, 0.0} : c.bary[0]);
-    c.lower = 0.0;
+    offer_upper(e, face, c.is_node ? std::array<double, 2>{0.0, 0.0} : c.bary[0]);
+    c.lower = -e;
     return c;
   }
+  bool settles(double e) const { return match_settles(e, tol_); }
 
   // A certified value of s at a mover surface point (face, barycentrics): the upper end so far.
   void offer_upper(double value, std::uint32_t face, const std::array<double, 2>& bary) {
@@ -1165,8 +1170,9 @@ class BranchAndBound {
   const PlacedView P_;
   const Vec3& t_;
   const SupportPlanes* hull_;
-  const CoincidentFaces* coincident_;
-  // Per mover face, with coincident_: whether triangles_meeting_interior succeeded, and its list.
+  // With the face index and a placed vertex near one of F's (ClearanceOptions::coincident).
+  PlacedMatches* matches_;
+  // Per mover face, with matches_: whether triangles_meeting_interior succeeded, and its list.
   std::unordered_map<std::uint32_t, std::pair<bool, std::vector<std::uint32_t>>> interior_lists_;
   double tol_, rel_, target_;
   double upper_ = kInf;
@@ -1507,12 +1513,14 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
                                   const Vec3& t, const ClearanceOptions& options) {
   ClearanceResult r;
   const PlacedView P = orientation.placed_view(t);
-  // Faces placed onto F's faces are looked up only where some vertex is placed onto one of F's.
-  const CoincidentFaces* coincident =
-      options.coincident && options.coincident->any_vertex(P, orientation.rotated.size()) ? options.coincident : nullptr;
-  if (coincident && faces_on_f(*coincident, orientation.boxes, mover.faces, P, 0)) {
-    // Every face lies on F: s = 0 on the whole placed surface.
-    r.clearance = {0.0, 0.0};
+  // Faces placed onto F's faces are looked up only where some vertex is placed onto one of F's (or
+  // within CoincidentFaces::radius() of it).
+  std::optional<PlacedMatches> matches;
+  if (options.coincident && options.coincident->any_vertex(P, orientation.rotated.size()))
+    matches.emplace(*options.coincident, orientation.boxes, mover.faces, P);
+  if (const double e = matches ? matches->node(0) : -1.0; match_settles(e, options.tolerance)) {
+    // Every face lies on F, or within e of it: |s| <= e on the whole placed surface.
+    r.clearance = {-e, e};
     r.argmin_face = orientation.boxes.order[0];
     if (options.frontier) options.frontier->valid = false;
     widen_for_transform(r, orientation, t);
@@ -1585,7 +1593,8 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
     r.clearance = sqrt_interval({dist.min_lo_sq, dist.best_hi_sq});
     if (options.frontier) options.frontier->valid = false;
   } else {
-    BranchAndBound bb(fixed, mover, orientation, P, t, options, options.frontier != nullptr, coincident);
+    BranchAndBound bb(fixed, mover, orientation, P, t, options, options.frontier != nullptr,
+                      matches ? &*matches : nullptr);
     const ClearanceFrontier* warm = options.frontier && options.frontier->valid ? options.frontier : nullptr;
     bb.run(options.max_cells, options.hint_face, options.hint_beta, options.hint_gamma, warm, r);
     if (options.frontier) bb.export_frontier(*options.frontier);

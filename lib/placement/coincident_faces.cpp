@@ -2,20 +2,16 @@
 
 #include <algorithm>
 #include <array>
-#include <cstring>
+#include <cmath>
+#include <limits>
+
+#include "core/interval.h"
 
 #include "distance/exact_predicates.h"
 
 namespace cdbench {
 
 namespace {
-
-std::uint64_t bits(double v) {
-  v += 0.0;  // -0 -> +0: equal coordinates, equal keys
-  std::uint64_t b;
-  std::memcpy(&b, &v, sizeof b);
-  return b;
-}
 
 std::uint64_t mix(std::uint64_t h) {  // splitmix64's finaliser
   h ^= h >> 30;
@@ -25,31 +21,94 @@ std::uint64_t mix(std::uint64_t h) {  // splitmix64's finaliser
   return h ^ (h >> 31);
 }
 
+constexpr std::uint32_t kNone = 0xffffffffu;
+
+// floor(y) as an integer, false beyond 2^62 (and for NaN).
+bool floor_index(double y, std::int64_t* q) {
+  if (!(std::abs(y) < 0x1p62)) return false;
+  *q = static_cast<std::int64_t>(y);
+  if (y < static_cast<double>(*q)) --*q;
+  return true;
+}
+
+// An upper bound of |p - q|: each computed difference is within u of the exact one (exact where
+// it is subnormal), sqrt(3) times the largest bounds the norm, and the two products' roundings are
+// covered by the factor and the last step up.
+double distance_bound(const Vec3& p, const Vec3& q) {
+  const double m = (p - q).cwiseAbs().maxCoeff();
+  return m == 0.0 ? 0.0 : round_up(kSqrt3Up * m * (1.0 + 1e-15));
+}
+
 }  // namespace
 
 std::size_t CoincidentFaces::KeyHash::operator()(const Key& k) const {
   return static_cast<std::size_t>(mix(k.x ^ mix(k.y ^ mix(k.z))));
 }
 
-CoincidentFaces::Key CoincidentFaces::key_of(const Vec3& p) { return {bits(p[0]), bits(p[1]), bits(p[2])}; }
+bool CoincidentFaces::cell_of(const Vec3& p, Key* k) const {
+  std::int64_t c[3];
+  for (int i = 0; i < 3; ++i)
+    if (!floor_index(p[i] * inv_side_, &c[i])) return false;
+  *k = {static_cast<std::uint64_t>(c[0]), static_cast<std::uint64_t>(c[1]), static_cast<std::uint64_t>(c[2])};
+  return true;
+}
 
 std::array<std::size_t, 2> CoincidentFaces::filter_slots(const Key& k) const {
   const std::uint64_t h = KeyHash()(k);
   return {static_cast<std::size_t>(h) & filter_mask_, static_cast<std::size_t>(h >> 32) & filter_mask_};
 }
 
-CoincidentFaces::CoincidentFaces(const TriangleMesh& fixed) {
-  vertex_.reserve(fixed.vertices.size());
+bool CoincidentFaces::in_filter(const Key& k) const {
+  const std::array<std::size_t, 2> b = filter_slots(k);
+  return (filter_[b[0] / 64] >> (b[0] % 64) & 1) && (filter_[b[1] / 64] >> (b[1] % 64) & 1);
+}
+
+CoincidentFaces::CoincidentFaces(const TriangleMesh& fixed) : vertices_(&fixed.vertices) {
+  const std::vector<Vec3>& V = fixed.vertices;
+  double scale = 0.0;
+  for (const Vec3& v : V) scale = std::max(scale, v.cwiseAbs().maxCoeff());
+  radius_ = std::ldexp(scale, -40);
+  const double side = 64.0 * radius_;  // most vertices in one cell, each cell far smaller than an edge
+  // All of F at the origin (or no F): one cell about it, exact matches only.
+  if (side > 0.0 && std::isfinite(1.0 / side)) inv_side_ = 1.0 / side;
+  // A cube a sixteenth wider than radius() about each vertex: a placed corner within radius()
+  // falls in one of its cells whatever the products' rounding (matching only steers).
+  const double reach = radius_ * 1.0625;
+  head_.reserve(2 * V.size());
+  entries_.reserve(2 * V.size());
+  std::vector<std::uint32_t> id(V.size());
+  for (std::size_t v = 0; v < V.size(); ++v) {
+    const Vec3& p = V[v];
+    id[v] = static_cast<std::uint32_t>(v);
+    Key own;
+    if (!cell_of(p, &own)) continue;  // not finite: matches nothing
+    if (const auto it = head_.find(own); it != head_.end())
+      for (std::uint32_t e = it->second; e != kNone; e = entries_[e].next)
+        if (V[entries_[e].vertex] == p) {  // -0 == +0
+          id[v] = entries_[e].vertex;
+          break;
+        }
+    if (id[v] != v) continue;
+    // The cells about it (|p| is at most 2^37 sides, so these are numbered too).
+    std::int64_t lo[3], hi[3];
+    for (int i = 0; i < 3; ++i)
+      if (!floor_index((p[i] - reach) * inv_side_, &lo[i]) || !floor_index((p[i] + reach) * inv_side_, &hi[i]))
+        lo[i] = 1, hi[i] = 0;
+    for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
+          const Key k{static_cast<std::uint64_t>(x), static_cast<std::uint64_t>(y), static_cast<std::uint64_t>(z)};
+          auto [it, fresh] = head_.emplace(k, static_cast<std::uint32_t>(entries_.size()));
+          entries_.push_back({static_cast<std::uint32_t>(v), fresh ? kNone : it->second});
+          it->second = static_cast<std::uint32_t>(entries_.size() - 1);
+        }
+  }
   std::size_t bits = 64;
-  while (bits < 16 * fixed.vertices.size()) bits *= 2;
+  while (bits < 16 * head_.size()) bits *= 2;
   filter_.assign(bits / 64, 0);
   filter_mask_ = bits - 1;
-  std::vector<std::uint32_t> id(fixed.vertices.size());
-  for (std::size_t v = 0; v < fixed.vertices.size(); ++v) {
-    const Key k = key_of(fixed.vertices[v]);
+  for (const auto& [k, first] : head_)
     for (const std::size_t b : filter_slots(k)) filter_[b / 64] |= std::uint64_t(1) << (b % 64);
-    id[v] = vertex_.emplace(k, static_cast<std::uint32_t>(v)).first->second;
-  }
   faces_.reserve(fixed.faces.size());
   for (const Face& f : fixed.faces) {
     std::array<std::uint64_t, 3> k{id[f[0]], id[f[1]], id[f[2]]};
@@ -58,43 +117,79 @@ CoincidentFaces::CoincidentFaces(const TriangleMesh& fixed) {
   }
 }
 
-bool CoincidentFaces::contains(const Vec3& a, const Vec3& b, const Vec3& c) const {
-  std::array<std::uint64_t, 3> k;
-  const Vec3* p[3] = {&a, &b, &c};
-  for (int i = 0; i < 3; ++i) {
-    const auto it = vertex_.find(key_of(*p[i]));
-    if (it == vertex_.end()) return false;
-    k[i] = it->second;
+int CoincidentFaces::near_vertices(const Vec3& p, std::uint32_t* out, int max) const {
+  Key k;
+  if (!cell_of(p, &k) || !in_filter(k)) return 0;
+  const auto it = head_.find(k);
+  if (it == head_.end()) return 0;
+  int n = 0;
+  for (std::uint32_t e = it->second; e != kNone && n < max; e = entries_[e].next) {
+    const std::uint32_t v = entries_[e].vertex;
+    if (((*vertices_)[v] - p).cwiseAbs().maxCoeff() <= radius_) out[n++] = v;
   }
-  std::sort(k.begin(), k.end());
-  return faces_.count({k[0], k[1], k[2]}) > 0;
+  return n;
+}
+
+double CoincidentFaces::match(const Vec3& a, const Vec3& b, const Vec3& c) const {
+  constexpr int kMax = 4;  // more of F's vertices within radius() of one point: F is degenerate there
+  const Vec3* p[3] = {&a, &b, &c};
+  std::uint32_t near[3][kMax];
+  int count[3];
+  for (int i = 0; i < 3; ++i)
+    if ((count[i] = near_vertices(*p[i], near[i], kMax)) == 0) return -1.0;
+  double best = -1.0;
+  for (int i = 0; i < count[0]; ++i)
+    for (int j = 0; j < count[1]; ++j)
+      for (int l = 0; l < count[2]; ++l) {
+        std::array<std::uint64_t, 3> k{near[0][i], near[1][j], near[2][l]};
+        std::sort(k.begin(), k.end());
+        if (!faces_.count({k[0], k[1], k[2]})) continue;
+        const std::vector<Vec3>& V = *vertices_;
+        const double e = std::max({distance_bound(a, V[near[0][i]]), distance_bound(b, V[near[1][j]]),
+                                   distance_bound(c, V[near[2][l]])});
+        if (best < 0.0 || e < best) best = e;
+      }
+  return best;
 }
 
 bool CoincidentFaces::any_vertex(const PlacedView& P, std::size_t n) const {
-  for (std::size_t v = 0; v < n; ++v) {
-    const Key k = key_of(P[v]);
-    const std::array<std::size_t, 2> b = filter_slots(k);
-    if ((filter_[b[0] / 64] >> (b[0] % 64) & 1) && (filter_[b[1] / 64] >> (b[1] % 64) & 1) && vertex_.count(k))
-      return true;
-  }
+  std::uint32_t v;
+  for (std::size_t i = 0; i < n; ++i)
+    if (near_vertices(P[i], &v, 1)) return true;
   return false;
 }
 
-bool faces_on_f(const CoincidentFaces& index, const Bvh<Aabb>& boxes, const std::vector<Face>& faces,
-                const PlacedView& P, std::uint32_t n) {
-  std::vector<std::uint32_t> stack{n};
-  while (!stack.empty()) {
-    const auto& node = boxes.nodes[stack.back()];
-    stack.pop_back();
-    if (node.count == 0) {
-      stack.push_back(node.first + 1);
-      stack.push_back(node.first);
-      continue;
-    }
-    for (std::uint32_t i = 0; i < node.count; ++i)
-      if (!face_on_f(index, faces, P, boxes.order[node.first + i])) return false;
+PlacedMatches::PlacedMatches(const CoincidentFaces& index, const Bvh<Aabb>& boxes, const std::vector<Face>& faces,
+                             const PlacedView& P)
+    : index_(index), boxes_(boxes), faces_(faces), P_(P),
+      node_(boxes.nodes.size(), std::numeric_limits<double>::quiet_NaN()),
+      face_(faces.size(), std::numeric_limits<double>::quiet_NaN()) {}
+
+double PlacedMatches::face(std::uint32_t f) {
+  double& e = face_[f];
+  if (std::isnan(e)) {
+    const Face& x = faces_[f];
+    e = index_.match(P_[x[0]], P_[x[1]], P_[x[2]]);
   }
-  return true;
+  return e;
+}
+
+double PlacedMatches::node(std::uint32_t n) {
+  if (!std::isnan(node_[n])) return node_[n];
+  const auto& nd = boxes_.nodes[n];
+  double worst = 0.0;
+  if (nd.count == 0) {
+    for (std::uint32_t child = nd.first; child < nd.first + 2 && worst >= 0.0; ++child) {
+      const double e = node(child);
+      worst = e < 0.0 ? e : std::max(worst, e);
+    }
+  } else {
+    for (std::uint32_t i = 0; i < nd.count && worst >= 0.0; ++i) {
+      const double e = face(boxes_.order[nd.first + i]);
+      worst = e < 0.0 ? e : std::max(worst, e);
+    }
+  }
+  return node_[n] = worst;
 }
 
 namespace {

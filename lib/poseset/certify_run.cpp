@@ -107,8 +107,9 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   run_key["on_surface_depth_bounds"] = kOnSurfaceDepthBounds;
   // Since session 94 mover faces placed exactly onto F's faces are settled at s = 0 (1), and cells
   // of faces hinged on F's edges from outside at s >= 0 (2) (doc/poses.md, "Faces placed onto F's
-  // faces", "Faces hinged on F's edges"): such poses' intervals differ from earlier binaries'.
-  run_key["coincident_faces"] = 2;
+  // faces", "Faces hinged on F's edges"), and since session 95 faces placed onto them up to
+  // rounding at [-e, e] (3): such poses' intervals differ from earlier binaries'.
+  run_key["coincident_faces"] = 3;
   PoseJournal journal(out_dir, "certify", run_key, rq.resume, "certify");
 
   const SignedDistance sdf(*rq.fixed);

@@ -87,6 +87,30 @@ PY
 "$cdbench" certify "$meshes/torus.off" --mover "$work/shuffled.off" "$work/same.csv" --max-cells 10 -o "$work/sh" \
   > "$work/sh.txt" 2>&1 || { cat "$work/sh.txt"; fail "a shuffled copy at the identity: not certified"; }
 certified_about_zero "$work/sh" "a shuffled copy at the identity"
+# A copy turned by R (written to 17 digits) and placed back by R^T: its corners land a few ulps off
+# F's, matched up to rounding and settled at [-e, e] (armadillo x16 so: uncertified after 400,000
+# cells before session 95).
+python3 - "$meshes/torus.off" "$work/turned.off" "$work/back.csv" <<'PY'
+import math, sys
+tok = [l.split() for l in open(sys.argv[1]) if l.strip() and not l.startswith("#")]
+nv, nf = int(tok[1][0]), int(tok[1][1])
+w, x, y, z = 0.8, 0.36, -0.48, 0.0
+R = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
+with open(sys.argv[2], "w") as out:
+    out.write("OFF\n%d %d 0\n" % (nv, nf))
+    for v in tok[2:2 + nv]:
+        p = [float(c) for c in v[:3]]
+        out.write("%.17g %.17g %.17g\n" % tuple(sum(R[r][c] * p[c] for c in range(3)) for r in range(3)))
+    out.writelines(" ".join(f) + "\n" for f in tok[2 + nv:2 + nv + nf])
+with open(sys.argv[3], "w") as out:
+    out.write("pose,r00,r01,r02,r10,r11,r12,r20,r21,r22,tx,ty,tz\n0,")
+    out.write(",".join("%.17g" % R[c][r] for r in range(3) for c in range(3)) + ",0,0,0\n")
+PY
+"$cdbench" certify "$meshes/torus.off" --mover "$work/turned.off" "$work/back.csv" --max-cells 10 -o "$work/tb" \
+  > "$work/tb.txt" 2>&1 || { cat "$work/tb.txt"; fail "a turned copy placed back: not certified"; }
+certified_about_zero "$work/tb" "a turned copy placed back"
 # A convex F (the sphere): every face supports it, and each cell's plane bound is exact on F, so
 # the coincident pose is certified, its interval holding 0 (ClearanceOptions::hull).
 "$cdbench" certify "$meshes/sphere.off" "$work/same.csv" --max-cells 20000 -o "$work/c" > "$work/c.txt" 2>&1 ||

@@ -331,8 +331,17 @@ TEST(CoincidentFaces, RecognisesExactlyFsFaces) {
     EXPECT_TRUE(index.contains(c, a, b));
     EXPECT_TRUE(index.contains(b, a, c));
     EXPECT_TRUE(index.contains(-(-a), b, c));  // the origin's corner as -0
-    EXPECT_FALSE(index.contains(a, b, c + Vec3(0, 0, std::nextafter(c[2], 2.0) - c[2])));
+    // A corner an ulp off is no exact match, but one up to rounding: e bounds the ulp.
+    const Vec3 off = c + Vec3(0, 0, std::nextafter(c[2], 2.0) - c[2]);
+    EXPECT_FALSE(index.contains(a, b, off));
+    const double e = index.match(a, b, off);
+    EXPECT_GE(e, off[2] - c[2]);  // one ulp, a subnormal one at 0
+    EXPECT_LE(e, 4.0 * (off[2] - c[2]));
+    EXPECT_EQ(index.match(a, b, c), 0.0);
+    // Beyond radius() it matches nothing.
+    EXPECT_LT(index.match(a, b, c + Vec3(0, 0, 2.0 * index.radius())), 0.0);
   }
+  EXPECT_EQ(index.radius(), std::ldexp(1.0, -40));  // the largest coordinate is 1
   // A face's diagonal with the opposite corner of the box: three vertices, no face.
   EXPECT_FALSE(index.contains(Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(1, 1, 1)));
   EXPECT_FALSE(index.contains(Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(0, 0, 0)));
@@ -396,6 +405,57 @@ TEST(Clearance, FacesPlacedOntoFsFacesAreSettled) {
       // 512-630 cells measured.
       EXPECT_LT(with.cells, 5000u) << "cells along a hinge split towards the tolerance";
     }
+}
+
+// A copy of the torus turned by R (its coordinates rounded) and placed back by R^T lands a few ulps
+// off F: its faces are matched up to rounding and settled at [-e, e] (no cell), where without the
+// index every face is split towards the tolerance. With a vertex pushed in, the certificate agrees
+// with sampling and with the one computed without the index. A match wider than a quarter of the
+// tolerance settles nothing (match_settles): the search then runs as without the index.
+TEST(Clearance, TurnedCopiesPlacedBackAreSettled) {
+  const TriangleMesh torus = make_torus(1.0, 0.35, 24, 12);
+  const CoincidentFaces index(torus);
+  std::mt19937_64 rng(11);
+  const double tol = 1e-7;
+  for (int trial = 0; trial < 3; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const Eigen::Matrix3d R = random_rotation(rng);
+    TriangleMesh turned = torus;
+    for (Vec3& x : turned.vertices) x = R * x;
+    const Eigen::Matrix3d back = R.transpose();
+    Case c(torus, turned);
+    const ClearanceResult with = c.run(back, Vec3::Zero(), tol, &index);
+    const MoverOrientation o = make_mover_orientation(turned, back);
+    const Interval sampled = sampled_enclosure(c.fixed, o.placed(Vec3::Zero()), turned.faces, 3);
+    EXPECT_EQ(with.cells, 0u);
+    EXPECT_TRUE(with.tolerance_reached);
+    EXPECT_LE(with.clearance.lo, sampled.hi) << std::setprecision(17) << with.clearance.lo;
+    EXPECT_GE(with.clearance.hi, sampled.lo) << std::setprecision(17) << with.clearance.hi;
+    EXPECT_LT(with.clearance.width(), 1e-13);
+    if (trial == 0) {
+      const ClearanceResult without = c.run(back, Vec3::Zero(), tol);
+      EXPECT_GT(without.cells, 1000u);
+    }
+    TriangleMesh dented = turned;
+    Vec3& x = dented.vertices[static_cast<std::size_t>(36 + trial * 50)];
+    const Vec3 home = back * x;
+    x -= 2e-3 * (R * (home - Vec3(home[0], home[1], 0.0).normalized())).normalized();
+    Case d(torus, dented);
+    const ClearanceResult in = d.run(back, Vec3::Zero(), tol, &index), in_without = d.run(back, Vec3::Zero(), tol);
+    const Interval in_sampled =
+        sampled_enclosure(d.fixed, make_mover_orientation(dented, back).placed(Vec3::Zero()), dented.faces, 6);
+    EXPECT_TRUE(in.tolerance_reached);
+    EXPECT_LE(in.clearance.lo, in_sampled.hi);
+    EXPECT_GE(in.clearance.hi, in_sampled.lo);
+    EXPECT_LE(in.clearance.lo, in_without.clearance.hi);
+    EXPECT_GE(in.clearance.hi, in_without.clearance.lo);
+    EXPECT_LT(in.clearance.hi, -1e-3);
+    EXPECT_LT(in.cells, in_without.cells / 2) << in.cells << " cells against " << in_without.cells;
+  }
+  EXPECT_TRUE(match_settles(0.0, 0.0));
+  EXPECT_TRUE(match_settles(1e-14, 1e-13));
+  EXPECT_FALSE(match_settles(1e-13, 1e-13));
+  EXPECT_FALSE(match_settles(-1.0, 1.0));
 }
 
 // The triangles of F that may meet a triangle's open interior: a face of F lists itself and the
