@@ -1508,9 +1508,12 @@ bool hint_inside(const SignedDistance& fixed, const TriangleMesh& mover, const P
 
 }  // namespace
 
-ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover,
-                                  const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
-                                  const Vec3& t, const ClearanceOptions& options) {
+namespace {
+
+ClearanceResult certify_clearance_once(const SignedDistance& fixed, const TriangleMesh& mover,
+                                       const std::vector<std::uint32_t>& components,
+                                       const MoverOrientation& orientation, const Vec3& t,
+                                       const ClearanceOptions& options) {
   ClearanceResult r;
   const PlacedView P = orientation.placed_view(t);
   // Faces placed onto F's faces are looked up only where some vertex is placed onto one of F's (or
@@ -1601,6 +1604,32 @@ ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMes
   }
   widen_for_transform(r, orientation, t);
   return r;
+}
+
+}  // namespace
+
+ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover,
+                                  const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
+                                  const Vec3& t, const ClearanceOptions& options) {
+  ClearanceResult r = certify_clearance_once(fixed, mover, components, orientation, t, options);
+  if (!options.coincident || !options.coincident_retry || reaches_tolerance(r, options.tolerance)) return r;
+  // Only where some placed vertex lies that near one of F's: a hard pose of another kind is not
+  // searched twice.
+  const CoincidentFaces& index = options.coincident_retry->get();
+  if (!index.any_vertex(orientation.placed_view(t), orientation.rotated.size())) return r;
+  ClearanceOptions wide = options;
+  wide.coincident = &index;
+  wide.coincident_retry = nullptr;
+  wide.frontier = nullptr;  // from the root: the first run's frontier holds cells the index would settle
+  if (options.frontier) options.frontier->valid = false;
+  ClearanceResult w = certify_clearance_once(fixed, mover, components, orientation, t, wide);
+  // Both enclose c for the same exact pose: so does their intersection, never empty.
+  w.clearance = {std::max(r.clearance.lo, w.clearance.lo), std::min(r.clearance.hi, w.clearance.hi)};
+  w.cells += r.cells;
+  w.pair_tests += r.pair_tests;
+  w.distance_queries += r.distance_queries;
+  w.far_cells += r.far_cells;
+  return w;
 }
 
 const char* to_string(SegmentVerdict v) {

@@ -122,6 +122,13 @@ struct ClearanceOptions {
   // at s >= 0 (triangles_meeting_interior). For poses of unknown status (`cdbench certify`,
   // `validate`: a part against itself at the identity); approaches never place faces so. Speed only.
   const CoincidentFaces* coincident = nullptr;
+  // With `coincident`: where the search ends short of the tolerance, it runs once more with this
+  // wider index (faces within its radius of F's settled at [-e, e]: a copy of F written in single
+  // precision), and the result's interval is the intersection of the two runs' (each rigorous).
+  // Its radius must leave the match room to settle (match_settles: e <= tolerance / 4, and e is up
+  // to sqrt(3) times the radius): tolerance / 8. Only after a failure, so that a pose resting a
+  // hair apart keeps its interval a few ulps wide where the first run settles it.
+  const LazyCoincidentFaces* coincident_retry = nullptr;
 };
 
 struct ClearanceResult {

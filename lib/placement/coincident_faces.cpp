@@ -63,11 +63,15 @@ bool CoincidentFaces::in_filter(const Key& k) const {
   return (filter_[b[0] / 64] >> (b[0] % 64) & 1) && (filter_[b[1] / 64] >> (b[1] % 64) & 1);
 }
 
-CoincidentFaces::CoincidentFaces(const TriangleMesh& fixed) : vertices_(&fixed.vertices) {
+CoincidentFaces::CoincidentFaces(const TriangleMesh& fixed, double radius) : vertices_(&fixed.vertices) {
   const std::vector<Vec3>& V = fixed.vertices;
-  double scale = 0.0;
-  for (const Vec3& v : V) scale = std::max(scale, v.cwiseAbs().maxCoeff());
-  radius_ = std::ldexp(scale, -40);
+  if (radius >= 0.0) {
+    radius_ = radius;
+  } else {
+    double scale = 0.0;
+    for (const Vec3& v : V) scale = std::max(scale, v.cwiseAbs().maxCoeff());
+    radius_ = std::ldexp(scale, -40);
+  }
   const double side = 64.0 * radius_;  // most vertices in one cell, each cell far smaller than an edge
   // All of F at the origin (or no F): one cell about it, exact matches only.
   if (side > 0.0 && std::isfinite(1.0 / side)) inv_side_ = 1.0 / side;
@@ -157,6 +161,11 @@ bool CoincidentFaces::any_vertex(const PlacedView& P, std::size_t n) const {
   for (std::size_t i = 0; i < n; ++i)
     if (near_vertices(P[i], &v, 1)) return true;
   return false;
+}
+
+const CoincidentFaces& LazyCoincidentFaces::get() const {
+  std::call_once(once_, [this] { index_ = std::make_unique<CoincidentFaces>(fixed_, radius_); });
+  return *index_;
 }
 
 PlacedMatches::PlacedMatches(const CoincidentFaces& index, const Bvh<Aabb>& boxes, const std::vector<Face>& faces,

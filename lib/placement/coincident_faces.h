@@ -14,6 +14,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -28,10 +30,11 @@ namespace cdbench {
 
 class CoincidentFaces {
  public:
-  explicit CoincidentFaces(const TriangleMesh& fixed);
-  // How far a placed corner may lie from F's vertex to be matched with it: 2^-40 of F's largest
-  // coordinate magnitude, thousands of ulps (a turned copy placed back lands within a few), far
-  // below any tolerance. It only steers: the bound e is computed from the corners matched.
+  // radius: how far a placed corner may lie from F's vertex to be matched with it; by default
+  // (negative) 2^-40 of F's largest coordinate magnitude, thousands of ulps (a turned copy placed
+  // back lands within a few), far below any tolerance. It only steers: the bound e is computed from
+  // the corners matched.
+  explicit CoincidentFaces(const TriangleMesh& fixed, double radius = -1.0);
   double radius() const { return radius_; }
   // A rigorous upper bound e of the largest distance from a corner of abc (in any order) to the
   // vertex of F it is matched with, where the three matched vertices form one of F's faces and
@@ -78,6 +81,22 @@ class CoincidentFaces {
   // entry): a placed vertex whose cell has a bit clear is near none of F's.
   std::vector<std::uint64_t> filter_;
   std::size_t filter_mask_ = 0;
+};
+
+// F's faces indexed for matches within a wider radius, built on first use (thread-safe): a
+// certificate that ran out of cells asks for it (ClearanceOptions::coincident_retry); most runs never
+// do, and the index of armadillo x16 costs 0.2 s and tens of MB.
+class LazyCoincidentFaces {
+ public:
+  LazyCoincidentFaces(const TriangleMesh& fixed, double radius) : fixed_(fixed), radius_(radius) {}
+  const CoincidentFaces& get() const;
+  double radius() const { return radius_; }
+
+ private:
+  const TriangleMesh& fixed_;
+  double radius_;
+  mutable std::once_flag once_;
+  mutable std::unique_ptr<CoincidentFaces> index_;
 };
 
 // match() of a placed mover's faces and of the nodes of its box tree (a node's: the largest over

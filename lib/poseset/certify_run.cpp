@@ -108,8 +108,10 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   // Since session 94 mover faces placed exactly onto F's faces are settled at s = 0 (1), and cells
   // of faces hinged on F's edges from outside at s >= 0 (2) (doc/poses.md, "Faces placed onto F's
   // faces", "Faces hinged on F's edges"), and since session 95 faces placed onto them up to
-  // rounding at [-e, e] (3): such poses' intervals differ from earlier binaries'.
-  run_key["coincident_faces"] = 3;
+  // rounding at [-e, e] (3), and a pose that runs out of cells near F's vertices is tried again with
+  // faces within an eighth of the tolerance settled (4): such poses' intervals differ from earlier
+  // binaries'.
+  run_key["coincident_faces"] = 4;
   PoseJournal journal(out_dir, "certify", run_key, rq.resume, "certify");
 
   const SignedDistance sdf(*rq.fixed);
@@ -144,6 +146,10 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   co.pair_budget = unknown_pose_pair_budget(sdf.mesh(), *rq.mover);  // validate-your-library.md, "Widths"
   const CoincidentFaces coincident(sdf.mesh());  // a part against itself at the identity (speed only)
   co.coincident = &coincident;
+  // Faces within an eighth of the tolerance of F's, for a pose that runs out of cells (a copy of F
+  // written in single precision): built only if one does.
+  const LazyCoincidentFaces coincident_wide(sdf.mesh(), result.tolerance / 8.0);
+  co.coincident_retry = &coincident_wide;
   // A convex F's planes certify penetrating poses at once (tried first; separated ones go on).
   const std::shared_ptr<const SupportPlanes> hull = hull_planes_for(sdf.mesh());
   const std::shared_ptr<const SupportPlanes> support = support_planes_for(hull, *rq.mover);

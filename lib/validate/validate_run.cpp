@@ -194,6 +194,10 @@ ValidateResult run_validate(const ValidateRequest& rq) {
   co.pair_budget = unknown_pose_pair_budget(sdf.mesh(), *rq.mover);
   const CoincidentFaces coincident(sdf.mesh());  // faces placed onto F's (speed only)
   co.coincident = &coincident;
+  // Faces within an eighth of the tolerance of F's, for a pose that runs out of cells (a copy of F
+  // written in single precision): built only if one does.
+  const LazyCoincidentFaces coincident_wide(sdf.mesh(), res.tolerance / 8.0);
+  co.coincident_retry = &coincident_wide;
   const std::shared_ptr<const SupportPlanes> hull = hull_planes_for(sdf.mesh());
   const std::shared_ptr<const SupportPlanes> support = support_planes_for(hull, *rq.mover);
   co.support = support.get();

@@ -111,6 +111,28 @@ PY
 "$cdbench" certify "$meshes/torus.off" --mover "$work/turned.off" "$work/back.csv" --max-cells 10 -o "$work/tb" \
   > "$work/tb.txt" 2>&1 || { cat "$work/tb.txt"; fail "a turned copy placed back: not certified"; }
 certified_about_zero "$work/tb" "a turned copy placed back"
+# The torus written in single precision, at the identity: corners up to 6e-8 off F's, beyond
+# rounding. The first run ends short of the tolerance within 10 cells; the retry settles faces
+# within an eighth of the tolerance of F's at [-e, e] (ClearanceOptions::coincident_retry).
+python3 - "$meshes/torus.off" "$work/single.off" <<'PY'
+import struct, sys
+tok = [l.split() for l in open(sys.argv[1]) if l.strip() and not l.startswith("#")]
+nv, nf = int(tok[1][0]), int(tok[1][1])
+f32 = lambda v: struct.unpack("f", struct.pack("f", float(v)))[0]
+with open(sys.argv[2], "w") as out:
+    out.write("OFF\n%d %d 0\n" % (nv, nf))
+    out.writelines("%.9g %.9g %.9g\n" % tuple(f32(c) for c in v[:3]) for v in tok[2:2 + nv])
+    out.writelines(" ".join(f) + "\n" for f in tok[2 + nv:2 + nv + nf])
+PY
+"$cdbench" certify "$meshes/torus.off" --mover "$work/single.off" "$work/same.csv" --max-cells 10 -o "$work/sp" \
+  > "$work/sp.txt" 2>&1 || { cat "$work/sp.txt"; fail "a single-precision copy: not certified"; }
+python3 - "$work/sp/poses.csv" <<'PY' || fail "a single-precision copy: the interval must lie within 1e-6 of 0"
+import csv, sys
+r = list(csv.DictReader(open(sys.argv[1])))[0]
+lo, hi = float(r["clearance_lo"]), float(r["clearance_hi"])
+assert r["status"] == "certified" and -1e-6 < lo <= hi < 1e-6, r
+PY
+echo "a single-precision copy: [$(sed -n 2p "$work/sp/poses.csv" | cut -d, -f19,20)] certified"
 # A convex F (the sphere): every face supports it, and each cell's plane bound is exact on F, so
 # the coincident pose is certified, its interval holding 0 (ClearanceOptions::hull).
 "$cdbench" certify "$meshes/sphere.off" "$work/same.csv" --max-cells 20000 -o "$work/c" > "$work/c.txt" 2>&1 ||

@@ -458,6 +458,46 @@ TEST(Clearance, TurnedCopiesPlacedBackAreSettled) {
   EXPECT_FALSE(match_settles(-1.0, 1.0));
 }
 
+// A copy of the torus written in single precision, at the identity: its corners lie up to 3e-8 off
+// F's, far beyond the rounding index's radius, and with 50 cells the search ends short of the
+// tolerance. With a retry index (radius tolerance / 8) the faces are settled at [-e, e] in a
+// second run and the result is the intersection of both runs' intervals: certified, holding sampled
+// s. Without the retry, or with a tolerance too tight for the match, it stays uncertified.
+TEST(Clearance, SinglePrecisionCopiesSettledOnRetry) {
+  const TriangleMesh torus = make_torus(1.0, 0.35, 24, 12);
+  TriangleMesh single = torus;
+  for (Vec3& x : single.vertices)
+    for (int i = 0; i < 3; ++i) x[i] = static_cast<double>(static_cast<float>(x[i]));
+  const CoincidentFaces index(torus);
+  const double tol = 1e-5;
+  const LazyCoincidentFaces wide(torus, tol / 8.0);
+  const SignedDistance fixed(torus);
+  const MoverOrientation o = make_mover_orientation(single, Eigen::Matrix3d::Identity());
+  const std::vector<std::uint32_t> comps = component_representatives(single);
+  const auto run = [&](const LazyCoincidentFaces* retry, double tolerance) {
+    ClearanceOptions opt;
+    opt.tolerance = tolerance;
+    opt.max_cells = 50;
+    opt.coincident = &index;
+    opt.coincident_retry = retry;
+    return certify_clearance(fixed, single, comps, o, Vec3::Zero(), opt);
+  };
+  const Interval sampled = sampled_enclosure(fixed, o.placed(Vec3::Zero()), single.faces, 4);
+  const ClearanceResult once = run(nullptr, tol), retried = run(&wide, tol);
+  EXPECT_FALSE(reaches_tolerance(once, tol));
+  EXPECT_TRUE(reaches_tolerance(retried, tol));
+  EXPECT_GT(retried.cells, once.cells - 1);  // both runs counted
+  for (const ClearanceResult* r : {&once, &retried}) {
+    EXPECT_LE(r->clearance.lo, sampled.hi) << std::setprecision(17) << r->clearance.lo;
+    EXPECT_GE(r->clearance.hi, sampled.lo) << std::setprecision(17) << r->clearance.hi;
+  }
+  EXPECT_GE(retried.clearance.lo, once.clearance.lo);
+  EXPECT_LE(retried.clearance.hi, once.clearance.hi);
+  EXPECT_LT(retried.clearance.width(), 1e-6);  // e: the float rounding, about 3e-8 times sqrt(3)
+  // A tolerance below 4 e: the wide match settles nothing, and the retry ends short too.
+  EXPECT_FALSE(reaches_tolerance(run(&wide, 1e-8), 1e-8));
+}
+
 // The triangles of F that may meet a triangle's open interior: a face of F lists itself and the
 // coplanar face across its diagonal (the box's top is two triangles); turned outwards or inwards
 // about one of its edges, none; turned through a side, that side's faces.
