@@ -20,6 +20,7 @@
 #include "placement/mover.h"
 #include "placement/place_pose.h"
 #include "placement/rotation_groups.h"
+#include "placement/unknown_pose.h"
 #include "poseset/journal.h"
 #include "poseset/pose_csv.h"
 #include "poseset/poseset_manifest.h"
@@ -140,21 +141,9 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   result.resumed = file.poses.size() - pending.size();
 
   const std::vector<std::uint32_t> components = component_representatives(*rq.mover);
-  ClearanceOptions co;
-  co.tolerance = result.tolerance;
-  co.max_cells = rq.max_cells;
-  co.pair_budget = unknown_pose_pair_budget(sdf.mesh(), *rq.mover);  // validate-your-library.md, "Widths"
-  const CoincidentFaces coincident(sdf.mesh());  // a part against itself at the identity (speed only)
-  co.coincident = &coincident;
-  // Faces within an eighth of the tolerance of F's, for a pose that runs out of cells (a copy of F
-  // written in single precision): built only if one does.
-  const LazyCoincidentFaces coincident_wide(sdf.mesh(), result.tolerance / 8.0);
-  co.coincident_retry = &coincident_wide;
-  // A convex F's planes certify penetrating poses at once (tried first; separated ones go on).
-  const std::shared_ptr<const SupportPlanes> hull = hull_planes_for(sdf.mesh());
-  const std::shared_ptr<const SupportPlanes> support = support_planes_for(hull, *rq.mover);
-  co.support = support.get();
-  co.hull = hull.get();
+  // As `cdbench validate` (placement/unknown_pose.h).
+  const UnknownPoseOptions unknown(sdf, *rq.mover, result.tolerance, rq.max_cells);
+  const ClearanceOptions& co = unknown.options();
   Progress progress("certify", pending.size());
   Timer t_poses;
   // With long faces (`sweep`) the pair-distance path runs on the sweep trees: F's, and the mover's

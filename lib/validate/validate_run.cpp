@@ -22,6 +22,7 @@
 #include "placement/mover.h"
 #include "placement/place_pose.h"
 #include "placement/rotation_groups.h"
+#include "placement/unknown_pose.h"
 #include "poseset/poseset_manifest.h"
 #include "sweep/mesh_sweep.h"
 #include "util/atomic_file.h"
@@ -186,22 +187,9 @@ ValidateResult run_validate(const ValidateRequest& rq) {
     s.rotated = make_sweep_mesh(s.orientation.rotated, rq.mover->faces);
     return s;
   };
-  ClearanceOptions co;
-  co.tolerance = res.tolerance;
-  co.max_cells = rq.max_cells;
-  // As `cdbench certify`: the pair-distance path within 16 pairs a triangle, faces placed onto F's,
-  // F's supporting planes (speed only).
-  co.pair_budget = unknown_pose_pair_budget(sdf.mesh(), *rq.mover);
-  const CoincidentFaces coincident(sdf.mesh());  // faces placed onto F's (speed only)
-  co.coincident = &coincident;
-  // Faces within an eighth of the tolerance of F's, for a pose that runs out of cells (a copy of F
-  // written in single precision): built only if one does.
-  const LazyCoincidentFaces coincident_wide(sdf.mesh(), res.tolerance / 8.0);
-  co.coincident_retry = &coincident_wide;
-  const std::shared_ptr<const SupportPlanes> hull = hull_planes_for(sdf.mesh());
-  const std::shared_ptr<const SupportPlanes> support = support_planes_for(hull, *rq.mover);
-  co.support = support.get();
-  co.hull = hull.get();
+  // As `cdbench certify` (placement/unknown_pose.h).
+  const UnknownPoseOptions unknown(sdf, *rq.mover, res.tolerance, rq.max_cells);
+  const ClearanceOptions& co = unknown.options();
   const bool long_faces = long_faces_keep_sweep_trees(*rq.fixed, *rq.mover);
   std::vector<std::atomic<std::uint64_t>> level_ns(L);
   std::atomic<std::uint64_t> sweep_ns{0};
