@@ -31,12 +31,13 @@ bool floor_index(double y, std::int64_t* q) {
   return true;
 }
 
-// An upper bound of |p - q|: each computed difference is within u of the exact one (exact where
-// it is subnormal), sqrt(3) times the largest bounds the norm, and the two products' roundings are
-// covered by the factor and the last step up.
+// An upper bound of |p - q| in any rounding mode: each computed difference is within 2u of the
+// exact one (exact where it is subnormal, and 0 only where the coordinates are equal), sqrt(3)
+// times the largest bounds the norm, and the two products' roundings (2u each) are covered with
+// margin by the factor (45 u) and the last step up.
 double distance_bound(const Vec3& p, const Vec3& q) {
   const double m = (p - q).cwiseAbs().maxCoeff();
-  return m == 0.0 ? 0.0 : round_up(kSqrt3Up * m * (1.0 + 1e-15));
+  return m == 0.0 ? 0.0 : round_up(kSqrt3Up * m * (1.0 + 1e-14));
 }
 
 }  // namespace
@@ -78,8 +79,8 @@ CoincidentFaces::CoincidentFaces(const TriangleMesh& fixed, double radius) : ver
   // A cube a sixteenth wider than radius() about each vertex: a placed corner within radius()
   // falls in one of its cells whatever the products' rounding (matching only steers).
   const double reach = radius_ * 1.0625;
-  head_.reserve(2 * V.size());
-  entries_.reserve(2 * V.size());
+  head_.reserve(V.size() + V.size() / 2);  // about 1.1 cells a vertex
+  entries_.reserve(V.size() + V.size() / 2);
   std::vector<std::uint32_t> id(V.size());
   for (std::size_t v = 0; v < V.size(); ++v) {
     const Vec3& p = V[v];
@@ -113,12 +114,26 @@ CoincidentFaces::CoincidentFaces(const TriangleMesh& fixed, double radius) : ver
   filter_mask_ = bits - 1;
   for (const auto& [k, first] : head_)
     for (const std::size_t b : filter_slots(k)) filter_[b / 64] |= std::uint64_t(1) << (b % 64);
-  faces_.reserve(fixed.faces.size());
-  for (const Face& f : fixed.faces) {
-    std::array<std::uint64_t, 3> k{id[f[0]], id[f[1]], id[f[2]]};
+  corners_.resize(fixed.faces.size());
+  about_first_.assign(V.size() + 1, 0);
+  for (std::size_t f = 0; f < fixed.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) ++about_first_[(corners_[f][k] = id[fixed.faces[f][k]]) + 1];
+  for (std::size_t v = 0; v < V.size(); ++v) about_first_[v + 1] += about_first_[v];
+  about_.resize(3 * fixed.faces.size());
+  std::vector<std::uint32_t> fill(about_first_.begin(), about_first_.end() - 1);
+  for (std::size_t f = 0; f < fixed.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) about_[fill[corners_[f][k]]++] = static_cast<std::uint32_t>(f);
+}
+
+bool CoincidentFaces::has_face(std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
+  std::array<std::uint32_t, 3> want{a, b, c};
+  std::sort(want.begin(), want.end());
+  for (std::uint32_t i = about_first_[a]; i < about_first_[a + 1]; ++i) {
+    std::array<std::uint32_t, 3> k = corners_[about_[i]];
     std::sort(k.begin(), k.end());
-    faces_.insert({k[0], k[1], k[2]});
+    if (k == want) return true;
   }
+  return false;
 }
 
 int CoincidentFaces::near_vertices(const Vec3& p, std::uint32_t* out, int max) const {
@@ -145,9 +160,7 @@ double CoincidentFaces::match(const Vec3& a, const Vec3& b, const Vec3& c) const
   for (int i = 0; i < count[0]; ++i)
     for (int j = 0; j < count[1]; ++j)
       for (int l = 0; l < count[2]; ++l) {
-        std::array<std::uint64_t, 3> k{near[0][i], near[1][j], near[2][l]};
-        std::sort(k.begin(), k.end());
-        if (!faces_.count({k[0], k[1], k[2]})) continue;
+        if (!has_face(near[0][i], near[1][j], near[2][l])) continue;
         const std::vector<Vec3>& V = *vertices_;
         const double e = std::max({distance_bound(a, V[near[0][i]]), distance_bound(b, V[near[1][j]]),
                                    distance_bound(c, V[near[2][l]])});

@@ -17,7 +17,6 @@
 #include <memory>
 #include <mutex>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 #include "bvh/bvh.h"
@@ -75,8 +74,12 @@ class CoincidentFaces {
   };
   std::unordered_map<Key, std::uint32_t, KeyHash> head_;
   std::vector<Entry> entries_;
-  // F's faces by their sorted vertices, each numbered as near_vertices() numbers it.
-  std::unordered_set<Key, KeyHash> faces_;
+  // Whether F has a face with the corners a, b, c (as near_vertices() numbers them, any order).
+  bool has_face(std::uint32_t a, std::uint32_t b, std::uint32_t c) const;
+  // F's faces with their corners so numbered, and the faces about each such vertex (CSR: those
+  // of vertex v are about_[about_first_[v] .. about_first_[v + 1])).
+  std::vector<std::array<std::uint32_t, 3>> corners_;
+  std::vector<std::uint32_t> about_first_, about_;
   // A Bloom filter of the grid's occupied cells (two bits from each key's hash, at least 16 bits an
   // entry): a placed vertex whose cell has a bit clear is near none of F's.
   std::vector<std::uint64_t> filter_;
