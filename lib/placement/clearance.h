@@ -126,8 +126,9 @@ struct ClearanceOptions {
   // wider index (faces within its radius of F's settled at [-e, e]: a copy of F written in single
   // precision), and the result's interval is the intersection of the two runs' (each rigorous).
   // Its radius must leave the match room to settle (match_settles: e <= tolerance / 4, and e is up
-  // to sqrt(3) times the radius): tolerance / 8. Only after a failure, so that a pose resting a
-  // hair apart keeps its interval a few ulps wide where the first run settles it.
+  // to sqrt(3) times the radius): at most tolerance / 8 (UnknownPoseOptions: also at most 2^-16 of
+  // F's largest coordinate). Only after a failure, so that a pose resting a hair apart keeps its
+  // interval a few ulps wide where the first run settles it.
   const LazyCoincidentFaces* coincident_retry = nullptr;
 };
 

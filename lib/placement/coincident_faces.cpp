@@ -81,18 +81,26 @@ CoincidentFaces::CoincidentFaces(const TriangleMesh& fixed, double radius) : ver
   const double reach = radius_ * 1.0625;
   head_.reserve(V.size() + V.size() / 2);  // about 1.1 cells a vertex
   entries_.reserve(V.size() + V.size() / 2);
-  std::vector<std::uint32_t> id(V.size());
+  // Vertices sharing coordinates (-0 as +0) numbered by the first of them: sorted, not hashed by
+  // cell, so that a radius near F's extent (all of F in a few cells) costs no scan a vertex.
+  std::vector<std::uint32_t> id(V.size()), order;
+  order.reserve(V.size());
   for (std::size_t v = 0; v < V.size(); ++v) {
-    const Vec3& p = V[v];
     id[v] = static_cast<std::uint32_t>(v);
-    Key own;
-    if (!cell_of(p, &own)) continue;  // not finite: matches nothing
-    if (const auto it = head_.find(own); it != head_.end())
-      for (std::uint32_t e = it->second; e != kNone; e = entries_[e].next)
-        if (V[entries_[e].vertex] == p) {  // -0 == +0
-          id[v] = entries_[e].vertex;
-          break;
-        }
+    if (V[v].allFinite()) order.push_back(static_cast<std::uint32_t>(v));  // others match nothing
+  }
+  const auto less = [&V](std::uint32_t a, std::uint32_t b) {
+    const Vec3 &p = V[a], &q = V[b];
+    if (p[0] != q[0]) return p[0] < q[0];
+    if (p[1] != q[1]) return p[1] < q[1];
+    if (p[2] != q[2]) return p[2] < q[2];
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  for (std::size_t i = 1; i < order.size(); ++i)
+    if (V[order[i]] == V[order[i - 1]]) id[order[i]] = id[order[i - 1]];
+  for (const std::uint32_t v : order) {
+    const Vec3& p = V[v];
     if (id[v] != v) continue;
     // The cells about it (|p| is at most 2^37 sides, so these are numbered too).
     std::int64_t lo[3], hi[3];
@@ -141,8 +149,11 @@ int CoincidentFaces::near_vertices(const Vec3& p, std::uint32_t* out, int max) c
   if (!cell_of(p, &k) || !in_filter(k)) return 0;
   const auto it = head_.find(k);
   if (it == head_.end()) return 0;
-  int n = 0;
-  for (std::uint32_t e = it->second; e != kNone && n < max; e = entries_[e].next) {
+  // At most 64 entries: a cell holds about one vertex, but a radius near F's extent (a retry at a
+  // tolerance of several per cent of the diagonal) would put all of F in a few cells and make each
+  // lookup a scan of F. Matching only steers, so a long chain's tail may go unseen.
+  int n = 0, seen = 0;
+  for (std::uint32_t e = it->second; e != kNone && n < max && seen < 64; e = entries_[e].next, ++seen) {
     const std::uint32_t v = entries_[e].vertex;
     if (((*vertices_)[v] - p).cwiseAbs().maxCoeff() <= radius_) out[n++] = v;
   }

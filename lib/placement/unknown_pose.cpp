@@ -1,12 +1,27 @@
 #include "placement/unknown_pose.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace cdbench {
+
+namespace {
+
+// e is at most sqrt(3) times the radius: an eighth of the tolerance keeps it under match_settles'
+// quarter. At most 2^-16 of F's largest coordinate, 256 times a single-precision rounding: a
+// radius near F's edges (a tolerance of a per cent of the diagonal) would match corners with
+// vertices other than their own.
+double retry_radius(const SignedDistance& fixed, double tolerance) {
+  const double scale = std::max(fixed.bbox().lo.cwiseAbs().maxCoeff(), fixed.bbox().hi.cwiseAbs().maxCoeff());
+  return std::min(tolerance / 8.0, std::ldexp(scale, -16));
+}
+
+}  // namespace
 
 UnknownPoseOptions::UnknownPoseOptions(const SignedDistance& fixed, const TriangleMesh& mover, double tolerance,
                                        std::uint64_t max_cells)
     : coincident_(fixed.mesh()),
-      // e is at most sqrt(3) times the radius: an eighth keeps it under match_settles' quarter.
-      coincident_wide_(fixed.mesh(), tolerance / 8.0),
+      coincident_wide_(fixed.mesh(), retry_radius(fixed, tolerance)),
       hull_(hull_planes_for(fixed.mesh())),
       support_(support_planes_for(hull_, mover)) {
   options_.tolerance = tolerance;

@@ -133,6 +133,10 @@ lo, hi = float(r["clearance_lo"]), float(r["clearance_hi"])
 assert r["status"] == "certified" and -1e-6 < lo <= hi < 1e-6, r
 PY
 echo "a single-precision copy: [$(sed -n 2p "$work/sp/poses.csv" | cut -d, -f19,20)] certified"
+# The same at a coarse tolerance (5 % of the diagonal): the retry's radius stays at 2^-16 of the
+# largest coordinate, so corners are matched with their own vertices, not with neighbours.
+"$cdbench" certify "$meshes/torus.off" --mover "$work/single.off" "$work/same.csv" --max-cells 10 --tolerance 0.05 \
+  -o "$work/sq" > "$work/sq.txt" 2>&1 || { cat "$work/sq.txt"; fail "a single-precision copy, coarse tolerance: not certified"; }
 # A convex F (the sphere): every face supports it, and each cell's plane bound is exact on F, so
 # the coincident pose is certified, its interval holding 0 (ClearanceOptions::hull).
 "$cdbench" certify "$meshes/sphere.off" "$work/same.csv" --max-cells 20000 -o "$work/c" > "$work/c.txt" 2>&1 ||
