@@ -63,12 +63,12 @@ class CoincidentFaces {
   std::array<std::size_t, 2> filter_slots(const Key& k) const;
   bool in_filter(const Key& k) const;
   // Up to max of F's vertices within radius() of p (each listed once, by its first index among
-  // those with its coordinates); returns how many.
+  // those with its coordinates), among the first 64 entries of p's cell; returns how many.
   int near_vertices(const Vec3& p, std::uint32_t* out, int max) const;
   double radius_ = 0.0, inv_side_ = 1.0;
   const std::vector<Vec3>* vertices_;
   // F's distinct vertices by grid cell: each in every cell that meets the cube of half side
-  // radius() (a little more) about it, as a list through next_ (head_: a cell's first entry).
+  // radius() (a little more) about it, as a list through Entry::next (head_: a cell's first entry).
   struct Entry {
     std::uint32_t vertex, next;
   };
@@ -88,7 +88,7 @@ class CoincidentFaces {
 
 // F's faces indexed for matches within a wider radius, built on first use (thread-safe): a
 // certificate that ran out of cells asks for it (ClearanceOptions::coincident_retry); most runs never
-// do, and the index of armadillo x16 costs 0.2 s and tens of MB.
+// do, and the index of armadillo x16 costs tenths of a second and tens of MB.
 class LazyCoincidentFaces {
  public:
   LazyCoincidentFaces(const TriangleMesh& fixed, double radius) : fixed_(fixed), radius_(radius) {}
