@@ -93,7 +93,6 @@ class LazyCoincidentFaces {
  public:
   LazyCoincidentFaces(const TriangleMesh& fixed, double radius) : fixed_(fixed), radius_(radius) {}
   const CoincidentFaces& get() const;
-  double radius() const { return radius_; }
 
  private:
   const TriangleMesh& fixed_;

@@ -14,9 +14,10 @@ namespace cdbench {
 
 // ClearanceOptions for such poses, with what they point into: the pair-distance path within
 // unknown_pose_pair_budget (doc/validate-your-library.md, "Widths"); F's faces indexed for mover
-// faces placed onto them, exactly or up to rounding, and, for a pose whose search ends short, within
-// an eighth of the tolerance or 2^-16 of F's largest coordinate, whichever is less (built only then); F's supporting planes, and a convex F's planes
-// tried first for penetrating poses. All speed only. Not copyable: `options` points into it.
+// faces placed onto them, exactly or up to rounding, and, for a pose whose search ends short,
+// within an eighth of the tolerance or 2^-16 of F's largest coordinate, whichever is less (built
+// only then); F's supporting planes, and a convex F's planes tried first for penetrating poses.
+// All speed only. Not copyable: `options` points into it.
 class UnknownPoseOptions {
  public:
   UnknownPoseOptions(const SignedDistance& fixed, const TriangleMesh& mover, double tolerance, std::uint64_t max_cells);

@@ -87,43 +87,37 @@ PY
 "$cdbench" certify "$meshes/torus.off" --mover "$work/shuffled.off" "$work/same.csv" --max-cells 10 -o "$work/sh" \
   > "$work/sh.txt" 2>&1 || { cat "$work/sh.txt"; fail "a shuffled copy at the identity: not certified"; }
 certified_about_zero "$work/sh" "a shuffled copy at the identity"
-# A copy turned by R (written to 17 digits) and placed back by R^T: its corners land a few ulps off
-# F's, matched up to rounding and settled at [-e, e] (armadillo x16 so: uncertified after 400,000
-# cells before session 95).
-python3 - "$meshes/torus.off" "$work/turned.off" "$work/back.csv" <<'PY'
-import math, sys
+# Two copies of the torus, written by one script: turned by R (to 17 digits) with R^T as the pose
+# that places it back, and written in single precision.
+python3 - "$meshes/torus.off" "$work/turned.off" "$work/back.csv" "$work/single.off" <<'PY'
+import struct, sys
 tok = [l.split() for l in open(sys.argv[1]) if l.strip() and not l.startswith("#")]
 nv, nf = int(tok[1][0]), int(tok[1][1])
+verts = [[float(c) for c in v[:3]] for v in tok[2:2 + nv]]
+def write(path, fmt, points):
+    with open(path, "w") as out:
+        out.write("OFF\n%d %d 0\n" % (nv, nf))
+        out.writelines(fmt % tuple(p) + "\n" for p in points)
+        out.writelines(" ".join(f) + "\n" for f in tok[2 + nv:2 + nv + nf])
 w, x, y, z = 0.8, 0.36, -0.48, 0.0
 R = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
      [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
-with open(sys.argv[2], "w") as out:
-    out.write("OFF\n%d %d 0\n" % (nv, nf))
-    for v in tok[2:2 + nv]:
-        p = [float(c) for c in v[:3]]
-        out.write("%.17g %.17g %.17g\n" % tuple(sum(R[r][c] * p[c] for c in range(3)) for r in range(3)))
-    out.writelines(" ".join(f) + "\n" for f in tok[2 + nv:2 + nv + nf])
+write(sys.argv[2], "%.17g %.17g %.17g", ([sum(R[r][c] * p[c] for c in range(3)) for r in range(3)] for p in verts))
 with open(sys.argv[3], "w") as out:
     out.write("pose,r00,r01,r02,r10,r11,r12,r20,r21,r22,tx,ty,tz\n0,")
     out.write(",".join("%.17g" % R[c][r] for r in range(3) for c in range(3)) + ",0,0,0\n")
+f32 = lambda v: struct.unpack("f", struct.pack("f", v))[0]
+write(sys.argv[4], "%.9g %.9g %.9g", ([f32(c) for c in p] for p in verts))
 PY
+# The turned copy placed back: its corners land a few ulps off F's, matched up to rounding and
+# settled at [-e, e] (armadillo x16 so: uncertified after 400,000 cells before session 95).
 "$cdbench" certify "$meshes/torus.off" --mover "$work/turned.off" "$work/back.csv" --max-cells 10 -o "$work/tb" \
   > "$work/tb.txt" 2>&1 || { cat "$work/tb.txt"; fail "a turned copy placed back: not certified"; }
 certified_about_zero "$work/tb" "a turned copy placed back"
-# The torus written in single precision, at the identity: corners up to 6e-8 off F's, beyond
-# rounding. The first run ends short of the tolerance within 10 cells; the retry settles faces
-# within an eighth of the tolerance of F's at [-e, e] (ClearanceOptions::coincident_retry).
-python3 - "$meshes/torus.off" "$work/single.off" <<'PY'
-import struct, sys
-tok = [l.split() for l in open(sys.argv[1]) if l.strip() and not l.startswith("#")]
-nv, nf = int(tok[1][0]), int(tok[1][1])
-f32 = lambda v: struct.unpack("f", struct.pack("f", float(v)))[0]
-with open(sys.argv[2], "w") as out:
-    out.write("OFF\n%d %d 0\n" % (nv, nf))
-    out.writelines("%.9g %.9g %.9g\n" % tuple(f32(c) for c in v[:3]) for v in tok[2:2 + nv])
-    out.writelines(" ".join(f) + "\n" for f in tok[2 + nv:2 + nv + nf])
-PY
+# The single-precision copy at the identity: corners up to 6e-8 off F's, beyond rounding. The first
+# run ends short of the tolerance within 10 cells; the retry settles faces within an eighth of the
+# tolerance of F's at [-e, e] (ClearanceOptions::coincident_retry).
 "$cdbench" certify "$meshes/torus.off" --mover "$work/single.off" "$work/same.csv" --max-cells 10 -o "$work/sp" \
   > "$work/sp.txt" 2>&1 || { cat "$work/sp.txt"; fail "a single-precision copy: not certified"; }
 python3 - "$work/sp/poses.csv" <<'PY' || fail "a single-precision copy: the interval must lie within 1e-6 of 0"

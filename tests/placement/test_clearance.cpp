@@ -486,7 +486,7 @@ TEST(Clearance, SinglePrecisionCopiesSettledOnRetry) {
   const ClearanceResult once = run(nullptr, tol), retried = run(&wide, tol);
   EXPECT_FALSE(reaches_tolerance(once, tol));
   EXPECT_TRUE(reaches_tolerance(retried, tol));
-  EXPECT_GT(retried.cells, once.cells - 1);  // both runs counted
+  EXPECT_GE(retried.cells, once.cells);  // both runs counted
   for (const ClearanceResult* r : {&once, &retried}) {
     EXPECT_LE(r->clearance.lo, sampled.hi) << std::setprecision(17) << r->clearance.lo;
     EXPECT_GE(r->clearance.hi, sampled.lo) << std::setprecision(17) << r->clearance.hi;
