@@ -315,7 +315,7 @@ class BranchAndBound {
                  const Vec3& t, const ClearanceOptions& opt, bool keep_frontier,
                  PlacedMatches* matches = nullptr)
       : fixed_(fixed), mover_(mover), o_(o), P_(P), t_(t), hull_(opt.hull && !opt.hull->empty() ? opt.hull : nullptr),
-        matches_(matches),
+        matches_(matches), retry_(opt.coincident_retry), probe_cells_(opt.retry_probe_cells),
         tol_(opt.tolerance), rel_(opt.relative_tolerance),
         target_(opt.target), keep_discarded_(keep_frontier), store_(scratch_.get()), heap_(store_.heap),
         discarded_(store_.discarded), depth_(store_.depth), ids_(store_.ids),
@@ -361,6 +361,11 @@ class BranchAndBound {
       const Cell c = heap_.front();
       if (c.lower >= threshold()) break;
       if (r.cells >= max_cells) break;
+      if (r.cells == probe_cells_ && probe_cells_ < max_cells && retry_ &&
+          retry_->get().any_vertex(P_, o_.rotated.size())) {
+        r.probe_stopped = true;  // for the retry with wider matches (certify_clearance)
+        break;
+      }
       if (c.floored && !c.stale) {
         r.rounding_floor = true;
         break;
@@ -1172,6 +1177,10 @@ class BranchAndBound {
   const SupportPlanes* hull_;
   // With the face index and a placed vertex near one of F's (ClearanceOptions::coincident).
   PlacedMatches* matches_;
+  // ClearanceOptions::coincident_retry and retry_probe_cells: where the search reaches that many
+  // cells with a placed vertex near one of F's, it stops for the retry.
+  const LazyCoincidentFaces* retry_;
+  std::uint64_t probe_cells_;
   // Per mover face, with matches_: whether triangles_meeting_interior succeeded, and its list.
   std::unordered_map<std::uint32_t, std::pair<bool, std::vector<std::uint32_t>>> interior_lists_;
   double tol_, rel_, target_;
@@ -1608,28 +1617,48 @@ ClearanceResult certify_clearance_once(const SignedDistance& fixed, const Triang
 
 }  // namespace
 
+namespace {
+
+// Both enclose c for the same exact pose: so does their intersection, never empty. Work is summed;
+// the flags are the later run's, the tolerance reached when the intersection is narrow enough.
+ClearanceResult intersect_runs(const ClearanceResult& a, ClearanceResult b, double tolerance) {
+  b.clearance = {std::max(a.clearance.lo, b.clearance.lo), std::min(a.clearance.hi, b.clearance.hi)};
+  b.cells += a.cells;
+  b.pair_tests += a.pair_tests;
+  b.distance_queries += a.distance_queries;
+  b.far_cells += a.far_cells;
+  b.transform_error = std::max(a.transform_error, b.transform_error);
+  b.tolerance_reached = true;
+  b.tolerance_reached = reaches_tolerance(b, tolerance);
+  return b;
+}
+
+}  // namespace
+
 ClearanceResult certify_clearance(const SignedDistance& fixed, const TriangleMesh& mover,
                                   const std::vector<std::uint32_t>& components, const MoverOrientation& orientation,
                                   const Vec3& t, const ClearanceOptions& options) {
   ClearanceResult r = certify_clearance_once(fixed, mover, components, orientation, t, options);
   if (!options.coincident || !options.coincident_retry || reaches_tolerance(r, options.tolerance)) return r;
-  // Only where some placed vertex lies that near one of F's: a hard pose of another kind is not
-  // searched twice.
-  const CoincidentFaces& index = options.coincident_retry->get();
-  if (!index.any_vertex(orientation.placed_view(t), orientation.rotated.size())) return r;
+  // Only where some placed vertex lies that near one of F's (the search stops at
+  // retry_probe_cells cells when one does: BranchAndBound::run): a hard pose of another kind is
+  // not searched twice.
+  if (!r.probe_stopped &&
+      !options.coincident_retry->get().any_vertex(orientation.placed_view(t), orientation.rotated.size()))
+    return r;
   ClearanceOptions wide = options;
-  wide.coincident = &index;
+  wide.coincident = &options.coincident_retry->get();
   wide.coincident_retry = nullptr;
   wide.frontier = nullptr;  // from the root: the first run's frontier holds cells the index would settle
   if (options.frontier) options.frontier->valid = false;
-  ClearanceResult w = certify_clearance_once(fixed, mover, components, orientation, t, wide);
-  // Both enclose c for the same exact pose: so does their intersection, never empty.
-  w.clearance = {std::max(r.clearance.lo, w.clearance.lo), std::min(r.clearance.hi, w.clearance.hi)};
-  w.cells += r.cells;
-  w.pair_tests += r.pair_tests;
-  w.distance_queries += r.distance_queries;
-  w.far_cells += r.far_cells;
-  return w;
+  const ClearanceResult w =
+      intersect_runs(r, certify_clearance_once(fixed, mover, components, orientation, t, wide), options.tolerance);
+  if (w.tolerance_reached || !r.probe_stopped) return w;
+  // The wide run fell short too: the first search with the whole budget, as without a probe.
+  ClearanceOptions whole = options;
+  whole.coincident_retry = nullptr;
+  return intersect_runs(w, certify_clearance_once(fixed, mover, components, orientation, t, whole),
+                        options.tolerance);
 }
 
 const char* to_string(SegmentVerdict v) {

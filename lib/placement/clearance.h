@@ -128,8 +128,12 @@ struct ClearanceOptions {
   // Its radius must leave the match room to settle (match_settles: e <= tolerance / 4, and e is up
   // to sqrt(3) times the radius): at most tolerance / 8 (UnknownPoseOptions: also at most 2^-16 of
   // F's largest coordinate). Only after a failure, so that a pose resting a hair apart keeps its
-  // interval a few ulps wide where the first run settles it.
+  // interval a few ulps wide where the first run settles it. A first run that reaches
+  // retry_probe_cells cells with such a vertex stops there for the wide run (a single-precision copy
+  // of armadillo x16 spent its whole 400,000 cells first); if that falls short too, the first
+  // search runs again with the whole budget, as without the retry.
   const LazyCoincidentFaces* coincident_retry = nullptr;
+  std::uint64_t retry_probe_cells = std::uint64_t(1) << 15;
 };
 
 struct ClearanceResult {
@@ -140,6 +144,8 @@ struct ClearanceResult {
   // the doubles allow at these coordinates (a part far from the origin; doc/poses.md).
   bool rounding_floor = false;
   double transform_error = 0.0;
+  // Stopped at ClearanceOptions::retry_probe_cells with a placed vertex near one of F's.
+  bool probe_stopped = false;
   std::uint64_t pair_tests = 0, cells = 0, distance_queries = 0;
   std::uint64_t far_cells = 0;  // cells set aside by a lower bound of their centre's distance alone
   // Where the branch and bound found its upper end (a hint for the next, nearby pose); -1 if unused.

@@ -496,6 +496,65 @@ TEST(Clearance, SinglePrecisionCopiesSettledOnRetry) {
   EXPECT_LT(retried.clearance.width(), 1e-6);  // e: the float rounding, about 3e-8 times sqrt(3)
   // A tolerance below 4 e: the wide match settles nothing, and the retry ends short too.
   EXPECT_FALSE(reaches_tolerance(run(&wide, 1e-8), 1e-8));
+  // With a budget of 1,000 cells (the plain search needs about 1,500) and a probe of 50: the wide
+  // run follows the probe at once and settles every face (armadillo x16's copy spent its whole
+  // budget of 400,000 cells before its retry); without the retry the budget is spent short of the
+  // tolerance.
+  ClearanceOptions big;
+  big.tolerance = tol;
+  big.max_cells = 1000;
+  big.coincident = &index;
+  big.retry_probe_cells = 50;
+  const ClearanceResult plain = certify_clearance(fixed, single, comps, o, Vec3::Zero(), big);
+  big.coincident_retry = &wide;
+  const ClearanceResult probed = certify_clearance(fixed, single, comps, o, Vec3::Zero(), big);
+  EXPECT_FALSE(reaches_tolerance(plain, tol));
+  EXPECT_EQ(plain.cells, 1000u);
+  EXPECT_TRUE(reaches_tolerance(probed, tol));
+  EXPECT_LE(probed.cells, 100u);
+  // At a tolerance the wide match cannot settle: the probe, the wide run and the whole first search
+  // again, each short, their intervals intersected.
+  big.tolerance = 1e-8;
+  const ClearanceResult again = certify_clearance(fixed, single, comps, o, Vec3::Zero(), big);
+  EXPECT_FALSE(reaches_tolerance(again, 1e-8));
+  EXPECT_EQ(again.cells, 50u + 1000u + 1000u);
+  EXPECT_LE(again.clearance.lo, sampled.hi) << std::setprecision(17) << again.clearance.lo;
+  EXPECT_GE(again.clearance.hi, sampled.lo) << std::setprecision(17) << again.clearance.hi;
+  EXPECT_LE(probed.clearance.lo, sampled.hi) << std::setprecision(17) << probed.clearance.lo;
+  EXPECT_GE(probed.clearance.hi, sampled.lo) << std::setprecision(17) << probed.clearance.hi;
+}
+
+// A hard pose with no placed vertex near one of F's (the torus against a copy turned and shifted
+// into it): the search does not stop at the probe's count, whatever it is, and gives the interval,
+// and spends the cells, of the search without the retry.
+TEST(Clearance, HardPosesAwayFromFsVerticesAreNotProbed) {
+  const TriangleMesh torus = make_torus(1.0, 0.35, 24, 12);
+  const CoincidentFaces index(torus);
+  const double tol = 1e-7;
+  const LazyCoincidentFaces wide(torus, tol / 8.0);
+  const SignedDistance fixed(torus);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  const MoverOrientation o = make_mover_orientation(torus, R);
+  const std::vector<std::uint32_t> comps = component_representatives(torus);
+  const Vec3 t(0.05, 0.02, 0.01);
+  ClearanceOptions opt;
+  opt.tolerance = tol;
+  opt.coincident = &index;
+  const ClearanceResult one = certify_clearance(fixed, torus, comps, o, t, opt);
+  ASSERT_TRUE(reaches_tolerance(one, tol));
+  ASSERT_GT(one.cells, 400u) << "the pose is too easy to test a probe";
+  const Interval sampled = sampled_enclosure(fixed, o.placed(t), torus.faces, 3);
+  EXPECT_LE(one.clearance.lo, sampled.hi) << std::setprecision(17) << one.clearance.lo;
+  opt.coincident_retry = &wide;
+  for (const std::uint64_t probe : {1u, 50u, 200u}) {
+    SCOPED_TRACE("probe " + std::to_string(probe));
+    opt.retry_probe_cells = probe;
+    const ClearanceResult r = certify_clearance(fixed, torus, comps, o, t, opt);
+    EXPECT_FALSE(r.probe_stopped);
+    EXPECT_EQ(r.clearance.lo, one.clearance.lo);
+    EXPECT_EQ(r.clearance.hi, one.clearance.hi);
+    EXPECT_EQ(r.cells, one.cells);
+  }
 }
 
 // The triangles of F that may meet a triangle's open interior: a face of F lists itself and the
