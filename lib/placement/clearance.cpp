@@ -361,10 +361,13 @@ class BranchAndBound {
       const Cell c = heap_.front();
       if (c.lower >= threshold()) break;
       if (r.cells >= max_cells) break;
-      if (r.cells == probe_cells_ && probe_cells_ < max_cells && retry_ &&
-          retry_->get().any_vertex(P_, o_.rotated.size())) {
-        r.probe_stopped = true;  // for the retry with wider matches (certify_clearance)
-        break;
+      if (retry_ && r.cells >= probe_cells_ && probe_cells_ < max_cells) {
+        const bool near = retry_->get().any_vertex(P_, o_.rotated.size());
+        retry_ = nullptr;  // asked once
+        if (near) {
+          r.probe_stopped = true;  // for the retry with wider matches (certify_clearance)
+          break;
+        }
       }
       if (c.floored && !c.stale) {
         r.rounding_floor = true;
@@ -1177,8 +1180,8 @@ class BranchAndBound {
   const SupportPlanes* hull_;
   // With the face index and a placed vertex near one of F's (ClearanceOptions::coincident).
   PlacedMatches* matches_;
-  // ClearanceOptions::coincident_retry and retry_probe_cells: where the search reaches that many
-  // cells with a placed vertex near one of F's, it stops for the retry.
+  // ClearanceOptions::coincident_retry (null once asked) and retry_probe_cells: where the search
+  // reaches that many cells with a placed vertex near one of F's, it stops for the retry.
   const LazyCoincidentFaces* retry_;
   std::uint64_t probe_cells_;
   // Per mover face, with matches_: whether triangles_meeting_interior succeeded, and its list.
