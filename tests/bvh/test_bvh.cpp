@@ -30,9 +30,9 @@ struct RandomBoxes {
     std::uniform_real_distribution<double> u(-10, 10), s(0.01, 1.0);
     for (int i = 0; i < n; ++i) {
       Aabb b;
-      const Eigen::Vector3d c(u(rng), u(rng), u(rng));
+      const Eigen::Vector3d c{u(rng), u(rng), u(rng)};
       b.extend(c);
-      b.extend(c + Eigen::Vector3d(s(rng), s(rng), s(rng)));
+      b.extend(c + Eigen::Vector3d{s(rng), s(rng), s(rng)});
       boxes.push_back(b);
       centroids.push_back(b.center());
     }
@@ -291,7 +291,7 @@ TEST(Bvh, RefittedBoxesAreExactlyTheSubtreesBoxes) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<Eigen::Vector3d> vertices(60000);
-  for (auto& v : vertices) v = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  for (auto& v : vertices) v = Eigen::Vector3d{u(rng), u(rng), u(rng)};
   std::uniform_int_distribution<int> pick(0, static_cast<int>(vertices.size()) - 1);
   std::vector<std::array<int, 3>> triangles(90000);  // the build's top is split in parallel
   for (auto& t : triangles) t = {pick(rng), pick(rng), pick(rng)};
@@ -336,7 +336,7 @@ TEST(Bvh, NearestFirstTraversalMatchesBruteForceAndPrunes) {
   std::uniform_real_distribution<double> u(-15, 15);
   long total_leaves = 0;
   for (int k = 0; k < 200; ++k) {
-    NearestBox q{rb.boxes, Eigen::Vector3d(u(rng), u(rng), u(rng))};
+    NearestBox q{rb.boxes, Eigen::Vector3d{u(rng), u(rng), u(rng)}};
     traverse_nearest_first(bvh, q);
     double brute = std::numeric_limits<double>::infinity();
     for (const Aabb& b : rb.boxes) brute = std::min(brute, squared_distance_lower_bound(b, q.p));
@@ -364,7 +364,7 @@ TEST(Bvh, SurfaceAreaSplitVisitsFewerNodesBesideSlivers) {
   std::uniform_int_distribution<int> axis(0, 2);
   for (int i = 0; i < 300; ++i) {  // slivers 10 long and 0.01 thick
     Aabb b;
-    Eigen::Vector3d c(u(rng), u(rng), u(rng)), e(0.01, 0.01, 0.01);
+    Eigen::Vector3d c{u(rng), u(rng), u(rng)}, e(0.01, 0.01, 0.01);
     e[axis(rng)] = 10.0;
     b.extend(c - 0.5 * e);
     b.extend(c + 0.5 * e);
@@ -374,7 +374,7 @@ TEST(Bvh, SurfaceAreaSplitVisitsFewerNodesBesideSlivers) {
   const Bvh<Aabb> median = rb.build(1), sah = rb.build(1, BvhSplit::surface_area);
   long median_bounds = 0, sah_bounds = 0;
   for (int k = 0; k < 500; ++k) {
-    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d p{u(rng), u(rng), u(rng)};
     CountingNearestBox a{{rb.boxes, p}}, b{{rb.boxes, p}};
     traverse_nearest_first(median, a);
     traverse_nearest_first(sah, b);
@@ -418,7 +418,7 @@ TEST(Bvh, BestFirstPairTraversalMatchesDepthFirstAndBruteForce) {
   long best_first = 0, depth_first = 0;
   for (int k = 0; k < 40; ++k) {
     RandomBoxes ra(600, 100 + k), rb(500, 200 + k);
-    const Eigen::Vector3d t(shift(rng), shift(rng), shift(rng));
+    const Eigen::Vector3d t{shift(rng), shift(rng), shift(rng)};
     for (Aabb& box : rb.boxes) {
       box.lo += t;
       box.hi += t;
@@ -458,9 +458,9 @@ TEST(Aabb, DistanceLowerBoundNeverExceedsTruth) {
   std::uniform_real_distribution<double> u(-1e3, 1e3);
   for (int k = 0; k < 10000; ++k) {
     Aabb b;
-    b.extend(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    b.extend(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    b.extend(Eigen::Vector3d{u(rng), u(rng), u(rng)});
+    b.extend(Eigen::Vector3d{u(rng), u(rng), u(rng)});
+    const Eigen::Vector3d p{u(rng), u(rng), u(rng)};
     const Eigen::Vector3d q = p.cwiseMax(b.lo).cwiseMin(b.hi);  // exact closest point (clamping is exact)
     // (p - q).squaredNorm() has rounding error; long double has 11 more bits.
     long double exact = 0;
@@ -474,9 +474,9 @@ TEST(Aabb, SegmentTestNeverMissesAHit) {
   std::uniform_real_distribution<double> u(-10, 10);
   for (int k = 0; k < 10000; ++k) {
     Aabb b;
-    b.extend(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    b.extend(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    const Eigen::Vector3d p(u(rng), u(rng), u(rng)), q(u(rng), u(rng), u(rng));
+    b.extend(Eigen::Vector3d{u(rng), u(rng), u(rng)});
+    b.extend(Eigen::Vector3d{u(rng), u(rng), u(rng)});
+    const Eigen::Vector3d p{u(rng), u(rng), u(rng)}, q{u(rng), u(rng), u(rng)};
     bool hit = false;
     for (int s = 0; s <= 1000 && !hit; ++s) hit = b.contains(p + (q - p) * (s / 1000.0));
     if (hit) {
@@ -494,9 +494,9 @@ TEST(Obb, FitContainsPointsAndOverlapIsConservative) {
   int separated = 0;
   for (int k = 0; k < 2000; ++k) {
     std::vector<Eigen::Vector3d> pa(9), pb(9);
-    const Eigen::Vector3d ca = 100.0 * Eigen::Vector3d(u(rng), u(rng), u(rng));
-    for (auto& p : pa) p = ca + Eigen::Vector3d(u(rng), 0.2 * u(rng), 0.05 * u(rng));
-    for (auto& p : pb) p = Eigen::Vector3d(u(rng), u(rng), 0.01 * u(rng));
+    const Eigen::Vector3d ca = 100.0 * Eigen::Vector3d{u(rng), u(rng), u(rng)};
+    for (auto& p : pa) p = ca + Eigen::Vector3d{u(rng), 0.2 * u(rng), 0.05 * u(rng)};
+    for (auto& p : pb) p = Eigen::Vector3d{u(rng), u(rng), 0.01 * u(rng)};
     const Obb a = fit_obb(9, [&](int i) -> const Eigen::Vector3d& { return pa[i]; });
     const Obb b = fit_obb(9, [&](int i) -> const Eigen::Vector3d& { return pb[i]; });
     const Sphere sa = bounding_sphere(9, [&](int i) -> const Eigen::Vector3d& { return pa[i]; });
@@ -506,7 +506,7 @@ TEST(Obb, FitContainsPointsAndOverlapIsConservative) {
       EXPECT_LE((p - sa.center).norm(), sa.radius);
     }
     const Eigen::Matrix3d R =
-        Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+        Eigen::Quaterniond(Eigen::Vector4d{u(rng), u(rng), u(rng), u(rng)}.normalized()).toRotationMatrix();
     // A point of b's hull (a vertex) placed exactly on a point of a's hull.
     const Eigen::Vector3d t = pa[k % 9] - R * pb[(k / 9) % 9];
     EXPECT_TRUE(obb_overlap(a, b, R, t)) << k;
@@ -532,15 +532,17 @@ TEST(Obb, ProjectionHoldsTheExactExtremes) {
   int tight = 0;
   for (int k = 0; k < 3000; ++k) {
     const double scale = std::pow(10.0, 6.0 * u(rng));
-    const Eigen::Vector3d c0 = scale * 1e3 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d c0 = scale * 1e3 * Eigen::Vector3d{u(rng), u(rng), u(rng)};
     std::vector<Eigen::Vector3d> pts(7);
-    for (auto& p : pts) p = c0 + scale * Eigen::Vector3d(u(rng), 0.1 * u(rng), 1e-4 * u(rng));
+    for (auto& p : pts) p = c0 + scale * Eigen::Vector3d{u(rng), 0.1 * u(rng), 1e-4 * u(rng)};
     Obb b = fit_obb(7, [&](int i) -> const Eigen::Vector3d& { return pts[i]; });
     b.pad = k % 3 == 0 ? 0.0 : scale * 1e-3 * std::abs(u(rng));
     const double extra = k % 2 == 0 ? 0.0 : scale * 1e-4 * std::abs(u(rng));
-    const Eigen::Vector3d other = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    const Eigen::Vector3d other = Eigen::Vector3d{u(rng), u(rng), u(rng)}.normalized();
+    const Eigen::Vector3d random_axis{u(rng), u(rng), u(rng)};
+    const double axis_length = std::pow(10.0, 3.0 * u(rng));
     const std::array<Eigen::Vector3d, 3> axes{b.axes.col(k % 3), b.axes.col(k % 3).cross(other),
-                                              Eigen::Vector3d(u(rng), u(rng), u(rng)) * std::pow(10.0, 3.0 * u(rng))};
+                                              random_axis * axis_length};
     for (const Eigen::Vector3d& L : axes) {
       const ObbProjection p = obb_projection(b, L, extra);
       ASSERT_LE(p.lo, p.hi);

@@ -31,7 +31,7 @@ TEST(Collide, AllImplementationsAgreeWithCertificates) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int colliding = 0, free = 0, contained = 0;
   for (int k = 0; k < 400; ++k) {
-    const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d{u(rng), u(rng), u(rng), u(rng)}.normalized()).toRotationMatrix();
     // Around the tube (so that many poses are near contact), some inside it.
     const double a = 3.14159265 * u(rng);
     const double rad = 1.0 + 0.75 * u(rng);

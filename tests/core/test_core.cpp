@@ -49,7 +49,10 @@ TEST(Core, OutwardRoundingIsNextafterOnEveryClassOfDouble) {
   for (int i = 0; i < 1000000; ++i) expect_as_nextafter(from_bits(rng()));
   // Random ordinary doubles near the sizes our distances take.
   std::uniform_real_distribution<double> u(-10.0, 10.0);
-  for (int i = 0; i < 100000; ++i) expect_as_nextafter(u(rng) * std::pow(10.0, u(rng)));
+  for (int i = 0; i < 100000; ++i) {
+    const double mantissa = u(rng);
+    expect_as_nextafter(mantissa * std::pow(10.0, u(rng)));
+  }
   // The signs of zero: one step up from -0 and from +0 is the smallest subnormal, and back.
   EXPECT_EQ(bits(round_down(L::denorm_min())), bits(0.0));
   EXPECT_EQ(bits(round_up(-L::denorm_min())), bits(-0.0));

@@ -57,16 +57,16 @@ struct RandomCells {
   };
   Cell next(const SignedDistance& sdf) {
     Cell k;
-    const Vec3 c = box.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent());
+    const Vec3 c = box.lo + Vec3{u(rng), u(rng), u(rng)}.cwiseProduct(box.extent());
     const double size = diag * (0.002 + 0.05 * u(rng));
-    for (Vec3& x : k.v) x = c + size * Vec3(s(rng), s(rng), s(rng));
+    for (Vec3& x : k.v) x = c + size * Vec3{s(rng), s(rng), s(rng)};
     k.centre = (k.v[0] + k.v[1] + k.v[2]) / 3.0;
     double radius = 0;
     for (const Vec3& x : k.v) radius = std::max(radius, (x - k.centre).norm());
     k.reach = sdf.unsigned_distance(k.centre).hi + 2 * radius;
     return k;
   }
-  Vec3 move() { return std::pow(10.0, -4.0 + 3.0 * u(rng)) * diag * Vec3(s(rng), s(rng), s(rng)).normalized(); }
+  Vec3 move() { return std::pow(10.0, -4.0 + 3.0 * u(rng)) * diag * Vec3{s(rng), s(rng), s(rng)}.normalized(); }
   Aabb box;
   double diag;
   std::mt19937_64 rng;
@@ -162,12 +162,15 @@ TEST(PointOfTriangleNear, LiesInTheTriangleWithinItsErrorBound) {
   int n = 0;
   for (double scale : {1e-3, 1.0, 1e4}) {
     for (int k = 0; k < 3000; ++k) {
-      const Vec3 off = scale * 10 * Vec3(u(rng), u(rng), u(rng));
-      Vec3 a = off + scale * Vec3(u(rng), u(rng), u(rng)), b = off + scale * Vec3(u(rng), u(rng), u(rng));
-      Vec3 c = off + scale * Vec3(u(rng), u(rng), u(rng));
-      if (k % 3 == 1) c = a + (b - a) * u(rng) + 1e-9 * scale * Vec3(u(rng), u(rng), u(rng));  // sliver
+      const Vec3 off = scale * 10 * Vec3{u(rng), u(rng), u(rng)};
+      Vec3 a = off + scale * Vec3{u(rng), u(rng), u(rng)}, b = off + scale * Vec3{u(rng), u(rng), u(rng)};
+      Vec3 c = off + scale * Vec3{u(rng), u(rng), u(rng)};
+      if (k % 3 == 1) {  // sliver
+        const double along = u(rng);
+        c = a + (b - a) * along + 1e-9 * scale * Vec3{u(rng), u(rng), u(rng)};
+      }
       if (k % 3 == 2) c = b;                                                                  // degenerate
-      const Vec3 p = off + 3 * scale * Vec3(u(rng), u(rng), u(rng));
+      const Vec3 p = off + 3 * scale * Vec3{u(rng), u(rng), u(rng)};
       const Vec3 q = point_of_triangle_near(p, a, b, c);
       ASSERT_TRUE(within(testing::exact_squared_distance(q, a, b, c), closest_point_error(a, b, c)))
           << std::setprecision(17) << "q (" << q.x() << ", " << q.y() << ", " << q.z() << ")";
@@ -350,7 +353,7 @@ int check_patch_bounds(const TriangleMesh& m, std::uint64_t seed, int cells, dou
     std::array<Vec3, 3> v;
     const double tilt = u(rng) < 0.5 ? 0.0 : 1.0;
     for (Vec3& x : v) {
-      Vec3 d(s(rng), s(rng), s(rng));
+      Vec3 d{s(rng), s(rng), s(rng)};
       d -= (1 - tilt) * d.dot(n) * n;
       x = c + size * d;
     }
@@ -384,7 +387,7 @@ TEST(PlanarPatch, BoundsEveryPointOfTheCellExactly) {
   TriangleMesh jittered = make_cube_solid(l_slab(), some_rotation());
   std::mt19937_64 rng(4);
   std::uniform_real_distribution<double> s(-1.0, 1.0);
-  for (Vec3& x : jittered.vertices) x += 1e-9 * Vec3(s(rng), s(rng), s(rng));
+  for (Vec3& x : jittered.vertices) x += 1e-9 * Vec3{s(rng), s(rng), s(rng)};
   for (const auto& [name, m] : std::vector<std::pair<std::string, TriangleMesh>>{
            {"axis-aligned", make_cube_solid(l_slab(), Eigen::Matrix3d::Identity())},
            {"rotated", make_cube_solid(l_slab(), some_rotation())},
@@ -484,10 +487,10 @@ TEST(PlanarPatch, CoverageClaimsHoldUnderSampling) {
     std::vector<std::uint32_t> ids = top;
     const int removed = static_cast<int>(rng() % 3);
     for (int r = 0; r < removed; ++r) ids.erase(ids.begin() + static_cast<long>(rng() % ids.size()));
-    const Vec3 c(3 * u(rng), 3 * u(rng), 1 + s(rng));
+    const Vec3 c{3 * u(rng), 3 * u(rng), 1 + s(rng)};
     const double size = 0.05 + 0.6 * u(rng);
     std::array<Vec3, 3> v;
-    for (Vec3& x : v) x = c + size * Vec3(s(rng), s(rng), s(rng));
+    for (Vec3& x : v) x = c + size * Vec3{s(rng), s(rng), s(rng)};
     if (!patch_covers_cell(m, ids, n, 1.0, v.data(), 3)) continue;
     ++claimed;
     for (int i = 0; i <= 20; ++i)
@@ -536,7 +539,7 @@ TEST(PlanarPatch, BoxCoverageClaimsHoldUnderSampling) {
   std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
   int claimed = 0;
   for (int k = 0; k < test_scale::cases(600); ++k) {
-    const Vec3 c = R * Vec3(3 * u(rng), 3 * u(rng), 1 + 0.5 * s(rng));
+    const Vec3 c = R * Vec3{3 * u(rng), 3 * u(rng), 1 + 0.5 * s(rng)};
     const double h = 0.02 + 0.4 * u(rng);
     std::array<Vec3, 8> v;
     for (int q = 0; q < 8; ++q) v[q] = c + Vec3((q & 1) ? h : -h, (q & 2) ? h : -h, (q & 4) ? h : -h);
@@ -574,7 +577,7 @@ TEST(MinimaxDepthBound, BoundsEveryPointOfTheCubeExactly) {
     std::vector<std::uint32_t> ids;
     int cells = 0, finite = 0;
     while (cells < test_scale::cases(150)) {
-      const Vec3 c = box.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent());
+      const Vec3 c = box.lo + Vec3{u(rng), u(rng), u(rng)}.cwiseProduct(box.extent());
       const double h = box.diagonal() * (0.001 + 0.03 * u(rng));
       std::array<Vec3, 8> v;
       for (int q = 0; q < 8; ++q) v[q] = c + Vec3((q & 1) ? h : -h, (q & 2) ? h : -h, (q & 4) ? h : -h);

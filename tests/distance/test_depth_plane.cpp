@@ -43,7 +43,7 @@ TEST(DepthRegion, BoundsTheDepthInATubesWall) {
       const TrianglePlane& p = sdf.planes()[f];
       own_level += region.n == 1 && region.planes.level[0] <= p.d + p.eps + 1e-12;
       for (int s = 0; s < 20; ++s) {
-        const Vec3 x = c + h * Vec3(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);
+        const Vec3 x = c + h * Vec3{2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1};
         if (sdf.side(x) != -1) continue;
         ++checked;
         EXPECT_LE(sdf.unsigned_distance(x).lo, depth_region_value(sdf, region, x))
@@ -86,7 +86,7 @@ TEST(DepthRegion, GrowsPastFourFacesOnAFinelyFacetedWall) {
     if (!prove_depth_region(sdf, inner, v.data(), 8, c, -1, &twelve, scratch, 12)) continue;
     many += twelve.n > 4 && !twelve.capped;
     for (int s = 0; s < 40; ++s) {
-      const Vec3 x = c + 0.5 * h * Vec3(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);
+      const Vec3 x = c + 0.5 * h * Vec3{2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1};
       if (sdf.side(x) != -1) continue;
       ++checked;
       const double value = depth_region_value(sdf, twelve, x);

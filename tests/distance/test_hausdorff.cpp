@@ -116,7 +116,7 @@ TEST(Hausdorff, AConstantDistanceToAFinelyTriangulatedSheetConverges) {
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) {
       const bool inner = i > 0 && i < n && j > 0 && j < n;  // keep the border straight: the sheet covers the square
-      sheet.vertices.push_back(Vec3(double(i) / n + (inner ? jitter(rng) : 0.0), double(j) / n + (inner ? jitter(rng) : 0.0), h));
+      sheet.vertices.push_back(Vec3{double(i) / n + (inner ? jitter(rng) : 0.0), double(j) / n + (inner ? jitter(rng) : 0.0), h});
     }
   const auto at = [&](int i, int j) { return std::uint32_t(j * (n + 1) + i); };
   for (int j = 0; j < n; ++j)

@@ -40,7 +40,7 @@ void expect_no_sample_deeper(const TriangleMesh& m, const MaxPenetrationResult& 
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(0, 1);
   for (int k = 0; k < 2000; ++k) {
-    const Vec3 p = box.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent());
+    const Vec3 p = box.lo + Vec3{u(rng), u(rng), u(rng)}.cwiseProduct(box.extent());
     const Interval s = sdf.signed_distance(p);
     EXPECT_LE(-s.hi, r.depth.hi);
   }
@@ -211,7 +211,7 @@ TEST(MaxPenetration, ThinWallsSetAsideByTheirSlab) {
   std::uniform_real_distribution<double> u(0, 1);
   for (int k = 0; k < 2000; ++k) {
     const double a = w * u(rng);
-    const Vec3 p = k % 2 ? Vec3(a, 100 * u(rng), 50 * u(rng)) : Vec3(a, a, a) + 1e-3 * Vec3(u(rng), u(rng), u(rng));
+    const Vec3 p = k % 2 ? Vec3{a, 100 * u(rng), 50 * u(rng)} : Vec3(a, a, a) + 1e-3 * Vec3{u(rng), u(rng), u(rng)};
     EXPECT_LE(-sdf.signed_distance(p).hi, r.depth.hi);
   }
 }

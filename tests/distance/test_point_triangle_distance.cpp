@@ -38,8 +38,8 @@ TEST(PointTriangleDistance, RandomPointsAndTrianglesAtManyScales) {
   for (double scale : {1e-3, 1.0, 1e3}) {
     std::uniform_real_distribution<double> u(-scale, scale);
     for (int k = 0; k < 3000; ++k) {
-      const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
-      expect_encloses(Vec3(u(rng), u(rng), u(rng)), a, b, c);
+      const Vec3 a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)};
+      expect_encloses(Vec3{u(rng), u(rng), u(rng)}, a, b, c);
     }
   }
 }
@@ -48,7 +48,7 @@ TEST(PointTriangleDistance, NearTheTrianglePlane) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1, 1), w(0, 1);
   for (int k = 0; k < 3000; ++k) {
-    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+    const Vec3 a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)};
     double s = w(rng), t = w(rng);
     if (s + t > 1.2) s = 1.2 - s;  // some outside, most inside
     const Vec3 n = (b - a).cross(c - a).normalized();
@@ -68,8 +68,11 @@ void for_random_triangles(std::mt19937_64& rng, F&& f) {
       std::uniform_real_distribution<double> u(-scale, scale);
       const Vec3 o(offset, -0.5 * offset, 0.25 * offset);
       for (int k = 0; k < 3000; ++k) {
-        Vec3 a = o + Vec3(u(rng), u(rng), u(rng)), b = o + Vec3(u(rng), u(rng), u(rng)), c = o + Vec3(u(rng), u(rng), u(rng));
-        if (k % 10 == 1) c = a + w(rng) * (b - a) + 1e-9 * Vec3(u(rng), u(rng), u(rng));  // sliver
+        Vec3 a = o + Vec3{u(rng), u(rng), u(rng)}, b = o + Vec3{u(rng), u(rng), u(rng)}, c = o + Vec3{u(rng), u(rng), u(rng)};
+        if (k % 10 == 1) {  // sliver
+          const double along = w(rng);
+          c = a + along * (b - a) + 1e-9 * Vec3{u(rng), u(rng), u(rng)};
+        }
         if (k % 50 == 2) c = b;                                                           // degenerate
         f(a, b, c, o, scale, k);
       }
@@ -87,16 +90,16 @@ TEST(PointTriangleDistance, SlabLowerBoundNeverExceedsTheExactDistance) {
   for (double scale : {1e-3, 1.0, 1e3}) {
     std::uniform_real_distribution<double> u(-scale, scale);
     for (int k = 0; k < 3000; ++k) {
-      const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+      const Vec3 a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)};
       const Vec3 n = (b - a).cross(c - a);
-      Vec3 p(u(rng), u(rng), u(rng));
+      Vec3 p{u(rng), u(rng), u(rng)};
       const bool near_plane = k % 3 == 0;
       double s = w(rng), t = w(rng);
       if (near_plane && s + t < 1.0 && n.norm() > 0.0)  // a point just off the plane, projection inside
         p = a + s * (b - a) + t * (c - a) + std::ldexp(scale, -static_cast<int>(w(rng) * 40)) * n.normalized();
       const Epeck::FT exact = exact_squared_distance(p, a, b, c);
       const Vec3 q = closest_point_on_triangle(p, a, b, c) - p;
-      const std::array<Vec3, 5> dirs{q, n, Vec3(-n), Vec3(u(rng), u(rng), u(rng)), Vec3(q + 1e-3 * n)};
+      const std::array<Vec3, 5> dirs{q, n, Vec3(-n), Vec3{u(rng), u(rng), u(rng)}, Vec3(q + 1e-3 * n)};
       for (const Vec3& dir : dirs) {
         if (dir.squaredNorm() == 0.0) continue;
         const double lb = point_triangle_distance_lower_bound(p, a, b, c, dir);
@@ -135,7 +138,7 @@ TEST(PointTriangleDistance, PlaneLowerBoundNeverExceedsTheExactDistance) {
     const Vec3 n = (b - a).cross(c - a);
     double s = w(rng), t = w(rng);
     const bool above = k % 2 == 0 && s + t < 1.0 && n.norm() > 0.0;
-    Vec3 p = o + Vec3(u(rng), u(rng), u(rng));
+    Vec3 p = o + Vec3{u(rng), u(rng), u(rng)};
     if (above) p = a + s * (b - a) + t * (c - a) + std::ldexp(scale, -static_cast<int>(w(rng) * 30)) * n.normalized();
     const double lb = plane_distance_lower_bound(pl, p);
     const Epeck::FT exact = exact_squared_distance(p, a, b, c);
@@ -247,7 +250,8 @@ TEST(PointTriangleDistance, BoxBoundsNeverExceedTheExactDistance) {
       return box;
     };
     const double lift = std::ldexp(scale, -static_cast<int>(w(rng) * 40));
-    const std::array<Aabb, 4> boxes{box_from(o + Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng))),
+    const Vec3 corner = o + Vec3{u(rng), u(rng), u(rng)}, extent{u(rng), u(rng), u(rng)};
+    const std::array<Aabb, 4> boxes{box_from(corner, extent),
                                     box_from(inside + (k % 4 == 0 ? lift : 0.0) * n.normalized(), n),
                                     box_from(on_edge + (k % 4 == 0 ? lift : 0.0) * side.normalized(), side),
                                     box_from(inside, -n)};
@@ -313,7 +317,7 @@ TEST(PointTriangleDistance, NearPointUpperBoundEnclosesTheExactDistance) {
   int below_without_error = 0;
   for_random_triangles(rng, [&](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& o, double scale, int k) {
     std::uniform_real_distribution<double> u(-scale, scale);
-    Vec3 p = o + Vec3(u(rng), u(rng), u(rng));
+    Vec3 p = o + Vec3{u(rng), u(rng), u(rng)};
     const Vec3 n = (b - a).cross(c - a);
     if (k % 2 == 0 && n.norm() > 0.0) {  // on or just off the plane, inside or outside
       const double s = w(rng), t = 1.2 * w(rng) * (1.0 - s);
@@ -348,7 +352,7 @@ TEST(PointTriangleDistance, LargestNearPointBoundHoldsOverTheHull) {
     m.faces = {{0, 1, 2}};
     std::uniform_real_distribution<double> u(-scale, scale);
     std::array<Vec3, 4> pts;
-    for (Vec3& q : pts) q = o + Vec3(u(rng), u(rng), u(rng));
+    for (Vec3& q : pts) q = o + Vec3{u(rng), u(rng), u(rng)};
     const int n = 3 + static_cast<int>(w(rng) * 2);  // 3 or 4 points
     const double bound = max_distance_upper_near(pts.data(), n, m, 0);
     const Epeck::FT b2 = Epeck::FT(bound) * Epeck::FT(bound);
@@ -423,8 +427,10 @@ TEST(SqrtInterval, SameDoublesAsCgalIntervalSqrt) {
   std::uniform_int_distribution<int> expo(-1074, 1023);
   std::vector<double> xs{0.0, 4.9e-324, 1e-310, 0x1p-600, 0x1p600, 1.0, 2.0, 4.0, 0.25, 1.7976931348623157e308};
   for (int i = 0; i < 200000; ++i) {
-    xs.push_back(std::ldexp(mant(rng), expo(rng)));
-    const double r = std::ldexp(mant(rng), expo(rng) / 2);
+    const double m = mant(rng);
+    xs.push_back(std::ldexp(m, expo(rng)));
+    const double mr = mant(rng);
+    const double r = std::ldexp(mr, expo(rng) / 2);
     const double sq = r * r;
     xs.push_back(sq);
     xs.push_back(std::nextafter(sq, 0.0));

@@ -48,7 +48,7 @@ std::vector<Vec3> sample_points(const TriangleMesh& mesh, unsigned seed) {
   std::uniform_real_distribution<double> u(0, 1);
   std::vector<Vec3> pts;
   for (int k = 0; k < 150; ++k)  // uniform in the box grown by 20 %
-    pts.push_back(box.lo - 0.2 * d * Vec3::Ones() + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent() + 0.4 * d * Vec3::Ones()));
+    pts.push_back(box.lo - 0.2 * d * Vec3::Ones() + Vec3{u(rng), u(rng), u(rng)}.cwiseProduct(box.extent() + 0.4 * d * Vec3::Ones()));
   for (int k = 0; k < 150; ++k) {  // near the surface, on both sides
     const Face& f = mesh.faces[static_cast<std::size_t>(u(rng) * mesh.faces.size()) % mesh.faces.size()];
     double s = u(rng), t = u(rng);
@@ -86,8 +86,8 @@ TEST(SignedDistance, SideFromAReferencePointAgreesWithCgal) {
     const CgalSide cgal(m);
     const Aabb box = m.bbox();
     for (int k = 0; k < 1500; ++k) {
-      const Vec3 ref = box.center() + 0.7 * box.extent().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
-      Vec3 p = ref + (k % 3 == 0 ? 0.05 : 0.6) * box.extent().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+      const Vec3 ref = box.center() + 0.7 * box.extent().cwiseProduct(Vec3{u(rng), u(rng), u(rng)});
+      Vec3 p = ref + (k % 3 == 0 ? 0.05 : 0.6) * box.extent().cwiseProduct(Vec3{u(rng), u(rng), u(rng)});
       if (k % 50 == 0) p = Vec3(ref.x(), ref.y(), ref.z() + 0.5);  // axis-aligned
       const int rs = cgal(ref), ps = cgal(p);
       if (rs == 0 || ps == 0) continue;
@@ -265,8 +265,8 @@ TEST(SignedDistance, TrianglesMeetingBoxListEveryTriangleThatMeetsIt) {
       }
     };
     for (const Vec3& p : sample_points(mesh, 13)) {
-      const Vec3 half = diag * Vec3(std::pow(10.0, -9.0 + 8.5 * u(rng)), std::pow(10.0, -9.0 + 8.5 * u(rng)),
-                                    std::pow(10.0, -9.0 + 8.5 * u(rng)));
+      const Vec3 half = diag * Vec3{std::pow(10.0, -9.0 + 8.5 * u(rng)), std::pow(10.0, -9.0 + 8.5 * u(rng)),
+                                    std::pow(10.0, -9.0 + 8.5 * u(rng))};
       check(Aabb{p - half, p + half});
     }
     for (int k = 0; k < 200; ++k) {
@@ -455,7 +455,7 @@ TEST(SignedDistance, DistanceAtMostStopsEarlyButIsRigorous) {
   std::uniform_real_distribution<double> u(-1.5, 1.5), b(0.0, 1.0);
   std::uniform_int_distribution<std::int64_t> face(0, static_cast<std::int64_t>(m.faces.size()) - 1);
   for (int k = 0; k < 500; ++k) {
-    const Vec3 p(u(rng), u(rng), u(rng));
+    const Vec3 p{u(rng), u(rng), u(rng)};
     const double bound = b(rng);
     Interval full;
     std::uint32_t prover = 0;
@@ -498,7 +498,7 @@ TEST(SignedDistance, DistanceLowerIsBelowTheExactDistanceAndTightUpToEnough) {
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(-1.6, 1.6), e(0.0, 1.0);
   std::vector<Vec3> points;
-  for (int k = 0; k < 300; ++k) points.push_back(Vec3(u(rng), u(rng), u(rng)) * (k % 3 == 0 ? 0.5 : 1.0));
+  for (int k = 0; k < 300; ++k) points.push_back(Vec3{u(rng), u(rng), u(rng)} * (k % 3 == 0 ? 0.5 : 1.0));
   for (int k = 0; k < 30; ++k) points.push_back(shell.vertices[(k * 7919) % shell.vertices.size()]);
   int capped = 0, stopped = 0;
   for (const Vec3& p : points) {
@@ -541,9 +541,9 @@ TEST(SignedDistance, TriangleLowerBoundAgainstBruteForce) {
   int crossing = 0, disjoint = 0;
   for (int k = 0; k < test_scale::cases(400); ++k) {
     const double size = k % 4 == 0 ? 1.0 : (k % 4 == 1 ? 0.1 : 0.01);
-    const Vec3 c(u(rng), u(rng), 0.5 * u(rng));
-    const std::array<Vec3, 3> v{c + size * Vec3(s(rng), s(rng), s(rng)), c + size * Vec3(s(rng), s(rng), s(rng)),
-                                c + size * Vec3(s(rng), s(rng), s(rng))};
+    const Vec3 c{u(rng), u(rng), 0.5 * u(rng)};
+    const std::array<Vec3, 3> v{c + size * Vec3{s(rng), s(rng), s(rng)}, c + size * Vec3{s(rng), s(rng), s(rng)},
+                                c + size * Vec3{s(rng), s(rng), s(rng)}};
     double min_lo = HUGE_VAL, min_hi = HUGE_VAL;
     for (const Face& f : torus.faces) {
       const Interval d2 = triangle_triangle_squared_distance(v[0], v[1], v[2], torus.vertices[f[0]], torus.vertices[f[1]],
@@ -658,9 +658,9 @@ TEST(SignedDistance, TrianglesNearATriangleAgainstBruteForce) {
   for (int k = 0; k < test_scale::cases(150); ++k) {
     const double size = k % 3 == 0 ? 1.0 : (k % 3 == 1 ? 0.1 : 0.01);
     const double reach = k % 2 == 0 ? 1e-9 : 0.05;
-    const Vec3 c(u(rng), u(rng), 0.5 * u(rng));
-    const std::array<Vec3, 3> v{c + size * Vec3(s(rng), s(rng), s(rng)), c + size * Vec3(s(rng), s(rng), s(rng)),
-                                c + size * Vec3(s(rng), s(rng), s(rng))};
+    const Vec3 c{u(rng), u(rng), 0.5 * u(rng)};
+    const std::array<Vec3, 3> v{c + size * Vec3{s(rng), s(rng), s(rng)}, c + size * Vec3{s(rng), s(rng), s(rng)},
+                                c + size * Vec3{s(rng), s(rng), s(rng)}};
     ASSERT_TRUE(sdf.triangles_near_triangle(v, reach, torus.faces.size(), out));
     std::vector<char> listed(torus.faces.size(), 0);
     for (std::uint32_t f : out) listed[f] = 1;

@@ -32,7 +32,7 @@ void check_cut(const Vec3* v, int n_corners, const std::array<int, 2>* edges, in
   ASSERT_TRUE(cut_by_slab(v, ov.data(), n_corners, edges, n_edges, hs, ls, cut));
   std::uniform_real_distribution<double> u(-1, 1);
   for (int f = 0; f < 20; ++f) {
-    const Vec3 a(u(rng), u(rng), u(rng)), p(3 * u(rng), 3 * u(rng), 3 * u(rng));
+    const Vec3 a{u(rng), u(rng), u(rng)}, p{3 * u(rng), 3 * u(rng), 3 * u(rng)};
     const auto linear = [&](const Vec3& x) { return a.dot(x); };
     const auto dist = [&](const Vec3& x) { return (x - p).norm(); };
     const double lin_max = max_over(cut, linear) + a.norm() * cut.err + 1e-12;
@@ -52,18 +52,18 @@ TEST(SlabCut, BoxCutCoversItsPartWithinTheSlab) {
   std::uniform_real_distribution<double> u(-1, 1);
   const double inf = std::numeric_limits<double>::infinity();
   for (int trial = 0; trial < 200; ++trial) {
-    const Vec3 c(u(rng), u(rng), u(rng));
+    const Vec3 c{u(rng), u(rng), u(rng)};
     const double half = 0.1 + 0.5 * (u(rng) + 1);
     std::array<Vec3, 8> v;
     for (int k = 0; k < 8; ++k) v[k] = c + Vec3(k & 1 ? half : -half, k & 2 ? half : -half, k & 4 ? half : -half);
-    Vec3 n(u(rng), u(rng), u(rng));
+    Vec3 n{u(rng), u(rng), u(rng)};
     if (trial % 5 == 0) n = Vec3(0, 0, 1);  // planes parallel to faces
     const double mid = n.dot(c) + half * u(rng), thick = 0.3 * half * (u(rng) + 1);
     double hs = mid + thick, ls = mid - thick;
     if (trial % 7 == 1) hs = n.dot(v[trial % 8]);  // through a corner
     if (trial % 3 == 2) ls = -inf;                  // one plane
     check_cut(v.data(), 8, kBoxEdges.data(), 12, n, hs, ls, rng, [&](std::mt19937_64& g) {
-      return Vec3(c.x() + half * u(g), c.y() + half * u(g), c.z() + half * u(g));
+      return Vec3{c.x() + half * u(g), c.y() + half * u(g), c.z() + half * u(g)};
     });
   }
 }
@@ -73,8 +73,8 @@ TEST(SlabCut, TriangleCutCoversItsPartWithinTheSlab) {
   std::uniform_real_distribution<double> u(-1, 1), w(0, 1);
   const std::array<std::array<int, 2>, 3> edges{{{0, 1}, {1, 2}, {2, 0}}};
   for (int trial = 0; trial < 200; ++trial) {
-    const std::array<Vec3, 3> v{Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng))};
-    const Vec3 n(u(rng), u(rng), u(rng));
+    const std::array<Vec3, 3> v{Vec3{u(rng), u(rng), u(rng)}, Vec3{u(rng), u(rng), u(rng)}, Vec3{u(rng), u(rng), u(rng)}};
+    const Vec3 n{u(rng), u(rng), u(rng)};
     const double a = n.dot(v[0]), b = n.dot(v[1]);
     const double hs = std::max(a, b) - 0.2 * std::abs(a - b) * w(rng), ls = std::min(a, b) + 0.2 * std::abs(a - b) * w(rng);
     check_cut(v.data(), 3, edges.data(), 3, n, hs, ls, rng, [&](std::mt19937_64& g) {
@@ -108,21 +108,22 @@ TEST(SlabCut, TrianglesSpanInABoxHoldsTheirPointsInIt) {
   std::uniform_real_distribution<double> u(-1, 1), w(0, 1);
   int inside = 0;
   for (int trial = 0; trial < 300; ++trial) {
-    const Vec3 c(u(rng), u(rng), u(rng));
+    const Vec3 c{u(rng), u(rng), u(rng)};
     const double hk = 0.05 + 0.5 * w(rng), reach = trial % 3 == 0 ? 100.0 : 2.0;
     TriangleMesh m;
     std::vector<std::uint32_t> ids;
     for (std::uint32_t j = 0; j < 4; ++j) {
-      const Vec3 p = c + hk * Vec3(u(rng), u(rng), u(rng));  // a point of the box on each triangle
-      const Vec3 a = p + reach * Vec3(u(rng), u(rng), u(rng)), b = p + reach * Vec3(u(rng), u(rng), u(rng));
-      const Vec3 q = p + (p - a) * w(rng) + (p - b) * w(rng);  // p inside (for most draws)
+      const Vec3 p = c + hk * Vec3{u(rng), u(rng), u(rng)};  // a point of the box on each triangle
+      const Vec3 a = p + reach * Vec3{u(rng), u(rng), u(rng)}, b = p + reach * Vec3{u(rng), u(rng), u(rng)};
+      const double wa = w(rng), wb = w(rng);
+      const Vec3 q = p + (p - a) * wa + (p - b) * wb;  // p inside (for most draws)
       m.vertices.insert(m.vertices.end(), {a, b, q});
       m.faces.push_back({3 * j, 3 * j + 1, 3 * j + 2});
       ids.push_back(j);
     }
     std::vector<TrianglePlane> planes;
     for (const Face& f : m.faces) planes.push_back(make_triangle_plane(m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]));
-    const Vec3 n = trial % 2 ? planes[0].n : Vec3(u(rng), u(rng), u(rng));
+    const Vec3 n = trial % 2 ? planes[0].n : Vec3{u(rng), u(rng), u(rng)};
     const Interval s = triangles_span_in_box(m, planes, ids, n, c, hk);
     for (const Face& f : m.faces)
       for (int k = 0; k < 2000; ++k) {

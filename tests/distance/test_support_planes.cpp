@@ -88,13 +88,13 @@ LineCheck check_lines(const TriangleMesh& F, std::uint64_t seed, int n, double r
   for (const Vec3& v : F.vertices) mean += v / static_cast<double>(F.vertices.size());
   for (int k = 0; k < n; ++k) {
     // Every other triangle about the vertices' mean (inside a convex F), the others anywhere around.
-    const Vec3 c = k % 2 ? Vec3(mean + 0.05 * diag * Vec3(s(rng), s(rng), s(rng))) : Vec3(box.lo[0] + (box.hi[0] - box.lo[0]) * (1.4 * u(rng) - 0.2),
+    const Vec3 c = k % 2 ? Vec3(mean + 0.05 * diag * Vec3{s(rng), s(rng), s(rng)}) : Vec3{box.lo[0] + (box.hi[0] - box.lo[0]) * (1.4 * u(rng) - 0.2),
                  box.lo[1] + (box.hi[1] - box.lo[1]) * (1.4 * u(rng) - 0.2),
-                 box.lo[2] + (box.hi[2] - box.lo[2]) * (1.4 * u(rng) - 0.2));
+                 box.lo[2] + (box.hi[2] - box.lo[2]) * (1.4 * u(rng) - 0.2)};
     const double size = diag * (k % 2 ? 0.05 : k % 3 == 0 ? 0.02 : 0.15) * (0.2 + u(rng));
-    const std::array<Vec3, 3> v{c + size * Vec3(s(rng), s(rng), s(rng)), c + size * Vec3(s(rng), s(rng), s(rng)),
-                                c + size * Vec3(s(rng), s(rng), s(rng))};
-    const Vec3 d = Vec3(s(rng), s(rng), s(rng)).normalized();
+    const std::array<Vec3, 3> v{c + size * Vec3{s(rng), s(rng), s(rng)}, c + size * Vec3{s(rng), s(rng), s(rng)},
+                                c + size * Vec3{s(rng), s(rng), s(rng)}};
+    const Vec3 d = Vec3{s(rng), s(rng), s(rng)}.normalized();
     const HalfspaceBound b = halfspace_bound(S, v.data(), 3, d);
     // The same over the triangle's bounding box (8 corners, as for the mover's tree nodes).
     Vec3 lo = v[0].cwiseMin(v[1]).cwiseMin(v[2]), hi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
@@ -235,7 +235,8 @@ TEST(SupportPlanes, ChosenPlanesBoundANonConvexTubesWall) {
     const double phi = 3.14159 * u(rng), depth = 0.011 + 0.009 * u(rng), w = 2 * 3.14159 / n * (1.0 + 0.5 * u(rng));
     const double r0 = 1.0 - depth;
     const auto at = [&](double a, double rho, double z) { return Vec3(rho * std::cos(a), rho * std::sin(a), z); };
-    const std::array<Vec3, 3> v{at(phi, r0, 0.3), at(phi + 0.1 * w * u(rng), r0 + 0.002 * u(rng), 1.7),
+    const double turn = u(rng), lift = u(rng);
+    const std::array<Vec3, 3> v{at(phi, r0, 0.3), at(phi + 0.1 * w * turn, r0 + 0.002 * lift, 1.7),
                                 at(phi + w, r0, 0.3 + 0.2 * u(rng))};
     // The planes of the faces nearest the cell's centroid (as the branch and bound gathers them).
     std::vector<std::uint32_t> ids;
@@ -286,8 +287,8 @@ TEST(SupportPlanes, GroupedSearchMatchesAScanOfEveryPlane) {
     const Vec3 mid = 0.5 * (box.lo + box.hi), half = 0.5 * (box.hi - box.lo);
     for (int trial = 0; trial < 400; ++trial) {
       const double reach = trial % 4 == 0 ? 1e-3 : trial % 4 == 1 ? 1.0 : trial % 4 == 2 ? 3.0 : 1e4;
-      Vec3 g = trial == 0 ? mid : Vec3(mid[0] + reach * half[0] * u(rng), mid[1] + reach * half[1] * u(rng),
-                                        mid[2] + reach * half[2] * u(rng));
+      Vec3 g = trial == 0 ? mid : Vec3{mid[0] + reach * half[0] * u(rng), mid[1] + reach * half[1] * u(rng),
+                                        mid[2] + reach * half[2] * u(rng)};
       std::vector<std::pair<double, std::uint32_t>> all(P.size());
       for (std::size_t j = 0; j < P.size(); ++j) all[j] = {P[j].n.dot(g) - P[j].d, static_cast<std::uint32_t>(j)};
       std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {

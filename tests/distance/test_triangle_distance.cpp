@@ -32,10 +32,11 @@ TEST(TriangleDistance, RandomPairsAgainstExactRationals) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
   for (int k = 0; k < 2000; ++k) {
-    const Vec3 shift = (k % 3 == 0) ? Vec3(u(rng), u(rng), u(rng)) : Vec3(2.5 * u(rng), 0, 0);
-    expect_encloses(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)),
-                    shift + Vec3(u(rng), u(rng), u(rng)), shift + Vec3(u(rng), u(rng), u(rng)),
-                    shift + Vec3(u(rng), u(rng), u(rng)));
+    const Vec3 shift = (k % 3 == 0) ? Vec3{u(rng), u(rng), u(rng)} : Vec3(2.5 * u(rng), 0, 0);
+    const std::array<Vec3, 6> v{Vec3{u(rng), u(rng), u(rng)},         Vec3{u(rng), u(rng), u(rng)},
+                                Vec3{u(rng), u(rng), u(rng)},         shift + Vec3{u(rng), u(rng), u(rng)},
+                                shift + Vec3{u(rng), u(rng), u(rng)}, shift + Vec3{u(rng), u(rng), u(rng)}};
+    expect_encloses(v[0], v[1], v[2], v[3], v[4], v[5]);
   }
 }
 
@@ -61,8 +62,8 @@ TEST(SegmentDistance, AgainstExactRationals) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1, 1);
   for (int k = 0; k < 3000; ++k) {
-    const Vec3 p0(u(rng), u(rng), u(rng)), p1(u(rng), u(rng), u(rng)), q0(u(rng), u(rng), u(rng));
-    const Vec3 q1 = (k % 4 == 0) ? q0 + (p1 - p0) * 0.5 : Vec3(u(rng), u(rng), u(rng));  // some parallel
+    const Vec3 p0{u(rng), u(rng), u(rng)}, p1{u(rng), u(rng), u(rng)}, q0{u(rng), u(rng), u(rng)};
+    const Vec3 q1 = (k % 4 == 0) ? q0 + (p1 - p0) * 0.5 : Vec3{u(rng), u(rng), u(rng)};  // some parallel
     const Interval r = segment_segment_squared_distance(p0, p1, q0, q1);
     const Epeck::FT exact = CGAL::squared_distance(Epeck::Segment_3(exact_point(p0), exact_point(p1)),
                                                    Epeck::Segment_3(exact_point(q0), exact_point(q1)));
@@ -77,15 +78,15 @@ TEST(TriangleDistance, ProjectionLowerBoundAgainstExactRationals) {
   std::uniform_real_distribution<double> u(-1, 1);
   int tight = 0;
   for (int k = 0; k < 3000; ++k) {
-    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
-    const Vec3 shift = 1.5 * Vec3(u(rng), u(rng), u(rng));
-    const Vec3 d = Vec3(u(rng), u(rng), u(rng)) + shift, e = Vec3(u(rng), u(rng), u(rng)) + shift,
-               f = Vec3(u(rng), u(rng), u(rng)) + shift;
+    const Vec3 a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)};
+    const Vec3 shift = 1.5 * Vec3{u(rng), u(rng), u(rng)};
+    const Vec3 d = Vec3{u(rng), u(rng), u(rng)} + shift, e = Vec3{u(rng), u(rng), u(rng)} + shift,
+               f = Vec3{u(rng), u(rng), u(rng)} + shift;
     const Epeck::FT exact = CGAL::squared_distance(Epeck::Triangle_3(exact_point(a), exact_point(b), exact_point(c)),
                                                    Epeck::Triangle_3(exact_point(d), exact_point(e), exact_point(f)));
     Vec3 p, q;
     const double est = triangle_triangle_closest_points(a, b, c, d, e, f, &p, &q);
-    for (const Vec3& dir : {Vec3(q - p), Vec3(u(rng), u(rng), u(rng))}) {
+    for (const Vec3& dir : {Vec3(q - p), Vec3{u(rng), u(rng), u(rng)}}) {
       const double lb = triangle_distance_lower_bound(a, b, c, d, e, f, dir);
       ASSERT_GE(lb, 0.0);
       EXPECT_TRUE(Epeck::FT(lb) * Epeck::FT(lb) <= exact) << k;
@@ -110,15 +111,17 @@ TEST(TriangleDistance, PlanePairLowerBoundAgainstExactRationals) {
   for (double offset : {0.0, 1e3}) {
     const Vec3 o(offset, 0.5 * offset, -offset);
     for (int k = 0; k < test_scale::cases(3000); ++k) {
-      const Vec3 a = o + Vec3(u(rng), u(rng), u(rng)), b = o + Vec3(u(rng), u(rng), u(rng));
-      const Vec3 c = k % 10 == 3 ? Vec3(a + w(rng) * (b - a) + 1e-10 * Vec3(u(rng), u(rng), u(rng)))
-                                 : Vec3(o + Vec3(u(rng), u(rng), u(rng)));
+      const Vec3 a = o + Vec3{u(rng), u(rng), u(rng)}, b = o + Vec3{u(rng), u(rng), u(rng)};
+      const double along = k % 10 == 3 ? w(rng) : 0.0;
+      const Vec3 c = k % 10 == 3 ? Vec3(a + along * (b - a) + 1e-10 * Vec3{u(rng), u(rng), u(rng)})
+                                 : Vec3(o + Vec3{u(rng), u(rng), u(rng)});
       const TrianglePlane pl = make_triangle_plane(a, b, c);
       const Vec3 n = (b - a).cross(c - a).normalized();
       const double h = k % 2 ? std::ldexp(1.0, -static_cast<int>(w(rng) * 40)) : u(rng);
       const Vec3 base = a + 0.3 * (b - a) + 0.3 * (c - a) + h * n;
-      const Vec3 d = base + 0.5 * Vec3(u(rng), u(rng), u(rng)).cross(n), e = base + 0.5 * Vec3(u(rng), u(rng), u(rng)).cross(n),
-                 f = base + 0.5 * Vec3(u(rng), u(rng), u(rng)).cross(n) + 0.01 * u(rng) * n;
+      const Vec3 d = base + 0.5 * Vec3{u(rng), u(rng), u(rng)}.cross(n), e = base + 0.5 * Vec3{u(rng), u(rng), u(rng)}.cross(n),
+                 f0 = base + 0.5 * Vec3{u(rng), u(rng), u(rng)}.cross(n);
+      const Vec3 f = f0 + 0.01 * u(rng) * n;
       const Epeck::FT exact = CGAL::squared_distance(Epeck::Triangle_3(exact_point(a), exact_point(b), exact_point(c)),
                                                      Epeck::Triangle_3(exact_point(d), exact_point(e), exact_point(f)));
       const double lb = plane_pair_lower_bound(pl, d, e, f);
@@ -150,16 +153,18 @@ TEST(TriangleDistance, LongEdgesGapAgainstExactRationals) {
   for (double offset : {0.0, 1e3}) {
     const Vec3 o(offset, -0.5 * offset, 0.25 * offset);
     for (int k = 0; k < test_scale::cases(3000); ++k) {
-      const auto unit = [&] { return Vec3(u(rng), u(rng), u(rng)).normalized(); };
+      const auto unit = [&] { return Vec3{u(rng), u(rng), u(rng)}.normalized(); };
       const Vec3 da = unit();
       // Near parallel one time in five: the second direction tilted from the first by 1e-13 ... 1e-3.
       const bool parallel = k % 5 == 0;
-      const Vec3 db = parallel ? Vec3((da + std::pow(10.0, -3.0 - 10.0 * w(rng)) * unit()).normalized()) : unit();
+      const double tilt = parallel ? std::pow(10.0, -3.0 - 10.0 * w(rng)) : 0.0;
+      const Vec3 db = parallel ? Vec3((da + tilt * unit()).normalized()) : unit();
       const double la = 1.0 + 3.0 * w(rng), lb = 1.0 + 3.0 * w(rng);
       const Vec3 across = da.cross(db).squaredNorm() > 1e-20 ? Vec3(da.cross(db).normalized()) : unit();
       const double h = k % 3 == 0 ? 0.0 : std::ldexp(1.0, -static_cast<int>(w(rng) * 40));
       // The two long edges' midpoints h apart along the common normal, shifted along the edges.
-      const Vec3 ma = o, mb = o + h * across + 0.5 * la * u(rng) * da + 0.5 * lb * u(rng) * db;
+      const double sa = u(rng), sb = u(rng);
+      const Vec3 ma = o, mb = o + h * across + 0.5 * la * sa * da + 0.5 * lb * sb * db;
       const Vec3 wa = 1e-3 * la * da.cross(unit()), wb = 1e-3 * lb * db.cross(unit());
       const Vec3 a = ma - 0.5 * la * da, b = ma + 0.5 * la * da, c = ma + 0.3 * la * u(rng) * da + wa;
       const Vec3 d = mb - 0.5 * lb * db, e = mb + 0.5 * lb * db, f = mb + 0.3 * lb * u(rng) * db + wb;
@@ -201,22 +206,22 @@ TEST(TriangleDistance, ReachTimeLowerBoundAgainstExactRationals) {
     return Epeck::Point_3(p.x() + s * v.x(), p.y() + s * v.y(), p.z() + s * v.z());
   };
   for (int k = 0; k < test_scale::cases(2000); ++k) {
-    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
-    const Vec3 shift = 2.0 * Vec3(u(rng), u(rng), u(rng));
-    const Vec3 d = Vec3(u(rng), u(rng), u(rng)) + shift, e = Vec3(u(rng), u(rng), u(rng)) + shift,
-               f = Vec3(u(rng), u(rng), u(rng)) + shift;
+    const Vec3 a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)};
+    const Vec3 shift = 2.0 * Vec3{u(rng), u(rng), u(rng)};
+    const Vec3 d = Vec3{u(rng), u(rng), u(rng)} + shift, e = Vec3{u(rng), u(rng), u(rng)} + shift,
+               f = Vec3{u(rng), u(rng), u(rng)} + shift;
     Vec3 p, q;
     const double est = triangle_triangle_closest_points(a, b, c, d, e, f, &p, &q);
     if (!(est > 1e-6)) continue;
     // Mostly towards abc, sometimes sideways or away.
-    const Vec3 v = (k % 4 ? Vec3(p - q).normalized() + 0.7 * Vec3(u(rng), u(rng), u(rng)) : Vec3(u(rng), u(rng), u(rng)));
+    const Vec3 v = (k % 4 ? Vec3(p - q).normalized() + 0.7 * Vec3{u(rng), u(rng), u(rng)} : Vec3{u(rng), u(rng), u(rng)});
     const Epeck::Triangle_3 A(exact_point(a), exact_point(b), exact_point(c));
     // The estimate ignores intersections: r from the exact distance (0 when they intersect).
     const double r = w(rng) * std::sqrt(CGAL::to_double(CGAL::squared_distance(
                                   A, Epeck::Triangle_3(exact_point(d), exact_point(e), exact_point(f))))) * (1 - 1e-9);
     const TrianglePlane pl = make_triangle_plane(a, b, c);
     for (int kind = 0; kind < 3; ++kind) {
-      const Vec3 dir = kind == 0 ? Vec3(q - p) : Vec3(u(rng), u(rng), u(rng));
+      const Vec3 dir = kind == 0 ? Vec3(q - p) : Vec3{u(rng), u(rng), u(rng)};
       // kind 2: the stored-plane form (point_triangle_distance.h).
       const double s = kind == 2 ? plane_pair_reach_time_lower_bound(pl, d, e, f, v, r)
                                  : triangle_reach_time_lower_bound(a, b, c, d, e, f, dir, v, r);

@@ -464,8 +464,8 @@ TEST(NoCriticalPoint, DirectionIsProvenAtReflexAndConvexEdges) {
   for (int k = 0; k < 4000; ++k) {
     const bool outside = k % 2 == 0;
     // Outside: around the reflex edge, x, y > 1. Inside: near the convex edge x = 0, y = 0.
-    const Vec3 c = outside ? Vec3(1.0 + 0.6 * u(rng), 1.0 + 0.6 * u(rng), 0.2 + 0.6 * u(rng))
-                           : Vec3(0.5 * u(rng), 0.5 * u(rng), 0.3 + 0.4 * u(rng));
+    const Vec3 c = outside ? Vec3{1.0 + 0.6 * u(rng), 1.0 + 0.6 * u(rng), 0.2 + 0.6 * u(rng)}
+                           : Vec3{0.5 * u(rng), 0.5 * u(rng), 0.3 + 0.4 * u(rng)};
     const double h = 0.01 + 0.1 * u(rng);
     Aabb cell;
     double r = 0.0;
@@ -483,7 +483,7 @@ TEST(NoCriticalPoint, DirectionIsProvenAtReflexAndConvexEdges) {
     if (proven) directions.push_back(w);
     sdf.triangles_within(c, radius * (1 + 1e-12), 100000, ids);
     for (int j = 0; j < 8; ++j) {
-      const Vec3 r3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+      const Vec3 r3{u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5};
       if (r3.norm() > 0.1 && increases_along(sdf, cell, c, radius * (1 + 1e-12), outside ? 1.0 : -1.0,
                                              r3.normalized(), ids))
         directions.push_back(r3.normalized());
@@ -491,7 +491,7 @@ TEST(NoCriticalPoint, DirectionIsProvenAtReflexAndConvexEdges) {
     random_accepted += directions.size() - (proven ? 1 : 0);
     for (const Vec3& dir : directions)
       for (int j = 0; j < 50; ++j) {
-        const Vec3 x = cell.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(cell.hi - cell.lo);
+        const Vec3 x = cell.lo + Vec3{u(rng), u(rng), u(rng)}.cwiseProduct(cell.hi - cell.lo);
         const Interval dx = sdf.unsigned_distance(x);
         for (std::uint32_t id = 0; id < m.faces.size(); ++id) {
           const Face& f = m.faces[id];
@@ -544,7 +544,7 @@ TEST(NoCriticalPoint, BeyondTheFirstTrianglesTheProofCoversThemAll) {
     ASSERT_TRUE(increases_along(sdf, cell, c, radius, sign, w, full))
         << std::setprecision(17) << "cell centre (" << c.transpose() << "), half size " << h;
     for (int j = 0; j < 10; ++j) {
-      const Vec3 x = cell.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(cell.hi - cell.lo);
+      const Vec3 x = cell.lo + Vec3{u(rng), u(rng), u(rng)}.cwiseProduct(cell.hi - cell.lo);
       const Interval dx = sdf.unsigned_distance(x);
       sdf.triangles_within(x, dx.hi + 1e-12, 1u << 20, near);
       for (std::uint32_t id : near) {
@@ -579,10 +579,13 @@ TEST(MaxTowards, BoundsTheTrianglePartInTheBallFromAbove) {
   int sampled = 0;
   for (int k = 0; k < 400; ++k) {
     const double scale = k % 4 == 0 ? 50.0 : 1.0;  // long triangles, far wider than the ball
-    const Vec3 a = scale * Vec3(u(rng), u(rng), u(rng)), b = scale * Vec3(u(rng), u(rng), u(rng));
-    Vec3 q = scale * Vec3(u(rng), u(rng), u(rng));
-    if (k % 4 == 1) q = a + (b - a) * pos(rng) + 1e-6 * Vec3(u(rng), u(rng), u(rng));  // sliver
-    const Vec3 c = Vec3(u(rng), u(rng), u(rng)), w = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const Vec3 a = scale * Vec3{u(rng), u(rng), u(rng)}, b = scale * Vec3{u(rng), u(rng), u(rng)};
+    Vec3 q = scale * Vec3{u(rng), u(rng), u(rng)};
+    if (k % 4 == 1) {  // sliver
+      const double along = pos(rng);
+      q = a + (b - a) * along + 1e-6 * Vec3{u(rng), u(rng), u(rng)};
+    }
+    const Vec3 c = Vec3{u(rng), u(rng), u(rng)}, w = Vec3{u(rng), u(rng), u(rng)}.normalized();
     const double rho = 0.2 + 1.5 * pos(rng);
     const double bound = max_towards(w, c, rho, a, b, q);
     double best = -HUGE_VAL;

@@ -198,7 +198,7 @@ TEST(FastSignedDistance, AgreesWithTheCertifiedOne) {
     std::mt19937_64 rng(2);
     std::uniform_real_distribution<double> u(-3, 3);
     for (int k = 0; k < 3000; ++k) {
-      const Vec3 p(u(rng), u(rng), u(rng));
+      const Vec3 p{u(rng), u(rng), u(rng)};
       const Interval s = sdf.signed_distance(p);
       const double f = fast(p);
       EXPECT_GE(f, s.lo - 1e-12);
@@ -223,8 +223,8 @@ TEST(FastSignedDistance, NearbyQueriesGiveTheTraversalsResultExactly) {
     int mismatches = 0;
     std::vector<Vec3> points;
     for (int walk = 0; walk < 30; ++walk) {
-      Vec3 p(1.3 * u(rng), 1.3 * u(rng), 0.6 * u(rng));
-      const Vec3 dir = 0.01 * (1 + walk % 3) * Vec3(u(rng), u(rng), u(rng)).normalized();
+      Vec3 p{1.3 * u(rng), 1.3 * u(rng), 0.6 * u(rng)};
+      const Vec3 dir = 0.01 * (1 + walk % 3) * Vec3{u(rng), u(rng), u(rng)}.normalized();
       for (int k = 0; k < 60; ++k) points.push_back(p += dir);
     }
     // The per-thread state belongs to one instance: the cold answers first, then the warm walk.
@@ -252,10 +252,10 @@ TEST(FastSignedDistance, PointsFarOutsideArePositive) {
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     int wrong = 0;
     for (int k = 0; k < 2000; ++k) {
-      const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
+      const Vec3 dir = Vec3{u(rng), u(rng), u(rng)}.normalized();
       const double far = std::pow(10.0, 2 + k % 16);
       // Mostly along an axis with a small offset: the ties the far query meets on flat faces.
-      const Vec3 p = k % 2 == 0 ? Vec3(-far, 0.3 * u(rng), 0.2 * u(rng)) : Vec3(far * dir);
+      const Vec3 p = k % 2 == 0 ? Vec3{-far, 0.3 * u(rng), 0.2 * u(rng)} : Vec3(far * dir);
       if (!(fast(p) > 0.0)) ++wrong;
     }
     EXPECT_EQ(wrong, 0);

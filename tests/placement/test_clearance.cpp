@@ -618,8 +618,8 @@ TEST(Clearance, AgreesWithDenseSampling) {
   int separated = 0, penetrating = 0;
   for (int k = 0; k < 24; ++k) {
     const Eigen::Matrix3d R = random_rotation(rng);
-    const Vec3 t = k % 4 == 0 ? Vec3(0.05 * u(rng), 0.05 * u(rng), 0.05 * u(rng))  // in the hole
-                              : Vec3(1.6 * u(rng), 1.6 * u(rng), 0.9 * u(rng));
+    const Vec3 t = k % 4 == 0 ? Vec3{0.05 * u(rng), 0.05 * u(rng), 0.05 * u(rng)}  // in the hole
+                              : Vec3{1.6 * u(rng), 1.6 * u(rng), 0.9 * u(rng)};
     const double tol = 1e-6;
     const ClearanceResult r = c.run(R, t, tol);
     const MoverOrientation o = make_mover_orientation(c.mover, R);
@@ -651,7 +651,7 @@ TEST(Clearance, FarFromTheOriginReachesWhatRoundingAllows) {
     int penetrating = 0;
     for (int k = 0; k < 12; ++k) {
       const Eigen::Matrix3d R = random_rotation(rng);
-      const Vec3 t = Vec3(far, -far, far) + Vec3(1.6 * u(rng), 1.6 * u(rng), 0.9 * u(rng));
+      const Vec3 t = Vec3(far, -far, far) + Vec3{1.6 * u(rng), 1.6 * u(rng), 0.9 * u(rng)};
       const ClearanceResult r = c.run(R, t, tol);
       const MoverOrientation o = make_mover_orientation(c.mover, R);
       const Interval ref = sampled_enclosure(c.fixed, o.placed(t), c.mover.faces, 12);
@@ -733,7 +733,7 @@ TEST(Clearance, NeedleCellsAgreeWithDenseSampling) {
   const int poses = test_scale::cases(16);
   for (int k = 0; k < poses; ++k) {
     const Eigen::Matrix3d R = random_rotation(rng);
-    const Vec3 t = Vec3(1.0, 0.0, 0.0) + 0.45 * Vec3(u(rng), u(rng), u(rng));
+    const Vec3 t = Vec3(1.0, 0.0, 0.0) + 0.45 * Vec3{u(rng), u(rng), u(rng)};
     SCOPED_TRACE("case " + std::to_string(k));
     penetrating += !expect_cold_and_warm_agree(c, R, t, 1e-6, 48)[0].separated;
   }
@@ -754,8 +754,11 @@ TEST(Clearance, HullPlanesCertifyAFacetedTubeWithFewerCells) {
   std::uint64_t with = 0, without = 0;
   const int poses = test_scale::cases(6);
   for (int k = 0; k < poses; ++k) {
-    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.01 * u(rng), Vec3(u(rng), u(rng), 0.0).normalized()).toRotationMatrix() *
-                              Eigen::AngleAxisd(3.14159 * u(rng), Vec3::UnitZ()).toRotationMatrix();
+    const double tilt = 0.01 * u(rng);
+    const Vec3 tilt_axis = Vec3{u(rng), u(rng), 0.0}.normalized();
+    const double spin = 3.14159 * u(rng);
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(tilt, tilt_axis).toRotationMatrix() *
+                              Eigen::AngleAxisd(spin, Vec3::UnitZ()).toRotationMatrix();
     const double phi = 3.14159 * u(rng), shift = 0.006 + 0.003 * u(rng);
     const Vec3 t(shift * std::cos(phi), shift * std::sin(phi), 0.05 * u(rng));
     const MoverOrientation o = make_mover_orientation(c.mover, R);
@@ -1218,7 +1221,7 @@ TEST(SupportPlanes, CertificatesAgreeWithTheBranchAndBound) {
     int by_planes = 0;
     for (int k = 0; k < 40; ++k) {
       const MoverOrientation o = make_mover_orientation(c.mover, random_rotation(rng));
-      const Vec3 t(u(rng), 0.6 * u(rng), 0.7 * u(rng));
+      const Vec3 t{u(rng), 0.6 * u(rng), 0.7 * u(rng)};
       ClearanceOptions plain, planes;
       plain.tolerance = planes.tolerance = 1e-8;
       planes.support = &S;
@@ -1247,7 +1250,7 @@ TEST(SupportPlanes, TreeWalkFindsTheLeastTriangleBound) {
   std::uniform_real_distribution<double> u(-1.2, 1.2);
   for (int k = 0; k < 30; ++k) {
     const MoverOrientation o = make_mover_orientation(c.mover, random_rotation(rng));
-    const Vec3 t(u(rng), u(rng), u(rng));
+    const Vec3 t{u(rng), u(rng), u(rng)};
     const HalfspaceMinimum walk = least_halfspace_bound(S, o, t);
     const PlacedView P = o.placed_view(t);
     double least = HUGE_VAL;
@@ -1280,7 +1283,7 @@ TEST(SupportPlanes, WalkOnOrientedBoxesAlongARotatedRod) {
     const Eigen::Matrix3d R = random_rotation(rng);
     const MoverOrientation o = make_mover_orientation(rod, R);
     // The mover's middle near F's axis, its axis tilted: the two rods cross.
-    const Vec3 t = Vec3(0.045 * u(rng), 0.045 * u(rng), 1.0) - R * Vec3(0.0, 0.0, 1.0);
+    const Vec3 t = Vec3{0.045 * u(rng), 0.045 * u(rng), 1.0} - R * Vec3(0.0, 0.0, 1.0);
     const Vec3 t0 = t + Vec3(0.3, -0.2, 0.1);
     const SweepMesh at_t0 = placed_sweep_mesh(own, R, t0, o.placed(t0), o.transform_error(t0));
     const SweepTrees trees{nullptr, &at_t0, t0};
@@ -1685,7 +1688,8 @@ TEST(Clearance, SegmentLeavesAtTheEndBoundEveryCellThere) {
         Vec3 side = random_direction(rng);
         side = (side - side.dot(a) * a).normalized();
         ta = (1.04 + 0.009 * u(rng)) * a;
-        tb = (1.03 + 0.01 * u(rng)) * (a + (0.08 + 0.04 * u(rng)) * side).normalized();
+        const double out = 1.03 + 0.01 * u(rng);
+        tb = out * (a + (0.08 + 0.04 * u(rng)) * side).normalized();
       }
       ClearanceFrontier frontier, end;
       ClearanceOptions opt;

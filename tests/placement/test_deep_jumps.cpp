@@ -199,9 +199,9 @@ TEST(DeepJumps, SameFirstCrossingAsWithout) {
   int jumps = 0, lazy_jumps = 0, compared = 0;
   for (int i = 0; i < 16; ++i) {
     // Lines near the plate's mid-plane, mostly along it.
-    setup.fixed_ref = Vec3(0.5, u(rng), 0.005 * g(rng));
+    setup.fixed_ref = Vec3{0.5, u(rng), 0.005 * g(rng)};
     const OrientationFrame frame = make_orientation_frame(setup, random_rotation(rng));
-    const Vec3 dir = Vec3(-1, 0.3 * g(rng), 0.02 * g(rng)).normalized();
+    const Vec3 dir = Vec3{-1, 0.3 * g(rng), 0.02 * g(rng)}.normalized();
     PoseOptions opt;
     opt.tolerance = 1e-7;
     opt.start = PoseStart::Surface;

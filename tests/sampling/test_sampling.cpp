@@ -13,7 +13,7 @@ double covering_angle(const std::vector<Eigen::Vector3d>& pts) {
   std::normal_distribution<double> g;
   double worst = 0;
   for (int k = 0; k < 3000; ++k) {
-    const Eigen::Vector3d p = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+    const Eigen::Vector3d p = Eigen::Vector3d{g(rng), g(rng), g(rng)}.normalized();
     double best = -1;
     for (const auto& q : pts) best = std::max(best, p.dot(q));
     worst = std::max(worst, std::acos(std::min(1.0, best)));

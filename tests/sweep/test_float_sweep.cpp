@@ -27,10 +27,10 @@ TEST(FloatSweep, AgreesWithTheExactSweepOnRandomPairs) {
   for (int k = 0; k < n; ++k) {
     Triangle A, B;
     for (int i = 0; i < 3; ++i) {
-      A[i] = Vec3(u(rng), u(rng), u(rng));
-      B[i] = Vec3(u(rng), u(rng), u(rng)) + Vec3(0.5, 0.0, 0.0);
+      A[i] = Vec3{u(rng), u(rng), u(rng)};
+      B[i] = Vec3{u(rng), u(rng), u(rng)} + Vec3(0.5, 0.0, 0.0);
     }
-    const Vec3 v(u(rng), u(rng), u(rng));
+    const Vec3 v{u(rng), u(rng), u(rng)};
     if (v.norm() < 1e-3) continue;
     const LineContact e = line_contact(A, B, v);
     const FloatLineContact f = line_contact_float(A, B, v);
@@ -55,14 +55,15 @@ TEST(FloatSweep, AgreesWithTheExactSweepOnRandomPairs) {
 TEST(FloatSweep, ExactOnSmallIntegerInputsIncludingDegenerateOnes) {
   std::mt19937_64 rng(3);
   std::uniform_int_distribution<int> c(-2, 2);
+  const auto coordinate = [&] { return static_cast<double>(c(rng)); };
   int hits = 0;
   for (int k = 0; k < 100000; ++k) {
     Triangle A, B;
     for (int i = 0; i < 3; ++i) {
-      A[i] = Vec3(c(rng), c(rng), c(rng));
-      B[i] = Vec3(c(rng), c(rng), c(rng));
+      A[i] = Vec3{coordinate(), coordinate(), coordinate()};
+      B[i] = Vec3{coordinate(), coordinate(), coordinate()};
     }
-    const Vec3 v(c(rng), c(rng), c(rng));
+    const Vec3 v{coordinate(), coordinate(), coordinate()};
     if (v == Vec3::Zero()) continue;
     const LineContact e = line_contact(A, B, v);
     const FloatLineContact f = line_contact_float(A, B, v);
@@ -86,9 +87,9 @@ TEST(FloatSweep, MeshFirstContactMatchesExact) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int hits = 0;
   for (int k = 0; k < 200; ++k) {
-    const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
-    const SweepMesh moving = placed(sphere, R, 0.6 * Vec3(u(rng), u(rng), u(rng)));
-    const Vec3 v(u(rng), u(rng), u(rng));
+    const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d{u(rng), u(rng), u(rng), u(rng)}.normalized()).toRotationMatrix();
+    const SweepMesh moving = placed(sphere, R, 0.6 * Vec3{u(rng), u(rng), u(rng)});
+    const Vec3 v{u(rng), u(rng), u(rng)};
     const MeshContact e = first_contact_along_line(fixed, moving, v);
     const FloatMeshContact f = first_contact_along_line_float(fixed, moving, v);
     const FloatMeshContact f8 = first_contact_along_line_float(fixed8, moving, v);
@@ -114,13 +115,13 @@ TEST(FloatSweep, TranslatedSweepMeshGivesTheRebuiltTreesContact) {
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int k = 0; k < 50; ++k) {
-    const Vec3 t = 3.0 * Vec3(u(rng), u(rng), u(rng)) + Vec3(1e3 * (k % 2), 0, 0);  // large |t| too
+    const Vec3 t = 3.0 * Vec3{u(rng), u(rng), u(rng)} + Vec3(1e3 * (k % 2), 0, 0);  // large |t| too
     const SweepMesh moved = translated_sweep_mesh(rotated, t);
     std::vector<Vec3> v;
     for (const Vec3& p : rotated.vertices) v.push_back(Vec3(p[0] + t[0], p[1] + t[1], p[2] + t[2]));
     ASSERT_EQ(moved.vertices, v);
     const SweepMesh rebuilt = make_sweep_mesh(v, bunny.faces);
-    const Vec3 dir = -(t - Vec3(0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng)));
+    const Vec3 dir = -(t - Vec3{0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng)});
     const MeshContact a = first_contact_along_line(fixed, moved, dir), b = first_contact_along_line(fixed, rebuilt, dir);
     ASSERT_EQ(a.hit, b.hit);
     if (a.hit) {

@@ -38,9 +38,9 @@ TEST(MeshSweep, SphereTreeMatchesBruteForceExactly) {
         // contacts; the others are generic.
         const bool aligned = k < 4;
         Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-        if (!aligned) R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
-        Vec3 v = aligned ? Vec3::Unit(k % 3) * (k == 3 ? -1.0 : 1.0) : Vec3(u(rng), u(rng), u(rng));
-        const Vec3 offset = aligned ? Vec3(0.125 * k, 0.0, 0.0) : 0.5 * Vec3(u(rng), u(rng), u(rng));
+        if (!aligned) R = Eigen::Quaterniond(Eigen::Vector4d{u(rng), u(rng), u(rng), u(rng)}.normalized()).toRotationMatrix();
+        Vec3 v = aligned ? Vec3::Unit(k % 3) * (k == 3 ? -1.0 : 1.0) : Vec3{u(rng), u(rng), u(rng)};
+        const Vec3 offset = aligned ? Vec3(0.125 * k, 0.0, 0.0) : 0.5 * Vec3{u(rng), u(rng), u(rng)};
         const SweepMesh moving = placed(mover.mesh, R, offset);
         SCOPED_TRACE(std::string(fixed_shape.name) + " vs " + mover.name + " case " + std::to_string(k));
         const MeshContact tree = first_contact_along_line(fixed, moving, v);
@@ -101,15 +101,15 @@ TEST(MeshSweep, BoxEntryBoundIsRigorous) {
   const auto q = [](double x) { return mpq_class(x); };
   for (int k = 0; k < 20000; ++k) {
     Aabb f, m;
-    const Vec3 c = Vec3(u(rng), u(rng), u(rng)) * 10.0;
+    const Vec3 c = Vec3{u(rng), u(rng), u(rng)} * 10.0;
     f.extend(c);
-    f.extend(c + Vec3(1 + u(rng), 1 + u(rng), 1 + u(rng)));
-    Vec3 d(u(rng), u(rng), u(rng));
+    f.extend(c + Vec3{1 + u(rng), 1 + u(rng), 1 + u(rng)});
+    Vec3 d{u(rng), u(rng), u(rng)};
     if (k % 3 == 0) d[k % 2] = 0.0;            // touching faces on some axis
     const Vec3 mc = f.hi + d;
     m.extend(mc);
-    m.extend(mc + Vec3(0.5 + u(rng) * 0.4, 0.5 + u(rng) * 0.4, 0.5 + u(rng) * 0.4));
-    Vec3 v(-1.0 + 0.1 * u(rng), u(rng), u(rng));
+    m.extend(mc + Vec3{0.5 + u(rng) * 0.4, 0.5 + u(rng) * 0.4, 0.5 + u(rng) * 0.4});
+    Vec3 v{-1.0 + 0.1 * u(rng), u(rng), u(rng)};
     if (k % 5 == 0) v[1] = 0.0;
     if (k % 7 == 0) v[2] = 1e-300 * u(rng);
     const double b = box_entry_time_lower_bound(f, m, v);
@@ -150,9 +150,9 @@ TEST(MeshSweep, SphereEntryBoundIsRigorous) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int finite = 0, infinite = 0;
   for (int k = 0; k < 20000; ++k) {
-    Sphere f{Vec3(u(rng), u(rng), u(rng)) * 10.0, 1.0 + u(rng) * 0.5};
-    Sphere m{f.center + Vec3(5 + u(rng), u(rng), u(rng)), 0.5 + u(rng) * 0.25};
-    const Vec3 v(-1.0, u(rng) * 1e-3, u(rng) * 1e-3);
+    Sphere f{Vec3{u(rng), u(rng), u(rng)} * 10.0, 1.0 + u(rng) * 0.5};
+    Sphere m{f.center + Vec3{5 + u(rng), u(rng), u(rng)}, 0.5 + u(rng) * 0.25};
+    const Vec3 v{-1.0, u(rng) * 1e-3, u(rng) * 1e-3};
     // Make the line nearly tangent: the perpendicular offset of the centres about R.
     const Vec3 side = v.cross(Vec3(0, 0, 1)).normalized();
     const double R = f.radius + m.radius;
@@ -191,9 +191,12 @@ TEST(MeshSweep, ObbEntryBoundNeverPassesAContainedContact) {
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const auto random_triangle = [&](const Vec3& at, bool needle) {
-    const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const Vec3 axis = Vec3{u(rng), u(rng), u(rng)}.normalized();
     Triangle T;
-    for (Vec3& p : T) p = at + (needle ? 2.0 * u(rng) * axis + 0.05 * Vec3(u(rng), u(rng), u(rng)) : Vec3(u(rng), u(rng), u(rng)));
+    for (Vec3& p : T) {
+      const double along = needle ? 2.0 * u(rng) : 0.0;
+      p = at + (needle ? along * axis + 0.05 * Vec3{u(rng), u(rng), u(rng)} : Vec3{u(rng), u(rng), u(rng)});
+    }
     return T;
   };
   int finite = 0, infinite = 0, later_than_boxes = 0, pairs_checked = 0;
@@ -201,11 +204,12 @@ TEST(MeshSweep, ObbEntryBoundNeverPassesAContainedContact) {
     const int nf = 1 + static_cast<int>(rng() % 3), nm = 1 + static_cast<int>(rng() % 3);
     const bool needle = k % 2 == 0;
     std::vector<Triangle> F, M;
-    for (int i = 0; i < nf; ++i) F.push_back(random_triangle(Vec3(0, 0, 0) + 0.3 * Vec3(u(rng), u(rng), u(rng)), needle));
-    const Vec3 start = 4.0 * Vec3(u(rng), u(rng), u(rng));
-    for (int i = 0; i < nm; ++i) M.push_back(random_triangle(start + 0.3 * Vec3(u(rng), u(rng), u(rng)), needle));
+    for (int i = 0; i < nf; ++i) F.push_back(random_triangle(Vec3(0, 0, 0) + 0.3 * Vec3{u(rng), u(rng), u(rng)}, needle));
+    const Vec3 start = 4.0 * Vec3{u(rng), u(rng), u(rng)};
+    for (int i = 0; i < nm; ++i) M.push_back(random_triangle(start + 0.3 * Vec3{u(rng), u(rng), u(rng)}, needle));
     // Towards the fixed set, off by a random lateral amount (many lines miss).
-    Vec3 v = (-start + 1.5 * Vec3(u(rng), u(rng), u(rng))) * (0.1 + std::abs(u(rng)));
+    const Vec3 aim = -start + 1.5 * Vec3{u(rng), u(rng), u(rng)};
+    Vec3 v = aim * (0.1 + std::abs(u(rng)));
     if (k % 7 == 0) v[k % 3] = 0.0;
     const auto fit = [](const std::vector<Triangle>& T) {
       return fit_obb(static_cast<int>(3 * T.size()), [&](int i) -> const Vec3& { return T[i / 3][i % 3]; });
@@ -251,13 +255,17 @@ TEST(MeshSweep, ObbDistanceBoundNeverExceedsTheTrianglesDistance) {
   for (int k = 0; k < 20000; ++k) {
     const bool needle = k % 2 == 0;
     const auto triangle = [&](const Vec3& at) {
-      const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+      const Vec3 axis = Vec3{u(rng), u(rng), u(rng)}.normalized();
       Triangle T;
-      for (Vec3& p : T)
-        p = at + (needle ? 2.0 * u(rng) * axis + 0.02 * Vec3(u(rng), u(rng), u(rng)) : Vec3(u(rng), u(rng), u(rng)));
+      for (Vec3& p : T) {
+        const double along = needle ? 2.0 * u(rng) : 0.0;
+        p = at + (needle ? along * axis + 0.02 * Vec3{u(rng), u(rng), u(rng)} : Vec3{u(rng), u(rng), u(rng)});
+      }
       return T;
     };
-    const Triangle A = triangle(Vec3::Zero()), B = triangle((0.5 + 2.0 * std::abs(u(rng))) * Vec3(u(rng), u(rng), u(rng)));
+    const Triangle A = triangle(Vec3::Zero());
+    const double apart = 0.5 + 2.0 * std::abs(u(rng));
+    const Triangle B = triangle(apart * Vec3{u(rng), u(rng), u(rng)});
     const auto fit = [](const Triangle& T) { return fit_obb(3, [&](int i) -> const Vec3& { return T[i]; }); };
     Obb a = fit(A), b = fit(B);
     if (k % 3 == 0) b.pad = 0.01 * std::abs(u(rng));  // a pad only makes the bound smaller
@@ -288,9 +296,9 @@ TEST(MeshSweep, CarriedTreeContainsThePlacedMoverAndFindsTheSameContacts) {
     const SweepMesh own = make_sweep_mesh(mesh->vertices, mesh->faces);
     const SweepMesh fixed = make_sweep_mesh(mesh->vertices, mesh->faces);
     for (int k = 0; k < 12; ++k) {
-      Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+      Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d{u(rng), u(rng), u(rng), u(rng)}.normalized()).toRotationMatrix();
       if (k % 3 == 1) R += 1e-9 * Eigen::Matrix3d::Random();
-      const Vec3 t = (k % 4 == 0 ? 1e6 : 2.0) * Vec3(u(rng), u(rng), u(rng));
+      const Vec3 t = (k % 4 == 0 ? 1e6 : 2.0) * Vec3{u(rng), u(rng), u(rng)};
       std::vector<Vec3> placed;
       Vec3 abs_max = Vec3::Zero();
       for (const Vec3& x : mesh->vertices) {
@@ -358,7 +366,7 @@ TEST(MeshSweep, CarriedTreeContainsThePlacedMoverAndFindsTheSameContacts) {
       if (k % 4 == 0) continue;  // far away: no contact to compare
       const SweepMesh rebuilt = make_sweep_mesh(placed, mesh->faces);
       for (int d = 0; d < 4; ++d) {
-        const Vec3 v = Vec3(u(rng), u(rng), u(rng));
+        const Vec3 v = Vec3{u(rng), u(rng), u(rng)};
         const MeshContact a = first_contact_along_line(fixed, carried, v);
         const MeshContact b = first_contact_along_line(fixed, rebuilt, v);
         const MeshContact c = first_contact_brute_force(fixed, carried, v);

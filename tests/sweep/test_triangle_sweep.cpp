@@ -245,13 +245,13 @@ TEST(TriangleSweep, CompareEntryTimesTiesAgreeWithRationals) {
     ties += exact == 0;
   };
   for (int k = 0; k < 400; ++k) {
-    const Vec3 v(0.05 * U(rng), 0.05 * U(rng), -1.0 - 0.1 * std::abs(U(rng)));
+    const Vec3 v{0.05 * U(rng), 0.05 * U(rng), -1.0 - 0.1 * std::abs(U(rng))};
     // A vertex b below its two faces, over a fixed face; the neighbour's corners in another order.
-    const Triangle A{Vec3(jitter(-10), jitter(-10), jitter(0)), Vec3(jitter(10), jitter(-10), jitter(0)),
-                     Vec3(jitter(0), jitter(10), jitter(0))};
-    const Vec3 b(U(rng), U(rng), 5.0 + U(rng));
-    const Triangle B1{b, b + Vec3(jitter(1), jitter(0), jitter(1)), b + Vec3(jitter(0), jitter(1), jitter(2))};
-    const Triangle B2{b + Vec3(jitter(-1), jitter(0.5), jitter(3)), b + Vec3(jitter(0.3), jitter(-1), jitter(1)), b};
+    const Triangle A{Vec3{jitter(-10), jitter(-10), jitter(0)}, Vec3{jitter(10), jitter(-10), jitter(0)},
+                     Vec3{jitter(0), jitter(10), jitter(0)}};
+    const Vec3 b{U(rng), U(rng), 5.0 + U(rng)};
+    const Triangle B1{b, b + Vec3{jitter(1), jitter(0), jitter(1)}, b + Vec3{jitter(0), jitter(1), jitter(2)}};
+    const Triangle B2{b + Vec3{jitter(-1), jitter(0.5), jitter(3)}, b + Vec3{jitter(0.3), jitter(-1), jitter(1)}, b};
     const Triangle Ar{A[2], A[1], A[0]};
     check(A, B1, A, B2, v);
     check(A, B1, Ar, B2, v);
@@ -260,17 +260,17 @@ TEST(TriangleSweep, CompareEntryTimesTiesAgreeWithRationals) {
     const Vec3 n = (A[1] - A[0]).cross(A[2] - A[0]);
     Vec3 c = b + 0.25 * n.cross(Vec3(1, 0, 0)).normalized();
     c[2] = std::nextafter(c[2], 100.0);
-    const Triangle C{c, c + Vec3(jitter(1), jitter(0), jitter(1)), c + Vec3(jitter(0), jitter(1), jitter(2))};
+    const Triangle C{c, c + Vec3{jitter(1), jitter(0), jitter(1)}, c + Vec3{jitter(0), jitter(1), jitter(2)}};
     const LineContact lb = line_contact(A, B1, v), lc = line_contact(A, C, v);
     near += lb.hit && lc.hit && !(lb.t_in.hi < lc.t_in.lo) && !(lc.t_in.hi < lb.t_in.lo);
     check(A, B1, A, C, v);
     check(A, C, A, B1, v);
     // A mover ridge su over a fixed ridge pq, each shared by two faces (reversed in the second).
     const double h = 3.0 + U(rng);
-    const Vec3 p(jitter(-5), jitter(0), jitter(0)), q(jitter(5), jitter(0), jitter(0));
-    const Vec3 s(jitter(0.3), jitter(-5), h), u(jitter(0.2), jitter(5), h + 0.1 * U(rng));
-    const Triangle F1{p, q, Vec3(jitter(0), jitter(3), jitter(-2))}, F2{q, p, Vec3(jitter(0), jitter(-3), jitter(-2))};
-    const Triangle M1{s, u, Vec3(jitter(3), jitter(0), h + 2)}, M2{u, s, Vec3(jitter(-3), jitter(0), h + 2)};
+    const Vec3 p{jitter(-5), jitter(0), jitter(0)}, q{jitter(5), jitter(0), jitter(0)};
+    const Vec3 s{jitter(0.3), jitter(-5), h}, u{jitter(0.2), jitter(5), h + 0.1 * U(rng)};
+    const Triangle F1{p, q, Vec3{jitter(0), jitter(3), jitter(-2)}}, F2{q, p, Vec3{jitter(0), jitter(-3), jitter(-2)}};
+    const Triangle M1{s, u, Vec3{jitter(3), jitter(0), h + 2}}, M2{u, s, Vec3{jitter(-3), jitter(0), h + 2}};
     check(F1, M1, F2, M2, v);
     check(F1, M2, F2, M1, v);
     check(F2, M1, F1, M1, v);
@@ -291,6 +291,7 @@ std::size_t random_case_count() {
 TEST(TriangleSweep, RandomCasesAgainstMinkowskiReference) {
   std::mt19937_64 rng(20261122);
   std::uniform_int_distribution<int> small(-3, 3);
+  const auto small_coordinate = [&] { return static_cast<double>(small(rng)); };
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const std::size_t n = random_case_count();
   std::size_t hits = 0, exact_paths = 0;
@@ -299,31 +300,35 @@ TEST(TriangleSweep, RandomCasesAgainstMinkowskiReference) {
     Triangle A, B;
     Vec3 v;
     const int family = static_cast<int>(k % 4);
-    const auto grid = [&] { return Vec3(small(rng), small(rng), small(rng)); };
+    const auto grid = [&] { return Vec3{small_coordinate(), small_coordinate(), small_coordinate()}; };
     if (family == 0) {
       for (auto& p : A) p = grid();
       for (auto& p : B) p = grid() + Vec3(0, 0, 2);
       v = grid();
     } else if (family == 1) {
       for (auto& p : A) p = grid() * 0.25;
-      for (auto& p : B) p = grid() * 0.25 + Vec3(small(rng), small(rng), small(rng)) * 0x1p-20;
+      for (auto& p : B) {
+        const Vec3 at = grid() * 0.25;
+        p = at + Vec3{small_coordinate(), small_coordinate(), small_coordinate()} * 0x1p-20;
+      }
       v = grid();
     } else if (family == 3) {
       // Everything in one plane: only the edge and vertex cells can be entered.
-      const auto flat = [&] { return Vec3(small(rng), small(rng), 0.0); };
+      const auto flat = [&] { return Vec3{small_coordinate(), small_coordinate(), 0.0}; };
       for (auto& p : A) p = flat();
       for (auto& p : B) p = flat() + Vec3(3, 0, 0);
       v = flat();
       if (k % 8 == 7) {  // points: only vertex-vertex cells exist
         A = {A[0], A[0], A[0]};
         B = {B[0], B[0], B[0]};
-        v = (A[0] - B[0]) * small(rng) + (k % 16 == 7 ? flat() : Vec3::Zero());
+        const double along = small_coordinate();
+        v = (A[0] - B[0]) * along + (k % 16 == 7 ? flat() : Vec3::Zero());
       }
     } else {
-      const Vec3 ca(unit(rng), unit(rng), unit(rng)), cb = ca + 3.0 * Vec3(unit(rng), unit(rng), unit(rng));
-      for (auto& p : A) p = ca + Vec3(unit(rng), unit(rng), unit(rng));
-      for (auto& p : B) p = cb + Vec3(unit(rng), unit(rng), unit(rng));
-      v = (ca - cb) + 0.5 * Vec3(unit(rng), unit(rng), unit(rng));
+      const Vec3 ca{unit(rng), unit(rng), unit(rng)}, cb = ca + 3.0 * Vec3{unit(rng), unit(rng), unit(rng)};
+      for (auto& p : A) p = ca + Vec3{unit(rng), unit(rng), unit(rng)};
+      for (auto& p : B) p = cb + Vec3{unit(rng), unit(rng), unit(rng)};
+      v = (ca - cb) + 0.5 * Vec3{unit(rng), unit(rng), unit(rng)};
     }
     check_case(A, B, v);
     if (::testing::Test::HasFatalFailure()) return;
