@@ -315,7 +315,8 @@ class BranchAndBound {
                  const Vec3& t, const ClearanceOptions& opt, bool keep_frontier,
                  PlacedMatches* matches = nullptr)
       : fixed_(fixed), mover_(mover), o_(o), P_(P), t_(t), hull_(opt.hull && !opt.hull->empty() ? opt.hull : nullptr),
-        matches_(matches), retry_(opt.coincident_retry), probe_cells_(opt.retry_probe_cells),
+        matches_(matches), retry_(opt.coincident ? opt.coincident_retry : nullptr),
+        probe_cells_(opt.retry_probe_cells),
         tol_(opt.tolerance), rel_(opt.relative_tolerance),
         target_(opt.target), keep_discarded_(keep_frontier), store_(scratch_.get()), heap_(store_.heap),
         discarded_(store_.discarded), depth_(store_.depth), ids_(store_.ids),
@@ -1180,8 +1181,9 @@ class BranchAndBound {
   const SupportPlanes* hull_;
   // With the face index and a placed vertex near one of F's (ClearanceOptions::coincident).
   PlacedMatches* matches_;
-  // ClearanceOptions::coincident_retry (null once asked) and retry_probe_cells: where the search
-  // reaches that many cells with a placed vertex near one of F's, it stops for the retry.
+  // ClearanceOptions::coincident_retry (with `coincident` only, as certify_clearance retries only
+  // then; null once asked) and retry_probe_cells: where the search reaches that many cells with a
+  // placed vertex near one of F's, it stops for the retry.
   const LazyCoincidentFaces* retry_;
   std::uint64_t probe_cells_;
   // Per mover face, with matches_: whether triangles_meeting_interior succeeded, and its list.

@@ -110,9 +110,9 @@ CertifyRunResult run_certify(const CertifyRequest& rq, const std::string& out_di
   // of faces hinged on F's edges from outside at s >= 0 (2) (doc/poses.md, "Faces placed onto F's
   // faces", "Faces hinged on F's edges"), and since session 95 faces placed onto them up to
   // rounding at [-e, e] (3), and a pose that runs out of cells near F's vertices is tried again with
-  // faces within an eighth of the tolerance settled (4), and since session 96 after a probe of
-  // ClearanceOptions::retry_probe_cells, the probe's search then continued from its leaves if
-  // still short (5): such poses' intervals differ from earlier binaries'.
+  // faces within an eighth of the tolerance settled (4), and since session 96 such a search stops
+  // for that at ClearanceOptions::retry_probe_cells, run again whole only if the retry falls short
+  // too (5): such poses' intervals differ from earlier binaries'.
   run_key["coincident_faces"] = 5;
   PoseJournal journal(out_dir, "certify", run_key, rq.resume, "certify");
 

@@ -512,6 +512,12 @@ TEST(Clearance, SinglePrecisionCopiesSettledOnRetry) {
   EXPECT_EQ(plain.cells, 1000u);
   EXPECT_TRUE(reaches_tolerance(probed, tol));
   EXPECT_LE(probed.cells, 100u);
+  // Without the exact index nothing is retried, so nothing may stop for a retry either.
+  ClearanceOptions no_index = big;
+  no_index.coincident = nullptr;
+  const ClearanceResult unstopped = certify_clearance(fixed, single, comps, o, Vec3::Zero(), no_index);
+  EXPECT_FALSE(unstopped.probe_stopped);
+  EXPECT_EQ(unstopped.cells, 1000u);
   // At a tolerance the wide match cannot settle: the probe, the wide run and the whole first search
   // again, each short, their intervals intersected.
   big.tolerance = 1e-8;
