@@ -26,6 +26,8 @@ struct Aabb {
   Eigen::Vector3d center() const { return 0.5 * (lo + hi); }
   Eigen::Vector3d extent() const { return hi - lo; }
   double diagonal() const { return (hi - lo).norm(); }
+  // The largest coordinate magnitude of its points (exact): the scale of their doubles' rounding.
+  double max_abs() const { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); }
   // Corner k (0..7): bit 0 selects hi.x, bit 1 hi.y, bit 2 hi.z.
   Eigen::Vector3d corner(int k) const {
     return {(k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z()};

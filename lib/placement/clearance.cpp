@@ -1563,7 +1563,7 @@ ClearanceResult certify_clearance_once(const SignedDistance& fixed, const Triang
   double scale = fixed.bbox().lo.cwiseAbs().maxCoeff() + fixed.bbox().hi.cwiseAbs().maxCoeff();
   // The mover's root box, moved, bounds every placed vertex (and its extremes are vertices).
   const Aabb mover_box = moved(orientation.boxes.nodes[0].bv, t);
-  scale = std::max({scale, mover_box.lo.cwiseAbs().maxCoeff(), mover_box.hi.cwiseAbs().maxCoeff()});
+  scale = std::max(scale, mover_box.max_abs());
   dist.tiny_sq = (1e-9 * scale) * (1e-9 * scale);
   dist.margin_sq = (1e-10 * scale) * (1e-10 * scale);
   dist.rel = options.relative_tolerance;
@@ -1633,7 +1633,7 @@ ClearanceResult intersect_runs(const ClearanceResult& a, ClearanceResult b, doub
   b.distance_queries += a.distance_queries;
   b.far_cells += a.far_cells;
   b.transform_error = std::max(a.transform_error, b.transform_error);
-  b.tolerance_reached = true;
+  b.tolerance_reached = true;  // so that reaches_tolerance judges the intersection's width alone
   b.tolerance_reached = reaches_tolerance(b, tolerance);
   return b;
 }

@@ -12,8 +12,7 @@ namespace {
 // radius near F's edges (a tolerance of a per cent of the diagonal) would match corners with
 // vertices other than their own.
 double retry_radius(const SignedDistance& fixed, double tolerance) {
-  const double scale = std::max(fixed.bbox().lo.cwiseAbs().maxCoeff(), fixed.bbox().hi.cwiseAbs().maxCoeff());
-  return std::min(tolerance / 8.0, std::ldexp(scale, -16));
+  return std::min(tolerance / 8.0, std::ldexp(fixed.bbox().max_abs(), -16));
 }
 
 }  // namespace

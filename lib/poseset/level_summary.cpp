@@ -49,7 +49,7 @@ std::string tolerance_not_reached_note(const std::vector<PoseRow>& rows, double 
   std::string note = std::to_string(n) + (n == 1 ? " pose is" : " poses are") +
                      " uncertified:tolerance-not-reached (rigorous intervals up to " + number_text(widest, 3) +
                      " wide, the tolerance " + number_text(tolerance, 3) + "): ";
-  const double magnitude = std::max(fixed_box.lo.cwiseAbs().maxCoeff(), fixed_box.hi.cwiseAbs().maxCoeff());
+  const double magnitude = fixed_box.max_abs();
   const double rounding = kRoundingPerMagnitude * magnitude;
   if (!(rounding >= 0.125 * tolerance) || !(diagonal > 0.0)) return note + otherwise;
   // A tolerance twice what was reached or the rounding, rounded up to one digit.

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "core/aabb.h"
 #include "core/interval.h"
 
 namespace cdbench {
@@ -35,6 +36,19 @@ void expect_as_nextafter(double x) {
   }
   EXPECT_EQ(bits(round_up(x)), bits(u)) << std::hexfloat << x;
   EXPECT_EQ(bits(round_down(x)), bits(d)) << std::hexfloat << x;
+}
+
+// The largest coordinate magnitude of a box: from either corner, whichever side of 0 it lies on.
+TEST(Core, BoxLargestCoordinateMagnitude) {
+  Aabb b;
+  b.extend(Eigen::Vector3d(-3.0, 1.0, 2.0));
+  b.extend(Eigen::Vector3d(-1.0, 5.0, 2.5));
+  EXPECT_EQ(b.max_abs(), 5.0);
+  b.extend(Eigen::Vector3d(-7.0, 0.0, 0.0));
+  EXPECT_EQ(b.max_abs(), 7.0);
+  Aabb far;
+  far.extend(Eigen::Vector3d(1e6, 1e6 + 1.0, 1e6));
+  EXPECT_EQ(far.max_abs(), 1e6 + 1.0);
 }
 
 TEST(Core, OutwardRoundingIsNextafterOnEveryClassOfDouble) {
