@@ -141,7 +141,7 @@ static int run(int argc, char** argv) {
   std::vector<double> level_target(L), level_seconds(L, 0.0);
   std::vector<std::size_t> level_certified(L, 0), level_steps(L, 0), level_jumps(L, 0), level_zone_cubes(L, 0);
   // The work behind ms/pose, in units that do not depend on the machine's load (for A/B runs).
-  std::vector<std::size_t> level_cells(L, 0), level_two_sided(L, 0), level_segments(L, 0);
+  std::vector<std::size_t> level_cells(L, 0), level_two_sided(L, 0), level_kept(L, 0), level_segments(L, 0);
   std::vector<PoseStart> level_start(L);
   std::vector<std::unique_ptr<SweepMesh>> level_offset(L);
   PoseOptions po;
@@ -235,6 +235,7 @@ static int run(int argc, char** argv) {
       level_zone_cubes[l] += static_cast<std::size_t>(p.zone_cubes);
       level_cells[l] += static_cast<std::size_t>(p.clearance_cells);
       level_two_sided[l] += static_cast<std::size_t>(p.two_sided_tries);
+      level_kept[l] += static_cast<std::size_t>(p.kept_tries);
       level_segments[l] += static_cast<std::size_t>(p.segment_tries);
       if (per_pose)
         std::printf("pose approach %zu level %s: %.3f ms, steps %d, cells %llu, two-sided %d, segments %d, jumps %d, "
@@ -321,10 +322,11 @@ static int run(int argc, char** argv) {
       std::printf("; built cover not needed (no pose found c flat)\n");
   }
   for (std::size_t l = 0; l < L; ++l)
-    std::printf("work a pose %s: certificate cells %.0f, two-sided tries %.2f, segment tries %.2f, jumps %.2f, "
-                "octree cubes %.0f\n",
+    std::printf("work a pose %s: certificate cells %.0f, two-sided tries %.2f (rejected, then kept %.2f), segment tries "
+                "%.2f, jumps %.2f, octree cubes %.0f\n",
                 ps["levels"][l]["spec"].get<std::string>().c_str(), static_cast<double>(level_cells[l]) / M,
-                static_cast<double>(level_two_sided[l]) / M, static_cast<double>(level_segments[l]) / M,
+                static_cast<double>(level_two_sided[l]) / M, static_cast<double>(level_kept[l]) / M,
+                static_cast<double>(level_segments[l]) / M,
                 static_cast<double>(level_jumps[l]) / M, static_cast<double>(level_zone_cubes[l]) / M);
   std::printf("approaches %zu, contact found by both %zu, FCL found none %zu\n", M, both, fcl_miss);
   std::printf("lines the exact sweep proves to miss: %zu; FCL found a contact on %zu of them: certified at FCL's pose "

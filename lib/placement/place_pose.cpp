@@ -1039,6 +1039,10 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           k *= 0.25;  // below the target about the middle: try a quarter of the way
         }
       }
+      // A rejected two-sided try: its pose and certificate, for the plain step that follows.
+      bool rejected_try = false;
+      double rejected_lambda = 0.0;
+      ClearanceResult rejected;
       if (!advanced && options.two_sided_steps && slope < 0.5) {
         // Where c is flat, a step of up to twice the gap, proved from both ends: on [l - h, l],
         // c >= max(c(l) - (l - x), c(l - h) - (x - l + h)) > target when the two gaps add up to
@@ -1047,12 +1051,16 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         const double h = 0.9 * 2.0 * gap / (1.0 + (spanned ? span_slope : slope));
         if (h > 1.2 * step && out.lambda - h >= -lambda_far) {
           const double slack2 = pose_rounding_slack(frame, std::abs(out.lambda) + h);
-          const ClearanceResult c2 = certify(PolishPurpose::two_sided, out.lambda - h, true);
+          ClearanceResult c2 = certify(PolishPurpose::two_sided, out.lambda - h, true);
           ++out.two_sided_tries;
           if ((gap + (c2.clearance.lo - target)) * (1.0 - 1e-9) - 2.0 * slack2 >= h) {
             out.lambda -= h;
-            c = c2;
+            c = std::move(c2);
             advanced = true;
+          } else {
+            rejected_try = true;
+            rejected_lambda = out.lambda - h;
+            rejected = std::move(c2);
           }
         }
       }
@@ -1060,6 +1068,19 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         out.lambda -= step;
         if (out.lambda < -lambda_far) return missed();
         c = certify(PolishPurpose::step, out.lambda, true);
+        // The same two-sided rule between this pose (l') and the rejected try's (l - h, below it):
+        // where their two gaps cover [l - h, l'], the pose moves on to l - h with the try's
+        // certificate, one certificate saved (doc/poses.md, "A rejected try kept").
+        if (rejected_try) {
+          const double hole = out.lambda - rejected_lambda;
+          const double slack2 = pose_rounding_slack(frame, std::abs(out.lambda) + hole);
+          if (hole > 0.0 &&
+              ((c.clearance.lo - target) + (rejected.clearance.lo - target)) * (1.0 - 1e-9) - 2.0 * slack2 >= hole) {
+            out.lambda = rejected_lambda;
+            c = std::move(rejected);
+            ++out.kept_tries;
+          }
+        }
       }
       ++out.steps;
       if (c.clearance.hi <= target + options.tolerance && last_loose)

@@ -304,6 +304,7 @@ struct PoseOutcome {
   bool on_target = false;  // |c - target| <= tolerance, proven
   int steps = 0;
   int two_sided_tries = 0;  // long steps tried where c is flat (each accepted one is a step)
+  int kept_tries = 0;       // rejected two-sided tries moved on to after the plain step (a part of it)
   int segment_tries = 0;    // segments tried on a slide (check_segment_above)
   bool continued = false;   // the advance continued from a higher target's pose (ApproachMemo)
   int cover_jumps = 0;      // deep-zone jumps taken (to the cover's contact or the octree's)

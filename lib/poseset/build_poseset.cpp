@@ -298,11 +298,13 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // a segment's needle cells split across their length as a certificate's, and segments aimed by
   // a slope fitted over eight poses where no span resolves one, session 89, 19; a segment's
   // certificate at its end warm-started from the segment search's leaves there, session 91, 20;
-  // their pair-distance path, where the mover may lie apart, on the sweep trees, session 92, 21):
+  // their pair-distance path, where the mover may lie apart, on the sweep trees, session 92, 21;
+  // a rejected two-sided try's pose and certificate taken after the plain step that follows where
+  // the two certificates' gaps cover the poses between them, session 97, 22):
   // their intervals, and so the polished poses, may differ within the tolerance from earlier
   // binaries'. Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
-    run_key["penetrating_certificates"] = 21;
+    run_key["penetrating_certificates"] = 22;
   // Every certificate since 2026-11-29 (session 37) sets cells far outside F aside by a lower bound
   // of their centre's distance alone (1): intervals and polishing steps, rarely poses, may differ
   // within the tolerance from earlier binaries', whose journals have no such key.
