@@ -318,7 +318,8 @@ class BranchAndBound {
         matches_(matches), retry_(opt.coincident ? opt.coincident_retry : nullptr),
         probe_cells_(opt.retry_probe_cells),
         tol_(opt.tolerance), rel_(opt.relative_tolerance),
-        target_(opt.target), keep_discarded_(keep_frontier), store_(scratch_.get()), heap_(store_.heap),
+        target_(opt.target), floor_(opt.floor > -kInf ? up(opt.floor + 2.0 * o.transform_error(t)) : -kInf),
+        keep_discarded_(keep_frontier), store_(scratch_.get()), heap_(store_.heap),
         discarded_(store_.discarded), depth_(store_.depth), ids_(store_.ids),
         slab_ids_(store_.slab_ids) {
     store_.clear();
@@ -429,7 +430,9 @@ class BranchAndBound {
     }
     double lower = min_discarded_;
     if (!heap_.empty()) lower = std::min(lower, heap_.front().lower);
-    r.tolerance_reached = heap_.empty() || heap_.front().lower >= threshold();
+    // The width asked for; a floor not reached (the budget spent on it) does not count against it.
+    r.tolerance_reached =
+        heap_.empty() || (upper_ < kInf && heap_.front().lower >= relaxed_threshold(upper_, tol_, rel_, target_));
     r.clearance = {lower, upper_};
     r.distance_queries = queries_;
     r.far_cells = far_cells_;
@@ -466,7 +469,14 @@ class BranchAndBound {
 
   // Cells with a lower bound at or above this need no refinement (relaxed_threshold: a cell set
   // aside earlier never falls below a later threshold, so the result's lower end stays consistent).
-  double threshold() const { return upper_ < kInf ? relaxed_threshold(upper_, tol_, rel_, target_) : kInf; }
+  // With a floor (ClearanceOptions::floor, raised by the transform's widening) the threshold is at
+  // least the floor while the upper end is at or above it, and at most upper - tol: still
+  // non-decreasing in the upper end.
+  double threshold() const {
+    if (!(upper_ < kInf)) return kInf;
+    const double relaxed = relaxed_threshold(upper_, tol_, rel_, target_);
+    return upper_ >= floor_ ? std::max(relaxed, std::min(floor_, upper_ - tol_)) : relaxed;
+  }
 
   // heaped = false: appended only (the caller heaps them all at once).
   void push(Cell c, bool heaped = true) {
@@ -1188,7 +1198,7 @@ class BranchAndBound {
   std::uint64_t probe_cells_;
   // Per mover face, with matches_: whether triangles_meeting_interior succeeded, and its list.
   std::unordered_map<std::uint32_t, std::pair<bool, std::vector<std::uint32_t>>> interior_lists_;
-  double tol_, rel_, target_;
+  double tol_, rel_, target_, floor_;
   double upper_ = kInf;
   std::int64_t argmin_face_ = -1;
   std::array<double, 2> argmin_bary_{0.0, 0.0};

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -77,6 +78,10 @@ struct ClearanceOptions {
   // matters; 0 = the absolute tolerance alone. Only the work changes, never the rigour.
   double relative_tolerance = 0.0;
   double target = 0.0;
+  // A lower end wanted (-inf: none): while the upper end stays at or above it, the branch and bound
+  // goes on past the relative width until the lower end reaches it (a two-sided step's far end,
+  // which is refused below it). Only the work changes, never the rigour.
+  double floor = -std::numeric_limits<double>::infinity();
   // false: go straight to the branch and bound (which decides every case), skipping the pair
   // distance path that only pays off for separated poses.
   bool try_distance_path = true;

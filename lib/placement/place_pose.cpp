@@ -1051,7 +1051,12 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         const double h = 0.9 * 2.0 * gap / (1.0 + (spanned ? span_slope : slope));
         if (h > 1.2 * step && out.lambda - h >= -lambda_far) {
           const double slack2 = pose_rounding_slack(frame, std::abs(out.lambda) + h);
+          // Its search goes on past the loose width until its lower end is enough for the step
+          // (or its upper end proves it cannot be): a refused try costs its certificate and a
+          // plain step (doc/poses.md, "The far end's floor").
+          copt.floor = target - gap + (h + 2.0 * slack2) / (1.0 - 1e-9) + 1e-9 * h;
           ClearanceResult c2 = certify(PolishPurpose::two_sided, out.lambda - h, true);
+          copt.floor = -std::numeric_limits<double>::infinity();
           ++out.two_sided_tries;
           if ((gap + (c2.clearance.lo - target)) * (1.0 - 1e-9) - 2.0 * slack2 >= h) {
             out.lambda -= h;

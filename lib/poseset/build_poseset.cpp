@@ -300,11 +300,12 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // certificate at its end warm-started from the segment search's leaves there, session 91, 20;
   // their pair-distance path, where the mover may lie apart, on the sweep trees, session 92, 21;
   // a rejected two-sided try's pose and certificate taken after the plain step that follows where
-  // the two certificates' gaps cover the poses between them, session 97, 22):
+  // the two certificates' gaps cover the poses between them, session 97, 22; a two-sided try's
+  // search continued past the loose width until its lower end is enough for the step, 23):
   // their intervals, and so the polished poses, may differ within the tolerance from earlier
   // binaries'. Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
-    run_key["penetrating_certificates"] = 22;
+    run_key["penetrating_certificates"] = 23;
   // Every certificate since 2026-11-29 (session 37) sets cells far outside F aside by a lower bound
   // of their centre's distance alone (1): intervals and polishing steps, rarely poses, may differ
   // within the tolerance from earlier binaries', whose journals have no such key.
