@@ -22,6 +22,20 @@
 namespace cdbench {
 namespace {
 
+// The Lipschitz steps' relative margin: |d| is 1 only up to rounding (doc/poses.md, "Polishing").
+constexpr double kStepMargin = 1e-9;
+
+// The two-sided rule (doc/poses.md, "Long steps where c is flat"): c > target on every pose of a
+// stretch of length h whose end poses' certificates have gaps a and b (lower end minus target),
+// with the relative margin and twice the rounding slack of the poses.
+bool gaps_cover(double a, double b, double h, double slack) { return (a + b) * (1.0 - kStepMargin) - 2.0 * slack >= h; }
+
+// A lower end at the stretch's far end for which gaps_cover(a, lower - target, h, slack) holds
+// (ClearanceOptions::floor: a little above the least such).
+double far_end_floor(double target, double a, double h, double slack) {
+  return target - a + (h + 2.0 * slack) / (1.0 - kStepMargin) + kStepMargin * h;
+}
+
 double max_distance(const std::vector<Vec3>& v, const Vec3& c) {
   double r = 0.0;
   for (const Vec3& p : v) r = std::max(r, (p - c).norm());
@@ -811,7 +825,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
       // first crossing.
       const double slack = pose_rounding_slack(frame, std::abs(out.lambda));
       const double gap = c.clearance.lo - target;
-      const double step = gap * (1.0 - 1e-9) - slack;
+      const double step = gap * (1.0 - kStepMargin) - slack;
       if (!(step > 0.0)) {
         if (last_loose) {  // a loose certificate: tighten it before giving up
           c = certify(PolishPurpose::tighten, out.lambda, false);
@@ -1054,11 +1068,11 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
           // Its search goes on past the loose width until its lower end is enough for the step
           // (or its upper end proves it cannot be): a refused try costs its certificate and a
           // plain step (doc/poses.md, "The far end's floor").
-          copt.floor = target - gap + (h + 2.0 * slack2) / (1.0 - 1e-9) + 1e-9 * h;
+          copt.floor = far_end_floor(target, gap, h, slack2);
           ClearanceResult c2 = certify(PolishPurpose::two_sided, out.lambda - h, true);
           copt.floor = -std::numeric_limits<double>::infinity();
           ++out.two_sided_tries;
-          if ((gap + (c2.clearance.lo - target)) * (1.0 - 1e-9) - 2.0 * slack2 >= h) {
+          if (gaps_cover(gap, c2.clearance.lo - target, h, slack2)) {
             out.lambda -= h;
             c = std::move(c2);
             advanced = true;
@@ -1079,8 +1093,7 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         if (rejected_try) {
           const double hole = out.lambda - rejected_lambda;
           const double slack2 = pose_rounding_slack(frame, std::abs(out.lambda) + hole);
-          if (hole > 0.0 &&
-              ((c.clearance.lo - target) + (rejected.clearance.lo - target)) * (1.0 - 1e-9) - 2.0 * slack2 >= hole) {
+          if (hole > 0.0 && gaps_cover(c.clearance.lo - target, rejected.clearance.lo - target, hole, slack2)) {
             out.lambda = rejected_lambda;
             c = std::move(rejected);
             ++out.kept_tries;
