@@ -1263,7 +1263,9 @@ TEST(PlacePose, LongStepsNeverPassAnEarlierCrossing) {
   }
   EXPECT_GT(placed, 20 * lines / 12) << placed;
   EXPECT_GT(tries, 10 * lines / 12) << tries;
-  if (!test_scale::kSanitized) EXPECT_GT(kept, 0) << kept << " of " << tries;  // 3 here, 1 in half the lines
+  if (!test_scale::kSanitized) {
+    EXPECT_GT(kept, 0) << kept << " of " << tries;  // 3 here, 1 in half the lines
+  }
 }
 
 // A convex F's supporting planes (distance/support_planes.h): the certificate from them agrees with
