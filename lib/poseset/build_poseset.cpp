@@ -589,9 +589,15 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
     if (const DeepCover* k = lazy ? lazy->peek() : nullptr) {
       cover = {{"complete", k->complete}, {"cubes", k->cells}, {"boxes", k->boxes.size()},
                {"seconds", lazy->seconds()}};
-      std::cerr << "cdbench poses: level " << specs[l].text << ": deep-zone cover "
-                << (k->complete ? "built" : "not used (its budget ran out)") << ", " << k->cells << " cubes, "
-                << k->boxes.size() << " boxes, " << lazy->seconds() << " s" << std::endl;
+      std::cerr << "cdbench poses: level " << specs[l].text << ": deep-zone cover ";
+      if (k->complete)
+        std::cerr << "built, " << k->cells << " cubes, " << k->boxes.size() << " boxes, " << number_text(lazy->seconds(), 3)
+                  << " s" << std::endl;
+      else  // given up before its finer octree levels were evaluated (build_deep_cover)
+        std::cerr << "not built: it would take more than its budget of "
+                  << deep_cover_options(targets[l], request_approaches).max_cells << " cubes ("
+                  << (k->cells == 0 ? std::string("predicted at once") : "given up after " + std::to_string(k->cells))
+                  << "); jumps across plateaus use the octree about each mover's path" << std::endl;
     }
     level_timings.push_back({{"spec", specs[l].text},
                              {"thread_seconds", sec},
