@@ -156,6 +156,7 @@ class LazyDeepCover {
   LazyDeepCover(const LazyDeepCover&) = delete;
   LazyDeepCover& operator=(const LazyDeepCover&) = delete;
   double target() const { return target_; }
+  const DeepCoverOptions& options() const { return options_; }  // as built (its budget: max_cells)
   // The cover, or null when it is incomplete (the budget ran out). Threads that call it while it
   // is being built help build it (its cubes are classified in parallel).
   const DeepCover* get() const;

@@ -595,7 +595,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
                   << " s" << std::endl;
       else  // given up before its finer octree levels were evaluated (build_deep_cover)
         std::cerr << "not built: it would take more than its budget of "
-                  << deep_cover_options(targets[l], request_approaches).max_cells << " cubes ("
+                  << lazy->options().max_cells << " cubes ("
                   << (k->cells == 0 ? std::string("predicted at once") : "given up after " + std::to_string(k->cells))
                   << "); jumps across plateaus use the octree about each mover's path" << std::endl;
     }
