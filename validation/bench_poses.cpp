@@ -56,7 +56,13 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_soup(path)).mesh; }
 
-const char* kTraceHeader = "approach,level,event,purpose,target,lambda,to,clearance_lo,clearance_hi,loose,warm,verdict,work,budget\n";
+const char* kTraceHeader = "approach,level,event,purpose,target,lambda,to,clearance_lo,clearance_hi,loose,warm,verdict,work,budget,ms\n";
+
+std::string milliseconds_text(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f", 1e3 * seconds);
+  return text;
+}
 
 // A --trace row: the event of approach `a` at level `level` (doubles in full precision, so that a
 // pose reproduces).
@@ -68,8 +74,15 @@ std::string trace_row(std::size_t a, const std::string& level, const PolishEvent
   row += cert ? number_text(e.clearance.lo) + "," + number_text(e.clearance.hi) : ",";
   row += std::string(",") + (cert ? (e.loose ? "1" : "0") : "") + "," + (cert ? (e.warm ? "1" : "0") : "") + "," +
          (seg ? to_string(e.verdict) : "") + "," + std::to_string(e.work) + "," + (seg ? std::to_string(e.budget) : "") +
-         "\n";
+         "," + milliseconds_text(e.seconds) + "\n";
   return row;
+}
+
+// A --trace event's kind for the time breakdown: a certificate's purpose, a segment's verdict.
+std::string trace_kind(const PolishEvent& e) {
+  if (e.kind == PolishEvent::Kind::certificate) return to_string(e.purpose);
+  if (e.kind == PolishEvent::Kind::segment) return std::string("segment ") + to_string(e.verdict);
+  return "zone query";
 }
 
 }  // namespace
@@ -190,9 +203,19 @@ static int run(int argc, char** argv) {
   };
   // --trace: rows gathered here, written whole at the end.
   std::string trace_text = kTraceHeader;
-  std::size_t trace_approach = 0;
+  std::size_t trace_approach = 0, trace_level_index = 0;
   std::string trace_level;
-  const PolishTrace tracer = [&](const PolishEvent& e) { trace_text += trace_row(trace_approach, trace_level, e); };
+  // Each level's traced time by kind of event (seconds, events), in the order first seen.
+  std::vector<std::vector<std::pair<std::string, std::pair<double, std::size_t>>>> traced(L);
+  const PolishTrace tracer = [&](const PolishEvent& e) {
+    trace_text += trace_row(trace_approach, trace_level, e);
+    auto& kinds = traced[trace_level_index];
+    const std::string kind = trace_kind(e);
+    auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
+    if (it == kinds.end()) it = kinds.insert(kinds.end(), {kind, {0.0, 0}});
+    it->second.first += e.seconds;
+    ++it->second.second;
+  };
   std::size_t current_orientation = static_cast<std::size_t>(-1);
   std::unique_ptr<OrientationFrame> frame;
   for (std::size_t k = 0; k < M; ++k) {
@@ -224,6 +247,7 @@ static int run(int argc, char** argv) {
       if (!trace_path.empty()) {
         lpo.trace = &tracer;
         trace_approach = a;
+        trace_level_index = l;
         trace_level = ps["levels"][l]["spec"].get<std::string>();
       }
       const double cover_before = level_zone[l].cover ? level_zone[l].cover->seconds() : 0.0;
@@ -233,6 +257,10 @@ static int run(int argc, char** argv) {
       // The level's cover, if this pose built it: setup, left out of the pose's own line below (as
       // out of the level's time further down).
       const double cover_built = level_zone[l].cover ? level_zone[l].cover->seconds() - cover_before : 0.0;
+      // The build happened inside the query that first asked the cover: setup, not the query's.
+      if (cover_built > 0.0)
+        for (auto& [kind, v] : traced[l])
+          if (kind == "zone query") v.first = std::max(0.0, v.first - cover_built);
       level_seconds[l] += pose_seconds;
       level_certified[l] += p.contact && p.certified && p.on_target;
       level_steps[l] += static_cast<std::size_t>(p.steps);
@@ -339,6 +367,23 @@ static int run(int argc, char** argv) {
                 static_cast<double>(level_two_sided[l]) / M, static_cast<double>(level_kept[l]) / M,
                 static_cast<double>(level_segments[l]) / M,
                 static_cast<double>(level_jumps[l]) / M, static_cast<double>(level_zone_cubes[l]) / M);
+  // --trace: where each level's time went, by kind of event, the costliest first (the rest: steps'
+  // arithmetic, planes' steps, the trace's own rows). Wall times: they move with the load.
+  for (std::size_t l = 0; l < L && !trace_path.empty(); ++l) {
+    auto kinds = traced[l];
+    if (kinds.empty()) continue;
+    std::stable_sort(kinds.begin(), kinds.end(),
+                     [](const auto& x, const auto& y) { return x.second.first > y.second.first; });
+    const double total = level_seconds[l];
+    double events = 0.0;
+    std::printf("time a pose %s, traced:", ps["levels"][l]["spec"].get<std::string>().c_str());
+    for (const auto& [kind, v] : kinds) {
+      events += v.first;
+      std::printf(" %s %.3f ms (%.0f %%, %zu, %.3f ms each);", kind.c_str(), 1e3 * v.first / M,
+                  total > 0.0 ? 100.0 * v.first / total : 0.0, v.second, 1e3 * v.first / static_cast<double>(v.second));
+    }
+    std::printf(" the rest %.3f ms\n", 1e3 * std::max(0.0, total - events) / M);
+  }
   std::printf("approaches %zu, contact found by both %zu, FCL found none %zu\n", M, both, fcl_miss);
   std::printf("lines the exact sweep proves to miss: %zu; FCL found a contact on %zu of them: certified at FCL's pose "
               "apart %zu, grazing (c's interval holds 0) %zu, penetrating %zu (contradicts the sweep)\n",

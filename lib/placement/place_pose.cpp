@@ -1,6 +1,7 @@
 #include "placement/place_pose.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -21,6 +22,13 @@
 
 namespace cdbench {
 namespace {
+
+// PolishEvent::seconds: the clock is read only while a trace is being taken.
+using TraceClock = std::chrono::steady_clock;
+TraceClock::time_point trace_clock(const PoseOptions& o) { return o.trace ? TraceClock::now() : TraceClock::time_point{}; }
+double trace_seconds(TraceClock::time_point started) {
+  return std::chrono::duration<double>(TraceClock::now() - started).count();
+}
 
 // The Lipschitz steps' relative margin: |d| is 1 only up to rounding (doc/poses.md, "Polishing").
 constexpr double kStepMargin = 1e-9;
@@ -662,10 +670,12 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     last_loose = loose;
     const Vec3 t = pose_translation(frame, dir, lambda);
     const bool cold = !frontier.valid;
+    const auto started = trace_clock(options);
     const ClearanceResult r = certify_clearance(*setup.fixed, *setup.mover, setup.components, frame.orientation, t, copt);
     out.clearance_cells += r.cells;
     if (options.trace) {
       PolishEvent e;
+      e.seconds = trace_seconds(started);
       e.purpose = why;
       e.target = target;
       e.lambda = lambda;
@@ -938,10 +948,12 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         // c's fall over the flat run or over its last two steps, whichever is less, over the advance.
         const double run_slope = std::min(slope2, (run_from[1] - mid) / (run_from[0] - out.lambda));
         const std::uint64_t cubes_before = out.zone_cubes;
+        const auto started = trace_clock(options);
         const double lk = jumps.contact(setup, frame, dir, out.lambda, gap, flat_steps, run_slope, worth, lambda_far,
                                         out.clearance_cells, &out.zone_cubes);
         if (options.trace && (!std::isnan(lk) || out.zone_cubes > cubes_before)) {
           PolishEvent e;
+          e.seconds = trace_seconds(started);
           e.kind = PolishEvent::Kind::zone_query;
           e.target = target;
           e.lambda = out.lambda;
@@ -1022,11 +1034,13 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
                                                      frame.orientation.transform_error(tb)));
           const std::uint64_t budget =
               std::max(kMinSegmentBudget, static_cast<std::uint64_t>(k * static_cast<double>(c.cells)));
+          const auto started = trace_clock(options);
           const SegmentCheck check =
               check_segment_above(*setup.fixed, frame.orientation, frontier, ta, tb, pad, target, budget, &segment_end);
           ++out.segment_tries;
           if (options.trace) {
             PolishEvent e;
+            e.seconds = trace_seconds(started);
             e.kind = PolishEvent::Kind::segment;
             e.target = target;
             e.lambda = out.lambda;

@@ -2,7 +2,8 @@
 # validation/bench_poses, whose tables doc/performance.md quotes: on a torus pose set it times every
 # level against FCL's conservative advancement, prints one --per-pose line per approach and level
 # (their work adding up to the level's "work a pose"), writes a --trace CSV whose certificates'
-# cells add up to the same, finds every contact FCL finds, and refuses
+# cells add up to the same and whose events are counted by kind in each level's time line, finds
+# every contact FCL finds, and refuses
 # bad usage and a folder that is not a pose set (exit 2, as every validation program: the file
 # named).
 . "$(dirname "$0")/common.sh"
@@ -42,6 +43,19 @@ for r in rows:
     if r["level"] == "-30%" and r["event"] == "certificate":
         traced[int(r["approach"])] = traced.get(int(r["approach"]), 0) + int(r["work"])
 assert traced == per_pose, (traced, per_pose)
+# Every event's wall time (ms), and per traced level a line of where its time went, by kind.
+assert all(float(r["ms"]) >= 0.0 for r in rows), "ms"
+for level in ("-30%", "6%"):
+    line = re.search(r"^time a pose " + re.escape(level) + r", traced: (.*)$", text, re.M)
+    assert line and "certificate" not in line.group(1) and line.group(1).endswith("ms"), level
+    kinds = re.findall(r" ([a-z -]+) [0-9.]+ ms \(\d+ %, (\d+), [0-9.]+ ms each\);", " " + line.group(1))
+    counted = {}
+    for r in rows:
+        if r["level"] == level:
+            k = r["purpose"] if r["event"] == "certificate" else ("segment " + r["verdict"] if r["event"] == "segment" else "zone query")
+            counted[k] = counted.get(k, 0) + 1
+    assert {k: int(n) for k, n in kinds} == counted, (level, kinds, counted)
+assert not re.search(r"^time a pose 0,", text, re.M), "level 0 has no traced events"
 PY
 set +e
 "$bench" "$work/set" --approaches 6 --trace "$work/no/such/dir/trace.csv" > "$work/trace_err.txt" 2>&1
