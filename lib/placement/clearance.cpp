@@ -813,8 +813,12 @@ class BranchAndBound {
       // A cell centred outside F and across it (a mover face through a wall, or into F through a
       // face), whose convexity bound grows with its corners beyond the faces it crosses: its part
       // that may lie inside F cut by the planes of those faces (slab_lower). (Tried for cells
-      // centred inside too: more instructions on every thin part measured.)
-      if (lower < threshold() && threshold() < 0.0 && !(dlo > eta_m) && s.lo > 0.0)
+      // centred inside too: more instructions on every thin part measured.) Not for a cell more
+      // than kSlabMaxRadiusDepths times the threshold's depth in radius (a cold start's whole
+      // 4-long sliver faces of a thin tube): there a proof cost about 25 us and set aside a
+      // quarter of the cells, and splitting them is cheaper (doc/performance.md, "Coarse cells").
+      if (lower < threshold() && threshold() < 0.0 && !(dlo > eta_m) && s.lo > 0.0 &&
+          !(r > kSlabMaxRadiusDepths * -threshold()))
         lower = std::max(lower, slab_lower(v, m, eta, eta_m, nearest, c.id, c.bary, &c.ball));
     }
     c.lower = lower;
@@ -1067,6 +1071,9 @@ class BranchAndBound {
   }
   // Triangles near a cell for slab_lower: beyond this many the slab is seldom thin.
   static constexpr std::size_t kMaxSlabCandidates = 32;
+  // slab_lower only for cells of radius at most this many times the threshold's depth (16 against
+  // 8, 32, 64 and none: doc/performance.md, "Coarse cells").
+  static constexpr double kSlabMaxRadiusDepths = 16.0;
 
   // A lower bound of the distance from the cell (corners v, within eta of the exact cell) to F, or
   // -inf once it is certain to be at most eta_m (the cell may touch F: its value is then not used).

@@ -305,7 +305,7 @@ PoseSetResult build_poseset(const PoseSetRequest& opt) {
   // their intervals, and so the polished poses, may differ within the tolerance from earlier
   // binaries'. Absent otherwise.
   if (std::any_of(targets.begin(), targets.end(), [](double t) { return t < 0.0; }))
-    run_key["penetrating_certificates"] = 23;
+    run_key["penetrating_certificates"] = 24;
   // Every certificate since 2026-11-29 (session 37) sets cells far outside F aside by a lower bound
   // of their centre's distance alone (1): intervals and polishing steps, rarely poses, may differ
   // within the tolerance from earlier binaries', whose journals have no such key.
