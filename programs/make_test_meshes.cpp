@@ -1,6 +1,7 @@
 // Writes the small generated test meshes of data/meshes/ (run: make_test_meshes DIR).
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 
 #include "mesh/shapes.h"
@@ -8,7 +9,7 @@
 
 int main(int argc, char** argv) {
   using namespace cdbench;
-  const char* usage = "usage: make_test_meshes DIR\n  writes sphere.off, torus.off, box.off and two_spheres.off into DIR\n";
+  const char* usage = "usage: make_test_meshes DIR\n  writes sphere.off, torus.off, box.off and two_spheres.off into DIR (made if missing)\n";
   if (argc == 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
     std::cout << usage;
     return 0;
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
   }
   const std::string dir = argv[1];
   try {
+    std::filesystem::create_directories(dir);  // as `cdbench ... -o DIR` does
     write_off(make_icosphere(1.0, 3), dir + "/sphere.off");
     write_off(make_torus(2.0, 0.5, 64, 32), dir + "/torus.off");
     write_off(make_box(Vec3(0, 0, 0), Vec3(2, 1, 4)), dir + "/box.off");
