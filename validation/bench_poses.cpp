@@ -31,6 +31,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -58,12 +59,6 @@ TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_s
 
 const char* kTraceHeader = "approach,level,event,purpose,target,lambda,to,clearance_lo,clearance_hi,loose,warm,verdict,work,budget,ms\n";
 
-std::string milliseconds_text(double seconds) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3f", 1e3 * seconds);
-  return text;
-}
-
 // A --trace row: the event of approach `a` at level `level` (doubles in full precision, so that a
 // pose reproduces).
 std::string trace_row(std::size_t a, const std::string& level, const PolishEvent& e) {
@@ -74,7 +69,7 @@ std::string trace_row(std::size_t a, const std::string& level, const PolishEvent
   row += cert ? number_text(e.clearance.lo) + "," + number_text(e.clearance.hi) : ",";
   row += std::string(",") + (cert ? (e.loose ? "1" : "0") : "") + "," + (cert ? (e.warm ? "1" : "0") : "") + "," +
          (seg ? to_string(e.verdict) : "") + "," + std::to_string(e.work) + "," + (seg ? std::to_string(e.budget) : "") +
-         "," + milliseconds_text(e.seconds) + "\n";
+         "," + number_text(1e3 * e.seconds, 6) + "\n";
   return row;
 }
 
@@ -205,16 +200,13 @@ static int run(int argc, char** argv) {
   std::string trace_text = kTraceHeader;
   std::size_t trace_approach = 0, trace_level_index = 0;
   std::string trace_level;
-  // Each level's traced time by kind of event (seconds, events), in the order first seen.
-  std::vector<std::vector<std::pair<std::string, std::pair<double, std::size_t>>>> traced(L);
+  // Each level's traced time by kind of event (seconds, events).
+  std::vector<std::map<std::string, std::pair<double, std::size_t>>> traced(L);
   const PolishTrace tracer = [&](const PolishEvent& e) {
     trace_text += trace_row(trace_approach, trace_level, e);
-    auto& kinds = traced[trace_level_index];
-    const std::string kind = trace_kind(e);
-    auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
-    if (it == kinds.end()) it = kinds.insert(kinds.end(), {kind, {0.0, 0}});
-    it->second.first += e.seconds;
-    ++it->second.second;
+    auto& kind = traced[trace_level_index][trace_kind(e)];
+    kind.first += e.seconds;
+    ++kind.second;
   };
   std::size_t current_orientation = static_cast<std::size_t>(-1);
   std::unique_ptr<OrientationFrame> frame;
@@ -253,14 +245,10 @@ static int run(int argc, char** argv) {
       const double cover_before = level_zone[l].cover ? level_zone[l].cover->seconds() : 0.0;
       t0 = Clock::now();
       const PoseOutcome p = place_pose(setup, *frame, swept, d, level_target[l], lpo, &memo);
-      const double pose_seconds = seconds_since(t0);
-      // The level's cover, if this pose built it: setup, left out of the pose's own line below (as
-      // out of the level's time further down).
+      // A level's cover is built inside the first pose that needs it: setup, left out of the
+      // pose's time (and named on its --per-pose line).
       const double cover_built = level_zone[l].cover ? level_zone[l].cover->seconds() - cover_before : 0.0;
-      // The build happened inside the query that first asked the cover: setup, not the query's.
-      if (cover_built > 0.0)
-        for (auto& [kind, v] : traced[l])
-          if (kind == "zone query") v.first = std::max(0.0, v.first - cover_built);
+      const double pose_seconds = std::max(0.0, seconds_since(t0) - cover_built);
       level_seconds[l] += pose_seconds;
       level_certified[l] += p.contact && p.certified && p.on_target;
       level_steps[l] += static_cast<std::size_t>(p.steps);
@@ -278,7 +266,7 @@ static int run(int argc, char** argv) {
         std::printf("pose approach %zu level %s: %.3f ms, steps %d, cells %llu, two-sided %d, segments %d, jumps %d, "
                     "cubes %llu%s%s\n",
                     a, ps["levels"][l]["spec"].get<std::string>().c_str(),
-                    1e3 * std::max(0.0, pose_seconds - cover_built), p.steps,
+                    1e3 * pose_seconds, p.steps,
                     static_cast<unsigned long long>(p.clearance_cells), p.two_sided_tries, p.segment_tries,
                     p.cover_jumps, static_cast<unsigned long long>(p.zone_cubes),
                     p.certified && p.on_target ? "" : " (not certified on target)", built);
@@ -331,9 +319,6 @@ static int run(int argc, char** argv) {
               static_cast<double>(node_tests) / M, static_cast<double>(leaf_sweeps) / M);
   std::printf("ratio certified pose (all levels, polished; cdbench poses' own run, all threads) / FCL CA, per pose: %.2f\n",
               (1.0 / pps) / (t_fcl / M));
-  // A level's cover is built inside the first pose that needs it: setup, reported apart.
-  for (std::size_t l = 0; l < L; ++l)
-    if (level_zone[l].cover) level_seconds[l] = std::max(0.0, level_seconds[l] - level_zone[l].cover->seconds());
   std::printf("\ncertified polished pose per approach, same %zu approaches, same run, one thread:\n", M);
   std::printf("%-12s %-8s %12s %12s %14s %14s %14s\n", "level", "start", "ms/pose", "poses/s", "certified", "mean steps",
               "pose / FCL CA");
@@ -370,8 +355,8 @@ static int run(int argc, char** argv) {
   // --trace: where each level's time went, by kind of event, the costliest first (the rest: steps'
   // arithmetic, planes' steps, the trace's own rows). Wall times: they move with the load.
   for (std::size_t l = 0; l < L && !trace_path.empty(); ++l) {
-    auto kinds = traced[l];
-    if (kinds.empty()) continue;
+    if (traced[l].empty()) continue;
+    std::vector<std::pair<std::string, std::pair<double, std::size_t>>> kinds(traced[l].begin(), traced[l].end());
     std::stable_sort(kinds.begin(), kinds.end(),
                      [](const auto& x, const auto& y) { return x.second.first > y.second.first; });
     const double total = level_seconds[l];

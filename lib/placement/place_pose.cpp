@@ -1,13 +1,14 @@
 #include "placement/place_pose.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -19,15 +20,14 @@
 #include "distance/triangle_distance.h"
 #include "mesh/components.h"
 #include "placement/advance.h"
+#include "util/timer.h"
 
 namespace cdbench {
 namespace {
 
-// PolishEvent::seconds: the clock is read only while a trace is being taken.
-using TraceClock = std::chrono::steady_clock;
-TraceClock::time_point trace_clock(const PoseOptions& o) { return o.trace ? TraceClock::now() : TraceClock::time_point{}; }
-double trace_seconds(TraceClock::time_point started) {
-  return std::chrono::duration<double>(TraceClock::now() - started).count();
+// PolishEvent::seconds: a stopwatch only while a trace is being taken.
+std::optional<Timer> trace_timer(const PoseOptions& o) {
+  return o.trace ? std::optional<Timer>(std::in_place) : std::nullopt;
 }
 
 // The Lipschitz steps' relative margin: |d| is 1 only up to rounding (doc/poses.md, "Polishing").
@@ -670,12 +670,12 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
     last_loose = loose;
     const Vec3 t = pose_translation(frame, dir, lambda);
     const bool cold = !frontier.valid;
-    const auto started = trace_clock(options);
+    const auto started = trace_timer(options);
     const ClearanceResult r = certify_clearance(*setup.fixed, *setup.mover, setup.components, frame.orientation, t, copt);
     out.clearance_cells += r.cells;
     if (options.trace) {
       PolishEvent e;
-      e.seconds = trace_seconds(started);
+      e.seconds = started->seconds();
       e.purpose = why;
       e.target = target;
       e.lambda = lambda;
@@ -948,12 +948,15 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
         // c's fall over the flat run or over its last two steps, whichever is less, over the advance.
         const double run_slope = std::min(slope2, (run_from[1] - mid) / (run_from[0] - out.lambda));
         const std::uint64_t cubes_before = out.zone_cubes;
-        const auto started = trace_clock(options);
+        const auto started = trace_timer(options);
+        const double cover_before = options.trace && options.deep_cover ? options.deep_cover->seconds() : 0.0;
         const double lk = jumps.contact(setup, frame, dir, out.lambda, gap, flat_steps, run_slope, worth, lambda_far,
                                         out.clearance_cells, &out.zone_cubes);
         if (options.trace && (!std::isnan(lk) || out.zone_cubes > cubes_before)) {
           PolishEvent e;
-          e.seconds = trace_seconds(started);
+          // The level's cover, if this query built it, is setup, not the query's.
+          const double cover_built = options.deep_cover ? options.deep_cover->seconds() - cover_before : 0.0;
+          e.seconds = std::max(0.0, started->seconds() - cover_built);
           e.kind = PolishEvent::Kind::zone_query;
           e.target = target;
           e.lambda = out.lambda;
@@ -1034,13 +1037,13 @@ PoseOutcome place_pose(const ApproachSetup& setup, const OrientationFrame& frame
                                                      frame.orientation.transform_error(tb)));
           const std::uint64_t budget =
               std::max(kMinSegmentBudget, static_cast<std::uint64_t>(k * static_cast<double>(c.cells)));
-          const auto started = trace_clock(options);
+          const auto started = trace_timer(options);
           const SegmentCheck check =
               check_segment_above(*setup.fixed, frame.orientation, frontier, ta, tb, pad, target, budget, &segment_end);
           ++out.segment_tries;
           if (options.trace) {
             PolishEvent e;
-            e.seconds = trace_seconds(started);
+            e.seconds = started->seconds();
             e.kind = PolishEvent::Kind::segment;
             e.target = target;
             e.lambda = out.lambda;

@@ -167,8 +167,9 @@ struct PolishEvent {
   // certificate: branch-and-bound cells; segment: cells evaluated; zone_query: octree cubes.
   std::uint64_t work = 0;
   std::uint64_t budget = 0;  // segment: its budget of cells
-  // Its wall time (seconds; measured only while tracing): where a level's time goes, by kind,
-  // which the cells alone do not tell (a landing's cells each cost a fresh distance query).
+  // Its wall time (seconds; measured only while tracing; a zone query leaves out the level's
+  // cover if it built it: setup): where a level's time goes, by kind, which the cells alone do
+  // not tell (a landing's cells each cost a fresh distance query).
   double seconds = 0.0;
 };
 using PolishTrace = std::function<void(const PolishEvent&)>;
