@@ -46,10 +46,15 @@
 #include "sampling/sampling.h"
 #include "util/atomic_file.h"
 #include "util/number_format.h"
+#include "util/timer.h"
 #include "guarded_main.h"
 
 using namespace cdbench;
 using Clock = std::chrono::steady_clock;
+// Below this share of the timed wall time on its core, the timing thread was held up by other
+// processes (bench_poses says so): an idle machine measured 98.7-99.6 %, one sharing both cores
+// with a CI run 61-88 % (doc/performance.md, "Loaded machines").
+constexpr double kLoadedShare = 0.9;
 
 namespace {
 
@@ -178,6 +183,14 @@ static int run(int argc, char** argv) {
   for (std::size_t l = 0; l < L; ++l)
     level_zone.push_back(make_level_deep_zone(fixed, level_target[l], max_penetration, deep_covers && po.polish, A));
   double t_exact = 0.0, t_fcl = 0.0, max_over = 0.0, max_under = 0.0;
+  // The timing thread's CPU time over the wall time of the same timed stretches (poses that built a
+  // level's cover left out: its build may run on other threads): the share of the time it ran.
+  double timed_cpu = 0.0, timed_wall = 0.0;
+  // The same thread's CPU time of FCL's advancement and of each level's poses (a cover's build
+  // taken off at its wall time: the thread builds it, TBB's workers helping), for ratios that
+  // hold under load.
+  double t_fcl_cpu = 0.0;
+  std::vector<double> level_cpu(L, 0.0);
   std::uint64_t node_tests = 0, leaf_sweeps = 0;  // the exact first contact's work
   std::size_t differ = 0, overshoot = 0, both = 0, fcl_miss = 0;
   std::size_t exact_miss = 0, fcl_only = 0, fcl_only_contradicting = 0, fcl_only_grazing = 0;
@@ -219,14 +232,24 @@ static int run(int argc, char** argv) {
       current_orientation = o;
     }
     auto t0 = Clock::now();
+    ThreadCpuTimer cpu;
     const MeshContact c = first_contact_along_line(level0, frame->swept, -d);
     const double lambda_exact = c.hit ? -exact_contact_time(level0, frame->swept, -d, c).get_d() : NAN;
-    t_exact += seconds_since(t0);
+    const double exact_seconds = seconds_since(t0);
+    timed_cpu += cpu.seconds();
+    t_exact += exact_seconds;
+    timed_wall += exact_seconds;
     node_tests += c.sphere_tests;
     leaf_sweeps += c.triangle_sweeps;
 
     double lambda_ca = 0.0, seconds_ca = 0.0;
+    t0 = Clock::now();
+    cpu = ThreadCpuTimer();
     const bool hit = fcl_ca_contact(*fcl_fixed, *fcl_mover, *frame, d, far, &lambda_ca, &seconds_ca);
+    const double fcl_cpu = cpu.seconds();
+    timed_cpu += fcl_cpu;
+    t_fcl_cpu += fcl_cpu;
+    timed_wall += seconds_since(t0);
     t_fcl += seconds_ca;
     // As `cdbench poses` places them: descending targets, sharing the contact and continuing the
     // advance from the previous level's pose (place_pose's memo); each level timed with its share.
@@ -244,11 +267,18 @@ static int run(int argc, char** argv) {
       }
       const double cover_before = level_zone[l].cover ? level_zone[l].cover->seconds() : 0.0;
       t0 = Clock::now();
+      cpu = ThreadCpuTimer();
       const PoseOutcome p = place_pose(setup, *frame, swept, d, level_target[l], lpo, &memo);
       // A level's cover is built inside the first pose that needs it: setup, left out of the
       // pose's time (and named on its --per-pose line).
       const double cover_built = level_zone[l].cover ? level_zone[l].cover->seconds() - cover_before : 0.0;
-      const double pose_seconds = std::max(0.0, seconds_since(t0) - cover_built);
+      const double pose_wall = seconds_since(t0), pose_cpu = cpu.seconds();
+      if (cover_built == 0.0) {
+        timed_cpu += pose_cpu;
+        timed_wall += pose_wall;
+      }
+      level_cpu[l] += std::max(0.0, pose_cpu - cover_built);
+      const double pose_seconds = std::max(0.0, pose_wall - cover_built);
       level_seconds[l] += pose_seconds;
       level_certified[l] += p.contact && p.certified && p.on_target;
       level_steps[l] += static_cast<std::size_t>(p.steps);
@@ -331,6 +361,23 @@ static int run(int argc, char** argv) {
   }
   std::printf("%-12s %-8s %12.3f %12.1f %14s %14s %14.2f\n", "all", "", 1e3 * all / (M * L), M * L / all, "", "",
               (all / (M * L)) / (t_fcl / M));
+  // Wall times read high where other processes took the timing thread's core (a CI run, a build):
+  // said here, with its share, so that a loaded run's figures are not quoted as the machine's.
+  const double share = timed_wall > 0.0 ? timed_cpu / timed_wall : 1.0;
+  const bool loaded = share < kLoadedShare;
+  std::printf("timing thread on its core %.1f %% of the timed wall time%s\n", 100.0 * share,
+              loaded ? " (other processes shared the cores: the times above read high; repeat on an idle machine)" : "");
+  // The ratios again on that thread's CPU time: preemption left out of both sides.
+  std::printf("pose / FCL CA on the timing thread's CPU time:");
+  double all_cpu = 0.0;
+  for (std::size_t l = 0; l < L; ++l) {
+    all_cpu += level_cpu[l];
+    std::printf(" %s %.2f,", ps["levels"][l]["spec"].get<std::string>().c_str(), level_cpu[l] / t_fcl_cpu);
+  }
+  std::printf(" all %.2f\n", (all_cpu / L) / t_fcl_cpu);
+  if (loaded)
+    std::fprintf(stderr, "bench_poses: warning: the timing thread ran %.1f %% of the timed wall time: the machine was loaded\n",
+                 100.0 * share);
   for (std::size_t l = 0; l < L; ++l) {
     // Levels shallower than a fifth of M have no cover but may still jump by the zone's octree.
     if (!level_zone[l].cover && level_jumps[l] == 0 && level_zone_cubes[l] == 0) continue;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # validation/bench_poses, whose tables doc/performance.md quotes: on a torus pose set it times every
 # level against FCL's conservative advancement, prints one --per-pose line per approach and level
-# (their work adding up to the level's "work a pose"), writes a --trace CSV whose certificates'
+# (their work adding up to the level's "work a pose"), reports the share of the timed wall time the
+# timing thread ran (a loaded machine named) and the ratios on its CPU time, writes a --trace CSV whose certificates'
 # cells add up to the same and whose events are counted by kind in each level's time line, finds
 # every contact FCL finds, and refuses
 # bad usage and a folder that is not a pose set (exit 2, as every validation program: the file
@@ -19,6 +20,19 @@ for level in -30% 0 6%; do
     { cat "$work/bench.txt"; fail "expected 6 per-pose lines at level $level"; }
 done
 grep -q "^all " "$work/bench.txt" || fail "no all-levels row"
+# The timing thread's share of the timed wall time: a percentage (above 100 only by the clocks'
+# granularity), with the warning that goes with it when under 90.
+share=$(sed -n 's/^timing thread on its core \([0-9.]*\) % of the timed wall time.*/\1/p' "$work/bench.txt")
+[ -n "$share" ] && awk -v s="$share" 'BEGIN { exit !(s > 0 && s <= 101) }' ||
+  { cat "$work/bench.txt"; fail "no plausible share of the timed wall time: '$share'"; }
+# The ratios to FCL again on that thread's CPU time: one a level, and all levels.
+grep -Eq "^pose / FCL CA on the timing thread's CPU time: -30% [0-9.]+, 0 [0-9.]+, 6% [0-9.]+, all [0-9.]+$" "$work/bench.txt" ||
+  { cat "$work/bench.txt"; fail "no ratios on the CPU time"; }
+if awk -v s="$share" 'BEGIN { exit !(s < 90) }'; then
+  grep -q "repeat on an idle machine" "$work/bench.txt" || fail "a loaded run must say so"
+else
+  ! grep -q "repeat on an idle machine" "$work/bench.txt" || fail "an idle run must not be called loaded"
+fi
 grep -q "FCL found none 0" "$work/bench.txt" || { cat "$work/bench.txt"; fail "FCL missed a contact the exact sweep found"; }
 # The per-pose cells at -30 % add up to the level's mean "certificate cells" times the approaches.
 python3 - "$work/bench.txt" <<'PY' || fail "per-pose cells do not add up to the level's work"

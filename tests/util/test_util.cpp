@@ -24,6 +24,7 @@
 #include "util/sha256.h"
 #include "util/union_find.h"
 #include "util/thread_scratch.h"
+#include "util/timer.h"
 
 namespace cdbench {
 namespace {
@@ -341,3 +342,18 @@ TEST(UnionFind, ConcurrentUnionsGiveTheSerialSetsAndRoots) {
 }
 
 }  // namespace cdbench
+
+// The thread's CPU clock runs while it computes and stands while it sleeps (bench_poses reads a
+// loaded machine from the two clocks' ratio). Bounds far from any scheduler's noise.
+TEST(ThreadCpuTimer, CountsWorkNotSleep) {
+  const cdbench::Timer wall;
+  const cdbench::ThreadCpuTimer cpu;
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const double slept = cpu.seconds();
+  EXPECT_GE(wall.seconds(), 0.2);
+  EXPECT_LT(slept, 0.05) << "the thread's CPU time grew while it slept";
+  volatile double x = 0.0;
+  while (cpu.seconds() < slept + 0.05) x = x + std::sqrt(x + 1.0);
+  EXPECT_GE(cpu.seconds(), slept + 0.05);
+  EXPECT_LE(cpu.seconds(), wall.seconds() + 1e-3) << "a thread cannot run longer than the wall clock";
+}
