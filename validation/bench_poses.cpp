@@ -26,7 +26,6 @@
 //     with its verdict; every deep-zone query), to see where a slow pose's steps go.
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -50,7 +49,6 @@
 #include "guarded_main.h"
 
 using namespace cdbench;
-using Clock = std::chrono::steady_clock;
 // Below this share of the timed wall time on its core, the timing thread was held up by other
 // processes (bench_poses says so): an idle machine measured 98.7-99.6 %, one sharing both cores
 // with a CI run 61-88 % (doc/performance.md, "Loaded machines").
@@ -58,7 +56,11 @@ constexpr double kLoadedShare = 0.9;
 
 namespace {
 
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+// One timed stretch on both clocks: the wall (util's Timer) and the timing thread's CPU time.
+struct Stretch {
+  Timer wall;
+  ThreadCpuTimer cpu;
+};
 
 TriangleMesh load(const std::string& path) { return validate_mesh(read_polygon_soup(path)).mesh; }
 
@@ -231,25 +233,23 @@ static int run(int argc, char** argv) {
       frame = std::make_unique<OrientationFrame>(make_orientation_frame(setup, rots[o].toRotationMatrix()));
       current_orientation = o;
     }
-    auto t0 = Clock::now();
-    ThreadCpuTimer cpu;
+    Stretch timed;
     const MeshContact c = first_contact_along_line(level0, frame->swept, -d);
     const double lambda_exact = c.hit ? -exact_contact_time(level0, frame->swept, -d, c).get_d() : NAN;
-    const double exact_seconds = seconds_since(t0);
-    timed_cpu += cpu.seconds();
+    const double exact_seconds = timed.wall.seconds();
+    timed_cpu += timed.cpu.seconds();
     t_exact += exact_seconds;
     timed_wall += exact_seconds;
     node_tests += c.sphere_tests;
     leaf_sweeps += c.triangle_sweeps;
 
     double lambda_ca = 0.0, seconds_ca = 0.0;
-    t0 = Clock::now();
-    cpu = ThreadCpuTimer();
+    timed = Stretch();
     const bool hit = fcl_ca_contact(*fcl_fixed, *fcl_mover, *frame, d, far, &lambda_ca, &seconds_ca);
-    const double fcl_cpu = cpu.seconds();
+    const double fcl_cpu = timed.cpu.seconds();
     timed_cpu += fcl_cpu;
     t_fcl_cpu += fcl_cpu;
-    timed_wall += seconds_since(t0);
+    timed_wall += timed.wall.seconds();
     t_fcl += seconds_ca;
     // As `cdbench poses` places them: descending targets, sharing the contact and continuing the
     // advance from the previous level's pose (place_pose's memo); each level timed with its share.
@@ -266,13 +266,12 @@ static int run(int argc, char** argv) {
         trace_level = ps["levels"][l]["spec"].get<std::string>();
       }
       const double cover_before = level_zone[l].cover ? level_zone[l].cover->seconds() : 0.0;
-      t0 = Clock::now();
-      cpu = ThreadCpuTimer();
+      timed = Stretch();
       const PoseOutcome p = place_pose(setup, *frame, swept, d, level_target[l], lpo, &memo);
       // A level's cover is built inside the first pose that needs it: setup, left out of the
       // pose's time (and named on its --per-pose line).
       const double cover_built = level_zone[l].cover ? level_zone[l].cover->seconds() - cover_before : 0.0;
-      const double pose_wall = seconds_since(t0), pose_cpu = cpu.seconds();
+      const double pose_wall = timed.wall.seconds(), pose_cpu = timed.cpu.seconds();
       if (cover_built == 0.0) {
         timed_cpu += pose_cpu;
         timed_wall += pose_wall;

@@ -341,13 +341,11 @@ TEST(UnionFind, ConcurrentUnionsGiveTheSerialSetsAndRoots) {
   }
 }
 
-}  // namespace cdbench
-
 // The thread's CPU clock runs while it computes and stands while it sleeps (bench_poses reads a
 // loaded machine from the two clocks' ratio). Bounds far from any scheduler's noise.
 TEST(ThreadCpuTimer, CountsWorkNotSleep) {
-  const cdbench::Timer wall;
-  const cdbench::ThreadCpuTimer cpu;
+  const Timer wall;
+  const ThreadCpuTimer cpu;
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   const double slept = cpu.seconds();
   EXPECT_GE(wall.seconds(), 0.2);
@@ -357,3 +355,5 @@ TEST(ThreadCpuTimer, CountsWorkNotSleep) {
   EXPECT_GE(cpu.seconds(), slept + 0.05);
   EXPECT_LE(cpu.seconds(), wall.seconds() + 1e-3) << "a thread cannot run longer than the wall clock";
 }
+
+}  // namespace cdbench
