@@ -5,9 +5,8 @@
 #include <fcl/fcl.h>
 #include <fcl/narrowphase/detail/conservative_advancement_func_matrix.h>
 
-#include <chrono>
-
 #include "placement/place_pose.h"
+#include "util/timer.h"
 
 namespace cdbench {
 
@@ -24,11 +23,11 @@ inline bool fcl_ca_contact(const fcl::BVHModel<fcl::OBBRSS<double>>& fixed, cons
   fcl::CollisionRequest<double> request;
   fcl::CollisionResult<double> result;
   double toc = 1.0;
-  const auto t0 = std::chrono::steady_clock::now();
+  const Timer timer;
   const bool hit = fcl::detail::conservativeAdvancementMeshOriented<
       fcl::OBBRSS<double>, fcl::detail::MeshConservativeAdvancementTraversalNodeOBBRSS<double>>(fixed, &m1, mover, &m2,
                                                                                                  request, result, toc);
-  *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  *seconds = timer.seconds();
   *lambda = far - toc * 2 * far;
   return hit;
 }
